@@ -1,0 +1,59 @@
+// Planar polygons (triangles and quads) of the element quadtrees and the analytic
+// point-to-polygon form factor that every surface link is built on.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <random>
+
+#include "radiosity/vec.h"
+
+namespace radiosity {
+
+// A convex planar triangle or quad; vertices wound counter-clockwise about `normal()`.
+struct Poly {
+    std::array<Vec3, 4> v{};
+    int n = 3;
+
+    Vec3 centroid() const;   // area centroid
+    Vec3 normal() const;     // unit; zero for a degenerate polygon
+    double area() const;
+    // Child k of a quadtree split; child k (k < n) holds corner k of the parent, so the
+    // leaf at an input corner is found by always descending into the same child index.
+    Poly child(int k) const;
+    // Uniformly distributed point for (u1,u2) in [0,1)^2.
+    Vec3 sample(double u1, double u2) const;
+};
+
+// Receiver cubature: points and weights (summing to 1) over the polygon.
+struct Cubature {
+    std::array<Vec3, 4> p{};
+    std::array<double, 4> w{};
+    int n = 0;
+};
+Cubature cubature(const Poly& poly);
+
+// Differential-area-to-polygon form factor from point x with unit normal nx to `poly`
+// (unoccluded), i.e. the fraction of the light leaving x that reaches poly. Only the part of
+// the polygon above x's tangent plane counts, and only if x is in front of the polygon
+// (the polygon's front side emits toward x). Exact (Lambert's contour formula).
+double point_polygon_form_factor(const Vec3& x, const Vec3& nx, const Poly& poly, const Vec3& poly_normal);
+
+// Whether any transfer from `src` (front side) to `rcv` (front side) is geometrically possible.
+bool can_face(const Poly& src, const Vec3& src_n, const Poly& rcv, const Vec3& rcv_n, double eps);
+
+// Counter-based RNG seeded per link so results do not depend on thread scheduling.
+class Rng {
+public:
+    explicit Rng(uint64_t seed) : state_(seed * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull) {}
+    double next() {  // [0,1)
+        uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        z ^= z >> 31;
+        return double(z >> 11) * (1.0 / 9007199254740992.0);
+    }
+private:
+    uint64_t state_;
+};
+
+}  // namespace radiosity

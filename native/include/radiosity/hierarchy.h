@@ -1,0 +1,106 @@
+// The node hierarchy of clustering-based hierarchical radiosity (paper 3.1):
+// root cluster -> collection clusters -> object clusters -> automatic spatial sub-clusters
+// -> oriented surfaces (one per side of an input polygon) -> element quadtrees.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "radiosity/geometry.h"
+#include "radiosity/scene.h"
+#include "radiosity/vec.h"
+
+namespace radiosity {
+
+enum class NodeKind : uint8_t { Cluster, Element };
+
+// Six signed axis bins (+x,-x,+y,-y,+z,-z): clusters keep per-bin projected area and
+// radiance x projected area so a sender cluster's directional radiance is cheap to estimate.
+constexpr int kBins = 6;
+inline int bin_of(int axis, double sign) { return axis * 2 + (sign < 0 ? 1 : 0); }
+
+struct Node {
+    NodeKind kind = NodeKind::Element;
+    int parent = -1;
+    std::vector<int> children;
+    int object = -1;   // owning object; -1 above object level
+    int surface = -1;  // elements: oriented surface index
+    int depth = 0;     // elements: depth below the surface root
+    // Geometry.
+    Poly poly;         // elements
+    Vec3 normal;       // elements
+    double area = 0;   // elements: polygon area; clusters: sum over oriented surfaces
+    Vec3 center;       // area centroid
+    double radius = 0; // bounding-sphere radius about center
+    Aabb box;
+    int surf_begin = 0, surf_end = 0;  // clusters: range in Hierarchy::surface_order
+    // Material (elements; clusters keep the largest reflectance below them for the oracle).
+    Rgb rho, emission;
+    double rho_max = 0;
+    // Radiometry, all in radiance units.
+    Rgb L;           // radiance; clusters and inner elements: area average of their leaves
+    Rgb G;           // gathered irradiance / pi of this iteration
+    Rgb Lmin, Lmax;  // range of leaf radiance below (sender-side error term of the oracle)
+    std::array<Rgb, kBins> S{};      // clusters: sum over surfaces of L * A * max(0, +-n_axis)
+    std::array<double, kBins> W{};   // clusters: sum over surfaces of A * max(0, +-n_axis)
+    double closure = 1.0;            // leaves: form-factor closure correction (see gather.cpp)
+    std::vector<int> in_links, out_links;
+
+    bool is_cluster() const { return kind == NodeKind::Cluster; }
+    bool is_leaf() const { return children.empty(); }
+};
+
+// One input polygon piece (a triangle or convex planar quad) after fan-splitting n-gons.
+struct Primitive {
+    int object = -1;
+    int face = -1;                  // Blender polygon index within the object
+    Poly poly;
+    std::array<int, 4> corner{};    // Blender corner index of each vertex
+    int front = -1, back = -1;      // oriented surface ids (back = -1 when one-sided)
+};
+
+struct Surface {
+    int root = -1;  // its element-quadtree root node
+    int prim = -1;
+    bool back = false;
+};
+
+class Hierarchy {
+public:
+    // Builds primitives, oriented surfaces and the cluster tree. Without clustering every
+    // surface hangs directly below the root (the unclustered HR baseline).
+    void build(const SceneDesc& scene, bool use_clustering);
+
+    // Splits an element into 4 children (kept for later re-use); returns nothing new if split.
+    void subdivide(int node);
+    // Area-uniform point on the node's surfaces; writes the oriented normal there.
+    Vec3 sample_point(int node, Rng& rng, Vec3* normal) const;
+    // Sum over the node's oriented surfaces of A * max(0, n . d) (d unit).
+    double projected_area(int node, const Vec3& d) const;
+    // Cluster bookkeeping after geometry changed (center, box, radius, bins).
+    void refresh_cluster_geometry(int node);
+    // Node ids of the clusters strictly above a surface root, root first.
+    const std::vector<int>& ancestors_of_surface(int s) const { return surface_ancestors_[s]; }
+
+    std::vector<Node> nodes;
+    std::vector<Primitive> prims;
+    std::vector<Surface> surfaces;
+    std::vector<int> surface_order;   // surface ids; each cluster's are contiguous
+    std::vector<double> surface_cdf;  // prefix sums of area over surface_order (size+1)
+    std::vector<int> object_node;     // per object: its cluster node (-1 if it has no surface)
+    std::vector<int> cluster_node;    // per ClusterDesc: its node (-1 if empty)
+    std::vector<int> object_of_env;   // per object: 1 if directly in the scene (environment)
+    int root = -1;
+    Aabb scene_box;
+    double scene_diag = 1.0;
+    size_t skipped_polygons = 0;  // zero-area input polygons (they get the colour of their neighbours)
+
+private:
+    int new_node(NodeKind kind, int parent);
+    int build_object_tree(std::vector<int>& prim_ids, int begin, int end, int parent, int object);
+    void add_surfaces_of_prims(const std::vector<int>& prim_ids, int begin, int end, int parent);
+    void finish_cluster(int node);
+    std::vector<std::vector<int>> surface_ancestors_;
+};
+
+}  // namespace radiosity

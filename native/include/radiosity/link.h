@@ -1,0 +1,31 @@
+// Links: the energy transports of hierarchical radiosity (paper 2 and 3.1.1). A link is
+// directional (sender -> receiver); both ends keep its index so dynamic updates can find
+// every link of a moved object. A refined link stays as an inactive history link (3.4).
+#pragma once
+#include <cstdint>
+
+#include "radiosity/vec.h"
+
+namespace radiosity {
+
+struct Link {
+    int src = -1, rcv = -1;
+    int parent = -1;       // the link this one refined: its history link
+    // Coupling. Element receiver: G_rcv += K * L_src. Cluster receiver: K * L_src is the
+    // flux density (irradiance / pi on a surface facing the sender); each surface below the
+    // receiver takes it times its own cosine toward `dir` (oriented clusters).
+    double K = 0;
+    double K_unoccluded = 0;
+    double dK = 0;         // spread of the kernel over the receiver's cubature points
+    double vis = 1;        // visibility fraction in [0,1]
+    Vec3 dir;              // unit, sender centre -> receiver centre
+    double dist = 0;       // centre distance
+    bool active = true;
+    bool cluster = false;  // either end is a cluster
+    bool partial = false;  // some rays blocked, some not
+    bool settled = false;  // the 3.5 criterion found the receiver's form factor converged
+    bool must_refine = false;  // bounding spheres overlap: the point model is invalid
+    Rgb value;             // cluster receivers: K * L_src of the current iteration
+};
+
+}  // namespace radiosity

@@ -1,0 +1,50 @@
+// The solver's input: objects (rigid polygon sets, world space) grouped into clusters
+// (Blender collections). Validation happens here so the rest can trust its input.
+#pragma once
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "radiosity/vec.h"
+
+namespace radiosity {
+
+// Thrown for bad input; the message names the object and polygon.
+struct InputError : std::invalid_argument {
+    using std::invalid_argument::invalid_argument;
+};
+
+struct ClusterDesc {
+    std::string name;
+    int parent = -1;  // -1: the root
+};
+
+struct ObjectDesc {
+    std::string name;
+    int cluster = -1;  // -1: its polygons are surfaces by themselves (paper 3.1.1)
+    std::vector<Vec3> vertices;                 // world space
+    std::vector<int32_t> loop_starts, loop_totals, corner_verts;  // Blender's polygon layout
+    std::vector<Rgb> reflectance, emission;     // per polygon
+    std::vector<uint8_t> two_sided;             // per polygon
+    size_t polygon_count() const { return loop_starts.size(); }
+    size_t corner_count() const { return corner_verts.size(); }
+};
+
+class SceneDesc {
+public:
+    int add_cluster(const std::string& name, int parent = -1);
+    // Validates and takes the object; throws InputError.
+    int add_object(ObjectDesc obj);
+
+    const std::vector<ClusterDesc>& clusters() const { return clusters_; }
+    const std::vector<ObjectDesc>& objects() const { return objects_; }
+    std::vector<ObjectDesc>& objects_mut() { return objects_; }
+    size_t polygon_count() const;
+
+private:
+    std::vector<ClusterDesc> clusters_;
+    std::vector<ObjectDesc> objects_;
+};
+
+}  // namespace radiosity

@@ -1,0 +1,30 @@
+// User-facing solver settings and the presets the add-on offers.
+#pragma once
+#include <cstdint>
+#include <string>
+
+namespace radiosity {
+
+struct Settings {
+    double error_threshold = 0.05;      // relative error threshold of the oracle
+    double min_area_fraction = 1e-5;    // smallest element area / scene-diagonal^2
+    int64_t max_elements = 2000000;     // refinement stops at these caps (stats say so)
+    int64_t max_links = 10000000;
+    bool use_clustering = true;
+    bool progressive_refinement = true;  // the paper's 3.5 criterion
+    int rays_per_link = 16;
+    int max_iterations = 200;           // gathering iterations per solve
+    int max_refine_rounds = 8;          // refine/solve alternations
+    double tolerance = 1e-5;            // estimated remaining relative error of the iteration
+    int threads = 0;                    // 0 = all cores
+    double crease_angle_deg = 35.0;
+    int closure_rays = 32;              // escape rays per leaf for the closure correction
+    uint64_t seed = 1;
+
+    // 'DRAFT' | 'MEDIUM' | 'HIGH'; throws std::invalid_argument otherwise.
+    static Settings preset(const std::string& name);
+    // Throws std::invalid_argument naming the first bad field.
+    void validate() const;
+};
+
+}  // namespace radiosity

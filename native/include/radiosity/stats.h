@@ -1,0 +1,39 @@
+// What a solve reports: the paper's Table 2 counts plus time per phase.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace radiosity {
+
+struct Stats {
+    int64_t input_surfaces = 0;     // input polygons
+    int64_t primitives = 0;         // after n-gon splitting
+    int64_t skipped_polygons = 0;   // zero-area input polygons
+    int64_t objects = 0;
+    int64_t clusters = 0;           // cluster nodes (collections, objects, automatic)
+    int64_t elements = 0;           // leaf elements of surfaces that receive light
+    int64_t element_nodes = 0;      // all element nodes (inner ones included)
+    int64_t links = 0;              // active links
+    int64_t cluster_links = 0;      // active links with a cluster end
+    int64_t surface_links = 0;      // active element-element links
+    int64_t history_links = 0;      // inactive links kept for un-refinement
+    int64_t obj_env_links = 0;      // active links between an object (collection member) and the environment
+    int64_t env_env_links = 0;      // active links with both ends in the environment
+    int64_t obj_obj_links = 0;
+    int64_t env_env_links_recomputed = 0;
+    int64_t rays = 0;
+    int64_t links_evaluated = 0;
+    int64_t refined_by_oracle = 0;
+    int64_t avoided_by_progressive = 0;  // refinements the 3.5 criterion avoided
+    int iterations = 0;
+    int refine_rounds = 0;
+    double residual = 0;            // estimated remaining relative error at the end
+    bool capped = false;            // a cap (elements/links/min area) stopped refinement
+    bool iteration_capped = false;  // max_iterations reached before the tolerance
+    bool no_emitters = false;
+    double seconds_build = 0, seconds_link = 0, seconds_solve = 0, seconds_total = 0;
+    std::vector<std::string> warnings;
+};
+
+}  // namespace radiosity

@@ -1,0 +1,73 @@
+// Small value types shared by every module: 3-vectors (geometry) and RGB triples (radiometry).
+#pragma once
+#include <algorithm>
+#include <cmath>
+
+namespace radiosity {
+
+struct Vec3 {
+    double x = 0, y = 0, z = 0;
+    Vec3() = default;
+    constexpr Vec3(double x_, double y_, double z_) : x(x_), y(y_), z(z_) {}
+    double operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
+    double& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }
+    Vec3 operator+(const Vec3& o) const { return {x + o.x, y + o.y, z + o.z}; }
+    Vec3 operator-(const Vec3& o) const { return {x - o.x, y - o.y, z - o.z}; }
+    Vec3 operator-() const { return {-x, -y, -z}; }
+    Vec3 operator*(double s) const { return {x * s, y * s, z * s}; }
+    Vec3 operator/(double s) const { return {x / s, y / s, z / s}; }
+    Vec3& operator+=(const Vec3& o) { x += o.x; y += o.y; z += o.z; return *this; }
+    Vec3& operator-=(const Vec3& o) { x -= o.x; y -= o.y; z -= o.z; return *this; }
+    Vec3& operator*=(double s) { x *= s; y *= s; z *= s; return *this; }
+};
+inline Vec3 operator*(double s, const Vec3& v) { return v * s; }
+inline double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline Vec3 cross(const Vec3& a, const Vec3& b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline double length(const Vec3& v) { return std::sqrt(dot(v, v)); }
+inline double length2(const Vec3& v) { return dot(v, v); }
+inline Vec3 normalize(const Vec3& v) {
+    double l = length(v);
+    return l > 0 ? v / l : Vec3{0, 0, 0};
+}
+inline bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+inline Vec3 vmin(const Vec3& a, const Vec3& b) { return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)}; }
+inline Vec3 vmax(const Vec3& a, const Vec3& b) { return {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)}; }
+
+// RGB radiometric triple (radiance, reflectance, gathered irradiance / pi).
+struct Rgb {
+    double r = 0, g = 0, b = 0;
+    Rgb() = default;
+    constexpr Rgb(double r_, double g_, double b_) : r(r_), g(g_), b(b_) {}
+    static constexpr Rgb all(double v) { return {v, v, v}; }
+    double operator[](int i) const { return i == 0 ? r : (i == 1 ? g : b); }
+    double& operator[](int i) { return i == 0 ? r : (i == 1 ? g : b); }
+    Rgb operator+(const Rgb& o) const { return {r + o.r, g + o.g, b + o.b}; }
+    Rgb operator-(const Rgb& o) const { return {r - o.r, g - o.g, b - o.b}; }
+    Rgb operator*(const Rgb& o) const { return {r * o.r, g * o.g, b * o.b}; }
+    Rgb operator*(double s) const { return {r * s, g * s, b * s}; }
+    Rgb operator/(double s) const { return {r / s, g / s, b / s}; }
+    Rgb& operator+=(const Rgb& o) { r += o.r; g += o.g; b += o.b; return *this; }
+    Rgb& operator*=(double s) { r *= s; g *= s; b *= s; return *this; }
+    double max() const { return std::max(r, std::max(g, b)); }
+    double mean() const { return (r + g + b) / 3.0; }
+};
+inline Rgb operator*(double s, const Rgb& c) { return c * s; }
+inline Rgb cmin(const Rgb& a, const Rgb& b) { return {std::min(a.r, b.r), std::min(a.g, b.g), std::min(a.b, b.b)}; }
+inline Rgb cmax(const Rgb& a, const Rgb& b) { return {std::max(a.r, b.r), std::max(a.g, b.g), std::max(a.b, b.b)}; }
+inline bool finite(const Rgb& c) { return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b); }
+
+struct Aabb {
+    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    void grow(const Vec3& p) { lo = vmin(lo, p); hi = vmax(hi, p); }
+    void grow(const Aabb& b) { lo = vmin(lo, b.lo); hi = vmax(hi, b.hi); }
+    bool empty() const { return lo.x > hi.x; }
+    Vec3 center() const { return (lo + hi) * 0.5; }
+    Vec3 extent() const { return hi - lo; }
+    double diagonal() const { return empty() ? 0.0 : length(hi - lo); }
+};
+
+constexpr double kPi = 3.14159265358979323846;
+
+}  // namespace radiosity

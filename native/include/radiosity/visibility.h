@@ -1,0 +1,44 @@
+// Ray-cast visibility between points, on Embree 3. Every object is its own Embree scene,
+// instanced into the top-level scene, so a rigid move only re-transforms one instance.
+#pragma once
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
+#include "radiosity/vec.h"
+
+struct RTCDeviceTy;
+struct RTCSceneTy;
+
+namespace radiosity {
+
+class Visibility {
+public:
+    Visibility();
+    ~Visibility();
+    Visibility(const Visibility&) = delete;
+    Visibility& operator=(const Visibility&) = delete;
+
+    // Triangles in world space; an object with no triangle gets no instance.
+    void add_object(int object, const std::vector<Vec3>& tri_vertices);
+    // Placement of an object relative to where its triangles were given (row-major 3x4).
+    void set_object_transform(int object, const double m[12]);
+    void commit();
+    // Offset (scene units) kept from both segment ends, so a ray never hits the surfaces it
+    // joins; relative to scene size so results do not change when the scene is scaled.
+    void set_epsilon(double eps) { eps_ = eps; }
+
+    // True when something blocks the open segment a-b. Thread-safe.
+    bool occluded(const Vec3& a, const Vec3& b) const;
+    uint64_t rays() const { return rays_.load(std::memory_order_relaxed); }
+
+private:
+    RTCDeviceTy* device_ = nullptr;
+    RTCSceneTy* top_ = nullptr;
+    std::vector<RTCSceneTy*> object_scenes_;
+    std::vector<int> instance_geom_;  // per object: geometry id in top_, -1 if none
+    double eps_ = 1e-6;
+    mutable std::atomic<uint64_t> rays_{0};
+};
+
+}  // namespace radiosity

@@ -1,0 +1,156 @@
+// Thin pybind11 skin over the native solver: numpy in, numpy out, the GIL released while
+// solving, and an asynchronous job the add-on polls. No logic lives here.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <memory>
+
+#include "radiosity/job.h"
+#include "radiosity/solver.h"
+
+namespace py = pybind11;
+using namespace radiosity;
+
+namespace {
+
+template <class T>
+using Arr = py::array_t<T, py::array::c_style | py::array::forcecast>;
+
+void check_shape(const py::array& a, int cols, const char* what, size_t rows) {
+    bool ok = cols == 0 ? (a.ndim() == 1 && size_t(a.shape(0)) == rows)
+                        : (a.ndim() == 2 && size_t(a.shape(0)) == rows && a.shape(1) == cols);
+    if (!ok) throw py::value_error(std::string(what) + ": wrong shape");
+}
+
+std::vector<Rgb> rgb_rows(const Arr<double>& a, const char* what, size_t rows) {
+    check_shape(a, 3, what, rows);
+    auto r = a.unchecked<2>();
+    std::vector<Rgb> out(rows);
+    for (size_t i = 0; i < rows; ++i) out[i] = {r(i, 0), r(i, 1), r(i, 2)};
+    return out;
+}
+
+int add_object(SceneDesc& s, const std::string& name, int cluster, const Arr<double>& verts,
+               const Arr<int32_t>& loop_starts, const Arr<int32_t>& loop_totals, const Arr<int32_t>& corner_verts,
+               const Arr<double>& reflectance, const Arr<double>& emission, const py::object& two_sided) {
+    ObjectDesc o;
+    o.name = name;
+    o.cluster = cluster;
+    if (verts.ndim() != 2 || verts.shape(1) != 3) throw py::value_error("object '" + name + "': vertices must be (V,3)");
+    auto v = verts.unchecked<2>();
+    o.vertices.resize(size_t(v.shape(0)));
+    for (ssize_t i = 0; i < v.shape(0); ++i) o.vertices[i] = {v(i, 0), v(i, 1), v(i, 2)};
+    const size_t nf = size_t(loop_starts.size());
+    check_shape(loop_starts, 0, "loop_starts", nf);
+    check_shape(loop_totals, 0, "loop_totals", nf);
+    o.loop_starts.assign(loop_starts.data(), loop_starts.data() + nf);
+    o.loop_totals.assign(loop_totals.data(), loop_totals.data() + nf);
+    o.corner_verts.assign(corner_verts.data(), corner_verts.data() + corner_verts.size());
+    o.reflectance = rgb_rows(reflectance, "reflectance", nf);
+    o.emission = rgb_rows(emission, "emission", nf);
+    if (!two_sided.is_none()) {
+        auto t = two_sided.cast<Arr<uint8_t>>();
+        check_shape(t, 0, "two_sided", nf);
+        o.two_sided.assign(t.data(), t.data() + nf);
+    }
+    return s.add_object(std::move(o));
+}
+
+// A solver plus the job that may be running it.
+struct PySolver {
+    std::shared_ptr<Solver> solver;
+    Job job;
+    PySolver(const SceneDesc& scene, const Settings& st) : solver(std::make_shared<Solver>(scene, st)) {}
+    void idle() const {
+        if (const_cast<Job&>(job).running()) throw std::runtime_error("a solve is running");
+    }
+    void solved() const {
+        idle();
+        if (!solver->solved()) throw std::runtime_error("no finished solve");
+    }
+};
+
+py::dict stats_dict(const Stats& s) {
+    py::dict d;
+#define F(x) d[#x] = s.x
+    F(input_surfaces); F(primitives); F(skipped_polygons); F(objects); F(clusters); F(elements);
+    F(element_nodes); F(links); F(cluster_links); F(surface_links); F(history_links); F(obj_env_links);
+    F(env_env_links); F(obj_obj_links); F(env_env_links_recomputed); F(rays); F(links_evaluated);
+    F(refined_by_oracle); F(avoided_by_progressive); F(iterations); F(refine_rounds); F(residual);
+    F(capped); F(iteration_capped); F(no_emitters); F(seconds_build); F(seconds_link); F(seconds_solve);
+    F(seconds_total); F(warnings);
+#undef F
+    return d;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(radiosity_native, m) {
+    m.doc() = "Clustering-based hierarchical radiosity solver (native core of the Blender add-on)";
+    static py::exception<Cancelled> cancelled(m, "Cancelled");
+    (void)cancelled;
+
+    py::class_<Settings>(m, "Settings")
+        .def(py::init<>())
+        .def_static("preset", &Settings::preset)
+        .def_readwrite("error_threshold", &Settings::error_threshold)
+        .def_readwrite("min_area_fraction", &Settings::min_area_fraction)
+        .def_readwrite("max_elements", &Settings::max_elements)
+        .def_readwrite("max_links", &Settings::max_links)
+        .def_readwrite("use_clustering", &Settings::use_clustering)
+        .def_readwrite("progressive_refinement", &Settings::progressive_refinement)
+        .def_readwrite("rays_per_link", &Settings::rays_per_link)
+        .def_readwrite("max_iterations", &Settings::max_iterations)
+        .def_readwrite("max_refine_rounds", &Settings::max_refine_rounds)
+        .def_readwrite("tolerance", &Settings::tolerance)
+        .def_readwrite("threads", &Settings::threads)
+        .def_readwrite("crease_angle_deg", &Settings::crease_angle_deg)
+        .def_readwrite("closure_rays", &Settings::closure_rays)
+        .def_readwrite("seed", &Settings::seed)
+        .def("validate", &Settings::validate);
+
+    py::class_<SceneDesc>(m, "Scene")
+        .def(py::init<>())
+        .def("add_cluster", &SceneDesc::add_cluster, py::arg("name"), py::arg("parent") = -1)
+        .def("add_object", &add_object, py::arg("name"), py::arg("cluster"), py::arg("vertices"),
+             py::arg("loop_starts"), py::arg("loop_totals"), py::arg("corner_verts"), py::arg("reflectance"),
+             py::arg("emission"), py::arg("two_sided") = py::none())
+        .def_property_readonly("object_count", [](const SceneDesc& s) { return s.objects().size(); })
+        .def_property_readonly("polygon_count", &SceneDesc::polygon_count);
+
+    py::class_<PySolver>(m, "Solver")
+        .def(py::init<const SceneDesc&, const Settings&>(), py::arg("scene"), py::arg("settings"))
+        .def("solve", [](PySolver& s) {
+            s.idle();
+            py::gil_scoped_release release;
+            s.solver->solve(nullptr);
+        })
+        .def("start", [](PySolver& s) {
+            auto solver = s.solver;
+            s.job.start([solver](Control& c) { solver->solve(&c); });
+        })
+        .def("running", [](PySolver& s) { return s.job.running(); })
+        .def("progress", [](PySolver& s) { return s.job.progress(); })
+        .def("cancel", [](PySolver& s) { s.job.cancel(); })
+        .def("wait", [](PySolver& s, double timeout) {
+            py::gil_scoped_release release;
+            return s.job.wait(timeout);
+        }, py::arg("timeout") = -1.0)
+        .def("corner_radiance", [](const PySolver& s, int object) {
+            s.solved();
+            std::vector<float> v = s.solver->corner_radiance(object);
+            py::array_t<float> out({py::ssize_t(v.size() / 3), py::ssize_t(3)});
+            std::copy(v.begin(), v.end(), out.mutable_data());
+            return out;
+        }, py::arg("object_id"))
+        .def("radiance_at", [](const PySolver& s, int object, int face, std::array<double, 3> p) {
+            s.solved();
+            Rgb c = s.solver->radiance_at(object, face, {p[0], p[1], p[2]});
+            return std::array<double, 3>{c.r, c.g, c.b};
+        })
+        .def("stats", [](const PySolver& s) {
+            s.idle();
+            return stats_dict(s.solver->stats());
+        });
+}

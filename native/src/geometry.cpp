@@ -1,0 +1,152 @@
+#include "radiosity/geometry.h"
+
+#include <cmath>
+
+namespace radiosity {
+
+namespace {
+double tri_area(const Vec3& a, const Vec3& b, const Vec3& c) { return 0.5 * length(cross(b - a, c - a)); }
+}  // namespace
+
+double Poly::area() const {
+    if (n == 3) return tri_area(v[0], v[1], v[2]);
+    return tri_area(v[0], v[1], v[2]) + tri_area(v[0], v[2], v[3]);
+}
+
+Vec3 Poly::normal() const {
+    // Newell's method: robust for slightly non-planar quads.
+    Vec3 nrm;
+    for (int i = 0; i < n; ++i) {
+        const Vec3& a = v[i];
+        const Vec3& b = v[(i + 1) % n];
+        nrm.x += (a.y - b.y) * (a.z + b.z);
+        nrm.y += (a.z - b.z) * (a.x + b.x);
+        nrm.z += (a.x - b.x) * (a.y + b.y);
+    }
+    return normalize(nrm);
+}
+
+Vec3 Poly::centroid() const {
+    if (n == 3) return (v[0] + v[1] + v[2]) / 3.0;
+    double a1 = tri_area(v[0], v[1], v[2]), a2 = tri_area(v[0], v[2], v[3]);
+    Vec3 c1 = (v[0] + v[1] + v[2]) / 3.0, c2 = (v[0] + v[2] + v[3]) / 3.0;
+    double a = a1 + a2;
+    return a > 0 ? (c1 * a1 + c2 * a2) / a : (v[0] + v[1] + v[2] + v[3]) / 4.0;
+}
+
+Poly Poly::child(int k) const {
+    Poly c;
+    c.n = n;
+    if (n == 3) {
+        Vec3 m01 = (v[0] + v[1]) * 0.5, m12 = (v[1] + v[2]) * 0.5, m20 = (v[2] + v[0]) * 0.5;
+        switch (k) {
+            case 0: c.v = {v[0], m01, m20, Vec3{}}; break;
+            case 1: c.v = {m01, v[1], m12, Vec3{}}; break;
+            case 2: c.v = {m20, m12, v[2], Vec3{}}; break;
+            default: c.v = {m12, m20, m01, Vec3{}}; break;  // the middle one, same winding
+            // Each corner child keeps parent corner k at position k (corner lookup relies on it).
+        }
+        return c;
+    }
+    Vec3 m[4], ctr = (v[0] + v[1] + v[2] + v[3]) * 0.25;
+    for (int i = 0; i < 4; ++i) m[i] = (v[i] + v[(i + 1) % 4]) * 0.5;
+    // Child k: corner v[k], edge midpoints around it, the centre; keeps winding and puts
+    // v[k] at position k.
+    std::array<Vec3, 4> q;
+    q[k] = v[k];
+    q[(k + 1) % 4] = m[k];
+    q[(k + 2) % 4] = ctr;
+    q[(k + 3) % 4] = m[(k + 3) % 4];
+    c.v = q;
+    return c;
+}
+
+Vec3 Poly::sample(double u1, double u2) const {
+    auto in_tri = [](const Vec3& a, const Vec3& b, const Vec3& c, double s, double t) {
+        double su = std::sqrt(s);
+        return a * (1 - su) + b * (su * (1 - t)) + c * (su * t);
+    };
+    if (n == 3) return in_tri(v[0], v[1], v[2], u1, u2);
+    double a1 = tri_area(v[0], v[1], v[2]), a2 = tri_area(v[0], v[2], v[3]);
+    double f = (a1 + a2) > 0 ? a1 / (a1 + a2) : 0.5;
+    if (u1 < f) return in_tri(v[0], v[1], v[2], u1 / f, u2);
+    return in_tri(v[0], v[2], v[3], (u1 - f) / (1 - f), u2);
+}
+
+Cubature cubature(const Poly& p) {
+    Cubature c;
+    if (p.n == 3) {
+        // Degree-2 rule with interior points (weights 1/3): never on an edge, where a
+        // neighbour's kernel is singular.
+        const double a = 2.0 / 3.0, b = 1.0 / 6.0;
+        c.n = 3;
+        c.p[0] = p.v[0] * a + p.v[1] * b + p.v[2] * b;
+        c.p[1] = p.v[0] * b + p.v[1] * a + p.v[2] * b;
+        c.p[2] = p.v[0] * b + p.v[1] * b + p.v[2] * a;
+        c.w = {1.0 / 3, 1.0 / 3, 1.0 / 3, 0};
+        return c;
+    }
+    // 2x2 Gauss-Legendre in the bilinear parameterisation, weighted by the Jacobian.
+    const double g[2] = {0.5 - 0.5 / std::sqrt(3.0), 0.5 + 0.5 / std::sqrt(3.0)};
+    double wsum = 0;
+    c.n = 4;
+    for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j) {
+            double s = g[i], t = g[j];
+            Vec3 pt = p.v[0] * ((1 - s) * (1 - t)) + p.v[1] * (s * (1 - t)) + p.v[2] * (s * t) + p.v[3] * ((1 - s) * t);
+            Vec3 ds = (p.v[1] - p.v[0]) * (1 - t) + (p.v[2] - p.v[3]) * t;
+            Vec3 dt = (p.v[3] - p.v[0]) * (1 - s) + (p.v[2] - p.v[1]) * s;
+            double jac = length(cross(ds, dt));
+            int k = i * 2 + j;
+            c.p[k] = pt;
+            c.w[k] = jac;
+            wsum += jac;
+        }
+    for (int k = 0; k < 4; ++k) c.w[k] = wsum > 0 ? c.w[k] / wsum : 0.25;
+    return c;
+}
+
+double point_polygon_form_factor(const Vec3& x, const Vec3& nx, const Poly& poly, const Vec3& pn) {
+    // The receiving point must lie in front of the emitting side.
+    if (dot(x - poly.v[0], pn) <= 0) return 0.0;
+    // Clip the polygon to the half-space above x's tangent plane (a polygon that straddles it
+    // would otherwise contribute a negative part).
+    Vec3 pts[8];
+    int m = 0;
+    const double h_eps = 1e-12;
+    for (int i = 0; i < poly.n; ++i) {
+        const Vec3& a = poly.v[i];
+        const Vec3& b = poly.v[(i + 1) % poly.n];
+        double da = dot(a - x, nx), db = dot(b - x, nx);
+        bool ina = da > h_eps, inb = db > h_eps;
+        if (ina) pts[m++] = a;
+        if (ina != inb) {
+            double t = (da - h_eps) / (da - db);
+            pts[m++] = a + (b - a) * t;
+        }
+    }
+    if (m < 3) return 0.0;
+    // Lambert: F = 1/(2 pi) * sum_i angle_i * (n . unit(r_i x r_{i+1})).
+    double sum = 0;
+    for (int i = 0; i < m; ++i) {
+        Vec3 r1 = pts[i] - x, r2 = pts[(i + 1) % m] - x;
+        Vec3 c = cross(r1, r2);
+        double cl = length(c);
+        if (cl <= 0) continue;
+        double ang = std::atan2(cl, dot(r1, r2));
+        sum += ang * dot(nx, c) / cl;
+    }
+    return std::fabs(sum) / (2.0 * kPi);
+}
+
+bool can_face(const Poly& src, const Vec3& src_n, const Poly& rcv, const Vec3& rcv_n, double eps) {
+    // Some point of the receiver must be in front of the sender and vice versa.
+    bool rcv_front = false, src_front = false;
+    for (int i = 0; i < rcv.n; ++i)
+        if (dot(rcv.v[i] - src.v[0], src_n) > eps) rcv_front = true;
+    for (int i = 0; i < src.n; ++i)
+        if (dot(src.v[i] - rcv.v[0], rcv_n) > eps) src_front = true;
+    return rcv_front && src_front;
+}
+
+}  // namespace radiosity

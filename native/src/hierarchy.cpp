@@ -1,0 +1,313 @@
+#include "radiosity/hierarchy.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+namespace radiosity {
+
+int Hierarchy::new_node(NodeKind kind, int parent) {
+    Node n;
+    n.kind = kind;
+    n.parent = parent;
+    nodes.push_back(std::move(n));
+    int id = int(nodes.size()) - 1;
+    if (parent >= 0) nodes[parent].children.push_back(id);
+    return id;
+}
+
+namespace {
+
+// Splits one Blender polygon into convex planar triangles/quads, keeping the corner each
+// vertex came from. Quads stay quads only when planar and convex (the quadtree and the
+// cubature assume it); other polygons are fanned from a vertex that keeps triangles positive.
+void split_polygon(const ObjectDesc& o, int f, double min_area, std::vector<Primitive>& out,
+                   size_t& skipped) {
+    const int n = o.loop_totals[f], c0 = o.loop_starts[f];
+    auto P = [&](int k) { return o.vertices[o.corner_verts[c0 + k]]; };
+    Vec3 nrm;  // Newell normal of the whole polygon
+    for (int k = 0; k < n; ++k) {
+        Vec3 a = P(k), b = P((k + 1) % n);
+        nrm.x += (a.y - b.y) * (a.z + b.z);
+        nrm.y += (a.z - b.z) * (a.x + b.x);
+        nrm.z += (a.x - b.x) * (a.y + b.y);
+    }
+    if (length(nrm) * 0.5 < min_area) { ++skipped; return; }
+    nrm = normalize(nrm);
+    auto emit_tri = [&](int a, int b, int c) {
+        Primitive p;
+        p.object = -1;
+        p.face = f;
+        p.poly.n = 3;
+        p.poly.v = {P(a), P(b), P(c), Vec3{}};
+        p.corner = {c0 + a, c0 + b, c0 + c, -1};
+        if (p.poly.area() < min_area) return;
+        out.push_back(p);
+    };
+    if (n == 4) {
+        Poly q;
+        q.n = 4;
+        q.v = {P(0), P(1), P(2), P(3)};
+        Vec3 ctr = q.centroid();
+        double size = std::sqrt(q.area());
+        bool planar = true, convex = true;
+        for (int k = 0; k < 4; ++k) {
+            if (std::fabs(dot(q.v[k] - ctr, nrm)) > 1e-4 * size) planar = false;
+            Vec3 e1 = q.v[(k + 1) % 4] - q.v[k], e2 = q.v[(k + 2) % 4] - q.v[(k + 1) % 4];
+            if (dot(cross(e1, e2), nrm) <= 0) convex = false;
+        }
+        if (planar && convex) {
+            Primitive p;
+            p.face = f;
+            p.poly = q;
+            p.corner = {c0, c0 + 1, c0 + 2, c0 + 3};
+            out.push_back(p);
+            return;
+        }
+    }
+    // Fan from the vertex whose fan has only positively oriented triangles, if any.
+    int apex = 0;
+    for (int a = 0; a < n; ++a) {
+        bool ok = true;
+        for (int k = 1; k + 1 < n && ok; ++k) {
+            Vec3 p0 = P(a), p1 = P((a + k) % n), p2 = P((a + k + 1) % n);
+            if (dot(cross(p1 - p0, p2 - p0), nrm) <= 0) ok = false;
+        }
+        if (ok) { apex = a; break; }
+    }
+    for (int k = 1; k + 1 < n; ++k) emit_tri(apex, (apex + k) % n, (apex + k + 1) % n);
+}
+
+}  // namespace
+
+void Hierarchy::add_surfaces_of_prims(const std::vector<int>& ids, int begin, int end, int parent) {
+    for (int i = begin; i < end; ++i) {
+        Primitive& pr = prims[ids[i]];
+        for (int side = 0; side < 2; ++side) {
+            if (side == 1 && pr.back == -2) continue;  // one-sided polygon
+            int s = int(surfaces.size());
+            int nid = new_node(NodeKind::Element, parent);
+            Node& e = nodes[nid];
+            e.object = pr.object;
+            e.surface = s;
+            e.poly = pr.poly;
+            if (side == 1) std::reverse(e.poly.v.begin(), e.poly.v.begin() + e.poly.n);
+            e.normal = e.poly.normal();
+            e.area = e.poly.area();
+            e.center = e.poly.centroid();
+            for (int k = 0; k < e.poly.n; ++k) {
+                e.box.grow(e.poly.v[k]);
+                e.radius = std::max(e.radius, length(e.poly.v[k] - e.center));
+            }
+            const ObjectDesc* od = nullptr;
+            (void)od;
+            surfaces.push_back({nid, ids[i], side == 1});
+            surface_order.push_back(s);
+            if (side == 0) pr.front = s; else pr.back = s;
+        }
+    }
+}
+
+void Hierarchy::refresh_cluster_geometry(int id) {
+    Node& c = nodes[id];
+    c.area = 0;
+    c.box = Aabb{};
+    c.W.fill(0);
+    Vec3 acc;
+    double rho_max = 0;
+    for (int i = c.surf_begin; i < c.surf_end; ++i) {
+        const Node& e = nodes[surfaces[surface_order[i]].root];
+        c.area += e.area;
+        acc += e.center * e.area;
+        c.box.grow(e.box);
+        rho_max = std::max(rho_max, e.rho.max());
+        for (int a = 0; a < 3; ++a) {
+            double v = e.normal[a] * e.area;
+            c.W[bin_of(a, v)] += std::fabs(v);
+        }
+    }
+    c.rho_max = rho_max;
+    c.center = c.area > 0 ? acc / c.area : c.box.center();
+    c.radius = 0;
+    for (int k = 0; k < 8; ++k) {
+        Vec3 corner{(k & 1) ? c.box.hi.x : c.box.lo.x, (k & 2) ? c.box.hi.y : c.box.lo.y,
+                    (k & 4) ? c.box.hi.z : c.box.lo.z};
+        c.radius = std::max(c.radius, length(corner - c.center));
+    }
+}
+
+void Hierarchy::finish_cluster(int id) {
+    nodes[id].surf_end = int(surface_order.size());
+    refresh_cluster_geometry(id);
+}
+
+int Hierarchy::build_object_tree(std::vector<int>& ids, int begin, int end, int parent, int object) {
+    int id = new_node(NodeKind::Cluster, parent);
+    nodes[id].object = object;
+    nodes[id].surf_begin = int(surface_order.size());
+    if (end - begin <= 4) {
+        add_surfaces_of_prims(ids, begin, end, id);
+    } else {
+        // Median split along the widest axis of the centroids: a balanced spatial tree gives
+        // O(n log n) linking from the root down.
+        Aabb b;
+        for (int i = begin; i < end; ++i) b.grow(prims[ids[i]].poly.centroid());
+        Vec3 ext = b.extent();
+        int axis = (ext.x >= ext.y && ext.x >= ext.z) ? 0 : (ext.y >= ext.z ? 1 : 2);
+        int mid = (begin + end) / 2;
+        std::nth_element(ids.begin() + begin, ids.begin() + mid, ids.begin() + end, [&](int a, int c) {
+            return prims[a].poly.centroid()[axis] < prims[c].poly.centroid()[axis];
+        });
+        build_object_tree(ids, begin, mid, id, object);
+        build_object_tree(ids, mid, end, id, object);
+    }
+    finish_cluster(id);
+    return id;
+}
+
+void Hierarchy::build(const SceneDesc& scene, bool use_clustering) {
+    *this = Hierarchy{};
+    const auto& objs = scene.objects();
+    for (const auto& o : objs)
+        for (const auto& v : o.vertices) scene_box.grow(v);
+    scene_diag = scene_box.empty() ? 1.0 : std::max(scene_box.diagonal(), 1e-30);
+    const double min_area = 1e-14 * scene_diag * scene_diag;
+
+    // Primitives, with the material of their polygon.
+    std::vector<std::vector<int>> prims_of(objs.size());
+    for (size_t oi = 0; oi < objs.size(); ++oi) {
+        const ObjectDesc& o = objs[oi];
+        for (size_t f = 0; f < o.polygon_count(); ++f) {
+            size_t first = prims.size();
+            split_polygon(o, int(f), min_area, prims, skipped_polygons);
+            for (size_t p = first; p < prims.size(); ++p) {
+                prims[p].object = int(oi);
+                prims[p].back = o.two_sided[f] ? -1 : -2;  // -2 marks "no back side"
+                prims_of[oi].push_back(int(p));
+            }
+        }
+    }
+    object_node.assign(objs.size(), -1);
+    object_of_env.assign(objs.size(), 0);
+    for (size_t oi = 0; oi < objs.size(); ++oi) object_of_env[oi] = objs[oi].cluster < 0;
+    cluster_node.assign(scene.clusters().size(), -1);
+
+    root = new_node(NodeKind::Cluster, -1);
+    nodes[root].surf_begin = 0;
+    if (!use_clustering) {
+        std::vector<int> all;
+        for (auto& v : prims_of) all.insert(all.end(), v.begin(), v.end());
+        add_surfaces_of_prims(all, 0, int(all.size()), root);
+    } else {
+        // Which clusters hold any primitive (empty collections get no node).
+        const auto& cl = scene.clusters();
+        std::vector<std::vector<int>> sub(cl.size()), objs_in(cl.size());
+        std::vector<int> top_clusters, top_objects;
+        for (size_t c = 0; c < cl.size(); ++c)
+            (cl[c].parent < 0 ? top_clusters : sub[cl[c].parent]).push_back(int(c));
+        for (size_t oi = 0; oi < objs.size(); ++oi)
+            (objs[oi].cluster < 0 ? top_objects : objs_in[objs[oi].cluster]).push_back(int(oi));
+        std::vector<char> nonempty(cl.size(), 0);
+        for (int c = int(cl.size()) - 1; c >= 0; --c) {  // parents precede children
+            for (int oi : objs_in[c]) nonempty[c] |= !prims_of[oi].empty();
+            for (int s : sub[c]) nonempty[c] |= nonempty[s];
+        }
+        auto build_objects = [&](const std::vector<int>& list, int parent) {
+            for (int oi : list)
+                if (!prims_of[oi].empty())
+                    object_node[oi] = build_object_tree(prims_of[oi], 0, int(prims_of[oi].size()), parent, oi);
+        };
+        std::function<void(int, int)> build_cluster = [&](int c, int parent) {
+            int id = new_node(NodeKind::Cluster, parent);
+            cluster_node[c] = id;
+            nodes[id].surf_begin = int(surface_order.size());
+            for (int s : sub[c])
+                if (nonempty[s]) build_cluster(s, id);
+            build_objects(objs_in[c], id);
+            finish_cluster(id);
+        };
+        for (int c : top_clusters)
+            if (nonempty[c]) build_cluster(c, root);
+        build_objects(top_objects, root);
+    }
+    // Materials of the surface roots.
+    for (const Surface& s : surfaces) {
+        Node& e = nodes[s.root];
+        const Primitive& p = prims[s.prim];
+        e.rho = objs[p.object].reflectance[p.face];
+        e.emission = objs[p.object].emission[p.face];
+        e.L = e.emission;
+        e.Lmin = e.Lmax = e.L;
+    }
+    finish_cluster(root);
+    // Cluster rho_max needs the materials: recompute every cluster once.
+    for (size_t i = 0; i < nodes.size(); ++i)
+        if (nodes[i].is_cluster()) refresh_cluster_geometry(int(i));
+
+    surface_cdf.assign(surface_order.size() + 1, 0.0);
+    for (size_t i = 0; i < surface_order.size(); ++i)
+        surface_cdf[i + 1] = surface_cdf[i] + nodes[surfaces[surface_order[i]].root].area;
+
+    surface_ancestors_.assign(surfaces.size(), {});
+    for (size_t s = 0; s < surfaces.size(); ++s) {
+        std::vector<int> chain;
+        for (int p = nodes[surfaces[s].root].parent; p >= 0; p = nodes[p].parent) chain.push_back(p);
+        std::reverse(chain.begin(), chain.end());
+        surface_ancestors_[s] = std::move(chain);
+    }
+}
+
+void Hierarchy::subdivide(int id) {
+    if (!nodes[id].children.empty() || nodes[id].is_cluster()) return;
+    for (int k = 0; k < 4; ++k) {
+        int c = new_node(NodeKind::Element, id);
+        Node& p = nodes[id];
+        Node& e = nodes[c];
+        e.object = p.object;
+        e.surface = p.surface;
+        e.depth = p.depth + 1;
+        e.poly = p.poly.child(k);
+        e.normal = p.normal;
+        e.area = e.poly.area();
+        e.center = e.poly.centroid();
+        for (int i = 0; i < e.poly.n; ++i) {
+            e.box.grow(e.poly.v[i]);
+            e.radius = std::max(e.radius, length(e.poly.v[i] - e.center));
+        }
+        e.rho = p.rho;
+        e.emission = p.emission;
+        e.L = p.L;
+        e.Lmin = e.Lmax = p.L;
+        e.closure = p.closure;
+    }
+}
+
+Vec3 Hierarchy::sample_point(int id, Rng& rng, Vec3* normal) const {
+    const Node& n = nodes[id];
+    if (!n.is_cluster()) {
+        if (normal) *normal = n.normal;
+        double u1 = rng.next(), u2 = rng.next();
+        return n.poly.sample(u1, u2);
+    }
+    double lo = surface_cdf[n.surf_begin], hi = surface_cdf[n.surf_end];
+    double u = lo + rng.next() * (hi - lo);
+    auto it = std::upper_bound(surface_cdf.begin() + n.surf_begin, surface_cdf.begin() + n.surf_end + 1, u);
+    int pos = std::clamp(int(it - surface_cdf.begin()) - 1, n.surf_begin, n.surf_end - 1);
+    const Node& e = nodes[surfaces[surface_order[pos]].root];
+    if (normal) *normal = e.normal;
+    double u1 = rng.next(), u2 = rng.next();
+    return e.poly.sample(u1, u2);
+}
+
+double Hierarchy::projected_area(int id, const Vec3& d) const {
+    const Node& n = nodes[id];
+    if (!n.is_cluster()) return n.area * std::max(0.0, dot(n.normal, d));
+    double pa = 0;
+    for (int i = n.surf_begin; i < n.surf_end; ++i) {
+        const Node& e = nodes[surfaces[surface_order[i]].root];
+        pa += e.area * std::max(0.0, dot(e.normal, d));
+    }
+    return pa;
+}
+
+}  // namespace radiosity

@@ -1,0 +1,106 @@
+// Per-corner output: the radiance of the leaf element at each input corner (the hierarchy
+// evaluated at that point, so shadows finer than the input mesh still shape the corner
+// values), averaged over the faces that share the vertex unless a crease separates them.
+#include <cmath>
+
+#include "radiosity/solver.h"
+
+namespace radiosity {
+
+namespace {
+// Leaf below `root` holding quadtree corner k: child k always keeps parent corner k.
+int corner_leaf(const Hierarchy& h, int root, int k) {
+    int id = root;
+    while (!h.nodes[id].children.empty()) id = h.nodes[id].children[k];
+    return id;
+}
+double corner_angle(const Poly& p, int k) {
+    Vec3 a = p.v[(k + p.n - 1) % p.n] - p.v[k], b = p.v[(k + 1) % p.n] - p.v[k];
+    double la = length(a), lb = length(b);
+    if (la <= 0 || lb <= 0) return 0;
+    return std::acos(std::clamp(dot(a, b) / (la * lb), -1.0, 1.0));
+}
+}  // namespace
+
+std::vector<float> Solver::corner_radiance(int object) const {
+    if (object < 0 || object >= int(scene_.objects().size()))
+        throw std::out_of_range("unknown object " + std::to_string(object));
+    const ObjectDesc& o = scene_.objects()[object];
+    const size_t nc = o.corner_count();
+    std::vector<Rgb> val(nc);
+    std::vector<double> wsum(nc, 0.0);
+    std::vector<Vec3> face_n(o.polygon_count());
+    // Value of each corner on its own face (fan-split faces: angle-weighted over pieces).
+    for (const Primitive& p : h_.prims) {
+        if (p.object != object || p.front < 0) continue;
+        const Node& root = h_.nodes[h_.surfaces[p.front].root];
+        face_n[p.face] = root.normal;
+        for (int k = 0; k < p.poly.n; ++k) {
+            int c = p.corner[k];
+            double w = std::max(corner_angle(p.poly, k), 1e-6);
+            val[c] += h_.nodes[corner_leaf(h_, h_.surfaces[p.front].root, k)].L * w;
+            wsum[c] += w;
+        }
+    }
+    for (size_t c = 0; c < nc; ++c)
+        if (wsum[c] > 0) val[c] = val[c] / wsum[c];
+    // Corner -> face lookup and vertex -> corners adjacency.
+    std::vector<int> face_of(nc, -1);
+    for (size_t f = 0; f < o.polygon_count(); ++f)
+        for (int k = 0; k < o.loop_totals[f]; ++k) face_of[o.loop_starts[f] + k] = int(f);
+    std::vector<int> start(o.vertices.size() + 1, 0), list(nc);
+    for (size_t c = 0; c < nc; ++c) ++start[o.corner_verts[c] + 1];
+    for (size_t v = 0; v < o.vertices.size(); ++v) start[v + 1] += start[v];
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (size_t c = 0; c < nc; ++c) list[fill[o.corner_verts[c]]++] = int(c);
+
+    const double cos_crease = std::cos(settings_.crease_angle_deg * kPi / 180.0);
+    std::vector<float> out(nc * 3, 0.f);
+    for (size_t c = 0; c < nc; ++c) {
+        const int v = o.corner_verts[c];
+        const Vec3 nf = face_n[face_of[c]];
+        Rgb acc;
+        double w = 0;
+        for (int i = start[v]; i < start[v + 1]; ++i) {
+            int c2 = list[i];
+            if (wsum[c2] <= 0) continue;
+            // Zero-area faces have no normal: they take the value of their neighbours.
+            if (length2(nf) > 0 && dot(nf, face_n[face_of[c2]]) < cos_crease) continue;
+            acc += val[c2] * wsum[c2];
+            w += wsum[c2];
+        }
+        Rgb r = w > 0 ? acc / w : (wsum[c] > 0 ? val[c] : Rgb{});
+        out[3 * c] = float(r.r);
+        out[3 * c + 1] = float(r.g);
+        out[3 * c + 2] = float(r.b);
+    }
+    return out;
+}
+
+Rgb Solver::radiance_at(int object, int face, const Vec3& x) const {
+    for (const Primitive& p : h_.prims) {
+        if (p.object != object || p.face != face || p.front < 0) continue;
+        int id = h_.surfaces[p.front].root;
+        // Descend into the child containing x (children tile their parent); the nearest
+        // centroid breaks ties on shared edges and points slightly off the polygon.
+        while (!h_.nodes[id].children.empty()) {
+            int best = -1;
+            double bd = 1e300;
+            for (int c : h_.nodes[id].children) {
+                const Node& cn = h_.nodes[c];
+                double outside = 0;
+                for (int k = 0; k < cn.poly.n; ++k) {
+                    Vec3 e = cn.poly.v[(k + 1) % cn.poly.n] - cn.poly.v[k];
+                    outside = std::max(outside, -dot(cross(e, x - cn.poly.v[k]), cn.normal));
+                }
+                double d = outside * 1e6 + length2(cn.center - x);
+                if (d < bd) { bd = d; best = c; }
+            }
+            id = best;
+        }
+        return h_.nodes[id].L;
+    }
+    throw std::out_of_range("no polygon " + std::to_string(face) + " in object " + std::to_string(object));
+}
+
+}  // namespace radiosity

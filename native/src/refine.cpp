@@ -1,0 +1,181 @@
+// Linking and refinement: the oracle (BF-style error with a visibility term), the paper's
+// 3.5 progressive criterion, and link bookkeeping with history links.
+#include <algorithm>
+#include <cmath>
+
+#include "radiosity/parallel.h"
+#include "radiosity/solver.h"
+#include "radiosity/transfer.h"
+
+namespace radiosity {
+
+bool Solver::can_split(int id) const {
+    const Node& n = h_.nodes[id];
+    if (n.is_cluster()) return !n.children.empty();
+    if (!n.children.empty()) return true;
+    if (stats_.element_nodes + 4 > settings_.max_elements) return false;
+    return n.area * 0.25 >= min_area_;
+}
+
+int Solver::add_link(Link l) {
+    int id = int(links_.size());
+    h_.nodes[l.rcv].in_links.push_back(id);
+    h_.nodes[l.src].out_links.push_back(id);
+    links_.push_back(l);
+    return id;
+}
+
+void Solver::deactivate(int id) {
+    Link& l = links_[id];
+    l.active = false;
+    auto drop = [id](std::vector<int>& v) {
+        auto it = std::find(v.begin(), v.end(), id);
+        if (it != v.end()) { *it = v.back(); v.pop_back(); }
+    };
+    drop(h_.nodes[l.rcv].in_links);
+    drop(h_.nodes[l.src].out_links);
+}
+
+// The oracle. Errors are in radiance units at the receiver and compared with
+// threshold_ = error_threshold * L_ref (a scene-wide reference radiance), so the
+// threshold is relative and independent of scene scale and light intensity.
+Solver::Judgement Solver::judge(const Link& l) const {
+    const Node& P = h_.nodes[l.src];
+    const Node& Q = h_.nodes[l.rcv];
+    Judgement j;
+    const double rho = Q.is_cluster() ? Q.rho_max : Q.rho.max();
+    const double Lp = sender_radiance(P, l.dir).max();
+    const double dLp = (P.Lmax - P.Lmin).max();
+    double err_rcv = 0, err_src = 0;
+    if (l.must_refine) {
+        err_rcv = err_src = 1e300;
+    } else if (!l.cluster) {
+        err_rcv = l.settled ? 0.0 : rho * Lp * l.dK;
+        err_src = rho * l.K * dLp;
+    } else {
+        // Oriented point model: its relative error grows with (size / distance); a partly
+        // occluded cluster link cannot place its shadow.
+        double geo = std::min(1.0, 2.0 * (P.radius + Q.radius) / l.dist);
+        double visterm = l.partial ? 2.0 * std::min(l.vis, 1.0 - l.vis) + 0.25 : 0.0;
+        err_rcv = rho * Lp * l.K_unoccluded * (geo + visterm);
+        err_src = rho * l.K * dLp;
+    }
+    if (std::max(err_rcv, err_src) <= threshold_) return j;
+    const bool ps = can_split(l.src), qs = can_split(l.rcv);
+    if (!ps && !qs) return j;  // at the resolution limit
+    Side prefer;
+    if (l.cluster || l.must_refine) {
+        // Split the larger end (clusters by bounding sphere, elements by area).
+        double sp = P.is_cluster() ? kPi * P.radius * P.radius : P.area;
+        double sq = Q.is_cluster() ? kPi * Q.radius * Q.radius : Q.area;
+        prefer = sp > sq ? Side::Src : Side::Rcv;
+    } else {
+        prefer = err_rcv >= err_src ? Side::Rcv : Side::Src;
+    }
+    if (prefer == Side::Src && !ps) prefer = Side::Rcv;
+    if (prefer == Side::Rcv && !qs) prefer = Side::Src;
+    j.side = prefer;
+    // 3.5: between mutually visible surfaces, refine the receiver only if its children's
+    // area-averaged form factor differs from the parent's by more than epsilon. (The
+    // paper's second test, sum of F_{q,p_i}, holds exactly for our analytic kernel.)
+    if (settings_.progressive_refinement && prefer == Side::Rcv && !l.cluster && !l.partial && l.vis >= 1.0 &&
+        !Q.is_cluster()) {
+        double khat = 0;
+        for (int k = 0; k < 4; ++k) {
+            Poly c = Q.poly.child(k);
+            khat += c.area() * unoccluded_coupling(c, Q.normal, P);
+        }
+        khat /= Q.area;
+        if (khat > 0 && std::fabs(khat - l.K_unoccluded) / khat <= settings_.error_threshold && err_src <= threshold_) {
+            j.side = Side::Settle;
+            j.settled_K = khat;
+        }
+    }
+    return j;
+}
+
+void Solver::apply(int id, const Judgement& j, std::vector<Candidate>& next) {
+    if (j.side == Side::Keep) return;
+    if (j.side == Side::Settle) {
+        Link& l = links_[id];
+        l.K = l.K_unoccluded = j.settled_K;
+        l.settled = true;
+        ++stats_.avoided_by_progressive;
+        return;
+    }
+    if (int64_t(links_.size()) >= settings_.max_links) {
+        stats_.capped = true;
+        return;
+    }
+    const int split = j.side == Side::Src ? links_[id].src : links_[id].rcv;
+    Node& n = h_.nodes[split];
+    if (!n.is_cluster() && n.children.empty()) {
+        h_.subdivide(split);
+        stats_.element_nodes += 4;
+    }
+    const Link l = links_[id];
+    deactivate(id);
+    ++stats_.refined_by_oracle;
+    for (int c : h_.nodes[split].children) {
+        if (j.side == Side::Src) next.push_back({c, l.rcv, id});
+        else next.push_back({l.src, c, id});
+    }
+}
+
+void Solver::link_from(std::vector<Candidate> wave) {
+    while (!wave.empty()) {
+        check_cancel();
+        std::vector<Candidate> eval, next;
+        // A self-link of a cluster stands for all interactions inside it: expand it into
+        // links between its children (and their own self-links) without evaluating it.
+        for (const Candidate& c : wave) {
+            if (c.src != c.rcv) { eval.push_back(c); continue; }
+            const Node& n = h_.nodes[c.src];
+            if (!n.is_cluster()) continue;  // a planar element does not see itself
+            for (int a : n.children) {
+                if (h_.nodes[a].is_cluster()) next.push_back({a, a, -1});
+                for (int b : n.children)
+                    if (a != b) eval.push_back({a, b, -1});
+            }
+        }
+        std::vector<Link> made(eval.size());
+        const uint64_t base = seed_counter_;
+        seed_counter_ += eval.size();
+        const uint64_t seed = settings_.seed;
+        parallel_for(eval.size(), settings_.threads, [&](size_t i) {
+            made[i] = evaluate_link(h_, *vis_, eval[i].src, eval[i].rcv, settings_.rays_per_link,
+                                    seed * 0x100000001B3ull + base + i);
+        }, 16);
+        stats_.links_evaluated += int64_t(eval.size());
+        std::vector<int> ids;
+        for (size_t i = 0; i < made.size(); ++i) {
+            Link& l = made[i];
+            if (!l.must_refine && l.K <= 0) continue;  // no transport: no link
+            l.parent = eval[i].parent;
+            ids.push_back(add_link(l));
+        }
+        std::vector<Judgement> js(ids.size());
+        parallel_for(ids.size(), settings_.threads, [&](size_t i) { js[i] = judge(links_[ids[i]]); }, 16);
+        for (size_t i = 0; i < ids.size(); ++i) apply(ids[i], js[i], next);
+        wave.swap(next);
+    }
+}
+
+bool Solver::refine_round() {
+    std::vector<int> active;
+    for (size_t i = 0; i < links_.size(); ++i)
+        if (links_[i].active) active.push_back(int(i));
+    std::vector<Judgement> js(active.size());
+    parallel_for(active.size(), settings_.threads, [&](size_t i) { js[i] = judge(links_[active[i]]); }, 256);
+    std::vector<Candidate> next;
+    bool changed = false;
+    for (size_t i = 0; i < active.size(); ++i) {
+        if (js[i].side == Side::Keep) continue;
+        if (js[i].side != Side::Settle) changed = true;
+        apply(active[i], js[i], next);
+    }
+    link_from(std::move(next));
+    return changed;
+}
+
+}  // namespace radiosity

@@ -1,0 +1,63 @@
+#include "radiosity/scene.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace radiosity {
+
+int SceneDesc::add_cluster(const std::string& name, int parent) {
+    if (parent < -1 || parent >= int(clusters_.size()))
+        throw InputError("cluster '" + name + "': unknown parent cluster " + std::to_string(parent));
+    clusters_.push_back({name, parent});
+    return int(clusters_.size()) - 1;
+}
+
+namespace {
+[[noreturn]] void fail(const ObjectDesc& o, const std::string& what) {
+    throw InputError("object '" + o.name + "': " + what);
+}
+std::string poly_str(size_t f) { return "polygon " + std::to_string(f); }
+}  // namespace
+
+int SceneDesc::add_object(ObjectDesc o) {
+    if (o.cluster < -1 || o.cluster >= int(clusters_.size()))
+        fail(o, "unknown cluster " + std::to_string(o.cluster));
+    const size_t nf = o.loop_starts.size();
+    if (o.loop_totals.size() != nf) fail(o, "loop_starts and loop_totals differ in length");
+    if (o.reflectance.size() != nf) fail(o, "reflectance needs one RGB per polygon");
+    if (o.emission.size() != nf) fail(o, "emission needs one RGB per polygon");
+    if (o.two_sided.empty()) o.two_sided.assign(nf, 1);
+    if (o.two_sided.size() != nf) fail(o, "two_sided needs one flag per polygon");
+    for (size_t i = 0; i < o.vertices.size(); ++i)
+        if (!finite(o.vertices[i]))
+            fail(o, "vertex " + std::to_string(i) + " has a non-finite coordinate (NaN or inf)");
+    const int64_t nc = int64_t(o.corner_verts.size());
+    for (int64_t c = 0; c < nc; ++c)
+        if (o.corner_verts[c] < 0 || size_t(o.corner_verts[c]) >= o.vertices.size())
+            fail(o, "corner " + std::to_string(c) + " refers to a missing vertex");
+    for (size_t f = 0; f < nf; ++f) {
+        if (o.loop_totals[f] < 3) fail(o, poly_str(f) + " has fewer than 3 corners");
+        if (o.loop_starts[f] < 0 || int64_t(o.loop_starts[f]) + o.loop_totals[f] > nc)
+            fail(o, poly_str(f) + " has corners outside the corner array");
+        const Rgb& rho = o.reflectance[f];
+        const Rgb& e = o.emission[f];
+        if (!finite(rho)) fail(o, poly_str(f) + " has a non-finite reflectance");
+        for (int k = 0; k < 3; ++k)
+            if (rho[k] < 0 || rho[k] >= 1)
+                fail(o, poly_str(f) + " has reflectance " + std::to_string(rho[k]) +
+                            " outside [0,1) (energy would not converge)");
+        if (!finite(e)) fail(o, poly_str(f) + " has a non-finite emission");
+        for (int k = 0; k < 3; ++k)
+            if (e[k] < 0) fail(o, poly_str(f) + " has negative emission");
+    }
+    objects_.push_back(std::move(o));
+    return int(objects_.size()) - 1;
+}
+
+size_t SceneDesc::polygon_count() const {
+    size_t n = 0;
+    for (const auto& o : objects_) n += o.polygon_count();
+    return n;
+}
+
+}  // namespace radiosity

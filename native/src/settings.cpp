@@ -1,0 +1,47 @@
+#include "radiosity/settings.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace radiosity {
+
+Settings Settings::preset(const std::string& name) {
+    // The figures each preset costs and gives are measured in bench/results/.
+    Settings s;
+    if (name == "DRAFT") {
+        s.error_threshold = 0.2;
+        s.min_area_fraction = 1e-4;
+        s.rays_per_link = 8;
+        s.tolerance = 1e-3;
+    } else if (name == "MEDIUM") {
+        s.error_threshold = 0.05;
+        s.min_area_fraction = 2e-5;
+        s.rays_per_link = 16;
+        s.tolerance = 1e-4;
+    } else if (name == "HIGH") {
+        s.error_threshold = 0.01;
+        s.min_area_fraction = 4e-6;
+        s.rays_per_link = 32;
+        s.tolerance = 1e-5;
+    } else {
+        throw std::invalid_argument("unknown preset '" + name + "' (DRAFT, MEDIUM or HIGH)");
+    }
+    return s;
+}
+
+void Settings::validate() const {
+    auto bad = [](const std::string& w) { throw std::invalid_argument("settings: " + w); };
+    if (!(std::isfinite(error_threshold) && error_threshold > 0)) bad("error_threshold must be a positive number");
+    if (!(std::isfinite(min_area_fraction) && min_area_fraction >= 0)) bad("min_area_fraction must be >= 0");
+    if (max_elements < 1) bad("max_elements must be >= 1");
+    if (max_links < 1) bad("max_links must be >= 1");
+    if (rays_per_link < 1 || rays_per_link > 4096) bad("rays_per_link must be in [1, 4096]");
+    if (max_iterations < 1) bad("max_iterations must be >= 1");
+    if (max_refine_rounds < 0) bad("max_refine_rounds must be >= 0");
+    if (!(std::isfinite(tolerance) && tolerance > 0)) bad("tolerance must be a positive number");
+    if (threads < 0) bad("threads must be >= 0");
+    if (!(crease_angle_deg >= 0 && crease_angle_deg <= 180)) bad("crease_angle_deg must be in [0, 180]");
+    if (closure_rays < 0) bad("closure_rays must be >= 0");
+}
+
+}  // namespace radiosity

@@ -1,0 +1,152 @@
+#include "radiosity/solver.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "radiosity/parallel.h"
+
+namespace radiosity {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+}  // namespace
+
+int hardware_threads() {
+    unsigned n = std::thread::hardware_concurrency();
+    return n == 0 ? 1 : int(n);
+}
+
+Solver::Solver(SceneDesc scene, Settings settings) : scene_(std::move(scene)), settings_(settings) {
+    settings_.validate();
+}
+
+void Solver::check_cancel() const {
+    if (control_ && control_->cancel.load(std::memory_order_relaxed)) throw Cancelled();
+}
+
+void Solver::set_progress(double f) const {
+    if (control_) control_->fraction.store(f, std::memory_order_relaxed);
+}
+
+void Solver::solve(Control* control) {
+    control_ = control;
+    solved_ = false;
+    const auto t0 = Clock::now();
+    stats_ = Stats{};
+    links_.clear();
+    seed_counter_ = 0;
+
+    h_.build(scene_, settings_.use_clustering);
+    vis_ = std::make_unique<Visibility>();
+    // Ray offsets relative to the scene size (scale invariance), but never below what float
+    // coordinates far from the origin can resolve.
+    double mag = 0;
+    for (int k = 0; k < 3; ++k)
+        mag = std::max({mag, std::fabs(h_.scene_box.lo[k]), std::fabs(h_.scene_box.hi[k])});
+    vis_->set_epsilon(std::max(1e-6 * h_.scene_diag, 4e-7 * mag));
+    for (size_t o = 0; o < scene_.objects().size(); ++o) {
+        std::vector<Vec3> tv;
+        for (const Primitive& p : h_.prims) {
+            if (p.object != int(o)) continue;
+            tv.insert(tv.end(), {p.poly.v[0], p.poly.v[1], p.poly.v[2]});
+            if (p.poly.n == 4) tv.insert(tv.end(), {p.poly.v[0], p.poly.v[2], p.poly.v[3]});
+        }
+        vis_->add_object(int(o), tv);
+    }
+    vis_->commit();
+    stats_.element_nodes = int64_t(h_.surfaces.size());
+    min_area_ = settings_.min_area_fraction * h_.scene_diag * h_.scene_diag;
+
+    // Reference radiance for the relative threshold: the mean radiance a closed scene with
+    // this emission and mean reflectance would reach.
+    double ae = 0, a = 0, ar = 0;
+    for (const Surface& s : h_.surfaces) {
+        const Node& e = h_.nodes[s.root];
+        ae += e.area * e.emission.max();
+        ar += e.area * e.rho.max();
+        a += e.area;
+    }
+    double rho_mean = a > 0 ? std::min(ar / a, 0.95) : 0.0;
+    L_ref_ = a > 0 ? ae / a / (1.0 - rho_mean) : 0.0;
+    threshold_ = settings_.error_threshold * L_ref_;
+    stats_.seconds_build = since(t0);
+    set_progress(0.05);
+
+    if (L_ref_ <= 0) {
+        stats_.no_emitters = true;
+        stats_.warnings.push_back("the scene has no emitter: every radiance is 0");
+    } else {
+        const auto t1 = Clock::now();
+        link_from({{h_.root, h_.root, -1}});
+        set_progress(0.2);
+        // Refine against the evolving solution (BF refinement): light arriving from
+        // reflectors becomes known only after a solve.
+        const double loose = std::max(settings_.tolerance, 1e-3);
+        for (int round = 0; round < settings_.max_refine_rounds; ++round) {
+            check_cancel();
+            iterate_to(loose, settings_.max_iterations, 0.2 + 0.6 * round / settings_.max_refine_rounds,
+                       0.2 + 0.6 * (round + 0.5) / settings_.max_refine_rounds);
+            ++stats_.refine_rounds;
+            if (!refine_round()) break;
+        }
+        stats_.seconds_link = since(t1);
+        const auto t2 = Clock::now();
+        compute_closure();
+        stats_.iteration_capped = false;
+        iterate_to(settings_.tolerance, settings_.max_iterations, 0.8, 1.0);
+        stats_.seconds_solve = since(t2);
+    }
+    if (stats_.element_nodes >= settings_.max_elements) stats_.capped = true;
+    compute_stats();
+    stats_.seconds_total = since(t0);
+    set_progress(1.0);
+    solved_ = true;
+    control_ = nullptr;
+}
+
+void Solver::compute_stats() {
+    Stats& s = stats_;
+    s.input_surfaces = int64_t(scene_.polygon_count());
+    s.primitives = int64_t(h_.prims.size());
+    s.skipped_polygons = int64_t(h_.skipped_polygons);
+    s.objects = int64_t(scene_.objects().size());
+    s.clusters = 0;
+    for (const Node& n : h_.nodes) s.clusters += n.is_cluster();
+    s.links = s.cluster_links = s.surface_links = s.history_links = 0;
+    s.obj_env_links = s.env_env_links = s.obj_obj_links = 0;
+    for (const Link& l : links_) {
+        if (!l.active) { ++s.history_links; continue; }
+        ++s.links;
+        (l.cluster ? s.cluster_links : s.surface_links)++;
+        int os = h_.nodes[l.src].object, orc = h_.nodes[l.rcv].object;
+        // A link end above object level (a collection or the root) counts as object side
+        // when it is a collection cluster; environment means polygons directly in the scene.
+        bool src_env = os >= 0 ? h_.object_of_env[os] != 0 : l.src == h_.root;
+        bool rcv_env = orc >= 0 ? h_.object_of_env[orc] != 0 : l.rcv == h_.root;
+        if (src_env && rcv_env) ++s.env_env_links;
+        else if (src_env != rcv_env) ++s.obj_env_links;
+        else ++s.obj_obj_links;
+    }
+    // Elements: leaves of surfaces that light reaches (a back face nothing lights costs none).
+    s.elements = 0;
+    std::vector<char> reached(h_.surfaces.size(), 0);
+    for (size_t si = 0; si < h_.surfaces.size(); ++si) {
+        bool r = false;
+        for (int a : h_.ancestors_of_surface(int(si))) r |= !h_.nodes[a].in_links.empty();
+        std::vector<int> stack{h_.surfaces[si].root};
+        int64_t leaves = 0;
+        while (!stack.empty()) {
+            int id = stack.back();
+            stack.pop_back();
+            const Node& n = h_.nodes[id];
+            r |= !n.in_links.empty() || !n.out_links.empty();
+            if (n.children.empty()) ++leaves;
+            for (int c : n.children) stack.push_back(c);
+        }
+        if (r || h_.nodes[h_.surfaces[si].root].emission.max() > 0) s.elements += leaves;
+    }
+    s.rays = vis_ ? int64_t(vis_->rays()) : 0;
+}
+
+}  // namespace radiosity

@@ -1,0 +1,147 @@
+#include "radiosity/transfer.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace radiosity {
+
+double unoccluded_coupling(const Poly& rcv, const Vec3& rcv_n, const Node& src) {
+    Cubature cub = cubature(rcv);
+    double k = 0;
+    for (int j = 0; j < cub.n; ++j) k += cub.w[j] * point_polygon_form_factor(cub.p[j], rcv_n, src.poly, src.normal);
+    return k;
+}
+
+Rgb sender_radiance(const Node& src, const Vec3& d) {
+    if (!src.is_cluster()) return src.L;
+    Rgb num;
+    double den = 0;
+    for (int a = 0; a < 3; ++a) {
+        double w = d[a] * d[a];
+        if (w <= 0) continue;
+        int b = bin_of(a, d[a]);
+        num += src.S[b] * w;
+        den += src.W[b] * w;
+    }
+    return den > 0 ? num / den : src.L;
+}
+
+namespace {
+
+Link element_link(const Hierarchy& h, const Visibility& vis, const Node& P, const Node& Q, int rays, Rng& rng) {
+    Link l;
+    const double eps = 1e-7 * h.scene_diag;
+    if (!can_face(P.poly, P.normal, Q.poly, Q.normal, eps)) return l;
+    Cubature cub = cubature(Q.poly);
+    const int per_point = std::max(1, rays / cub.n);
+    const double lift = 1e-6 * h.scene_diag;  // keep ray ends off their own surfaces
+    double kmin = 1e300, kmax = -1e300, fmax = 0;
+    bool any_blocked = false, any_clear = false;
+    for (int j = 0; j < cub.n; ++j) {
+        double F = point_polygon_form_factor(cub.p[j], Q.normal, P.poly, P.normal);
+        double v = 1.0;
+        if (F > 0) {
+            int clear = 0;
+            Vec3 y = cub.p[j] + Q.normal * lift;
+            for (int r = 0; r < per_point; ++r) {
+                // Stratified along one axis: fewer rays for the same variance.
+                double u1 = (r + rng.next()) / per_point, u2 = rng.next();
+                Vec3 x = P.poly.sample(u1, u2) + P.normal * lift;
+                if (!vis.occluded(y, x)) ++clear;
+            }
+            v = double(clear) / per_point;
+            if (clear < per_point) any_blocked = true;
+            if (clear > 0) any_clear = true;
+        }
+        double k = F * v;
+        l.K_unoccluded += cub.w[j] * F;
+        l.K += cub.w[j] * k;
+        kmin = std::min(kmin, k);
+        kmax = std::max(kmax, k);
+        fmax = std::max(fmax, F);
+    }
+    l.partial = any_blocked && any_clear;
+    // In a penumbra the receiver points' own visibility is uncertain: count the full
+    // unoccluded kernel as the possible spread so shadow boundaries refine.
+    l.dK = l.partial ? std::max(kmax - kmin, fmax - kmin) : (kmax - kmin);
+    l.vis = l.K_unoccluded > 0 ? l.K / l.K_unoccluded : 0.0;
+    return l;
+}
+
+Link cluster_link(const Hierarchy& h, const Visibility& vis, const Node& P, const Node& Q, int rays, Rng& rng,
+                  int src, int rcv) {
+    Link l;
+    l.cluster = true;
+    Vec3 d = Q.center - P.center;
+    double r = length(d);
+    l.dist = r;
+    if (r <= P.radius + Q.radius || r <= 1e-9 * h.scene_diag) {
+        // The point model is meaningless for overlapping bounding spheres: refine first.
+        l.must_refine = true;
+        l.dir = r > 0 ? d / r : Vec3{0, 0, 1};
+        l.K = l.K_unoccluded = 0;
+        return l;
+    }
+    l.dir = d / r;
+    double pa = h.projected_area(src, l.dir);
+    double rcv_cos = Q.is_cluster() ? 1.0 : std::max(0.0, dot(Q.normal, -l.dir));
+    l.K_unoccluded = pa * rcv_cos / (kPi * r * r);
+    if (l.K_unoccluded <= 0) return l;
+    // Visibility weighted by the point-to-point kernel, so rays between surfaces that do not
+    // face each other do not count.
+    double wsum = 0, vsum = 0;
+    int clear = 0, cast = 0;
+    const double lift = 1e-6 * h.scene_diag;
+    for (int k = 0; k < rays; ++k) {
+        Vec3 nx, ny;
+        Vec3 x = h.sample_point(src, rng, &nx);
+        Vec3 y = h.sample_point(rcv, rng, &ny);
+        Vec3 xy = y - x;
+        double d2 = length2(xy);
+        if (d2 <= 0) continue;
+        double w = std::max(0.0, dot(nx, xy)) * std::max(0.0, -dot(ny, xy)) / (d2 * d2);
+        if (w <= 0) continue;
+        bool ok = !vis.occluded(x + nx * lift, y + ny * lift);
+        wsum += w;
+        vsum += ok ? w : 0.0;
+        clear += ok;
+        ++cast;
+    }
+    if (cast == 0) {
+        // No sampled pair faces each other: fall back to plain segment visibility.
+        for (int k = 0; k < std::max(1, rays / 2); ++k) {
+            Vec3 x = h.sample_point(src, rng, nullptr), y = h.sample_point(rcv, rng, nullptr);
+            bool ok = !vis.occluded(x, y);
+            vsum += ok;
+            wsum += 1;
+            clear += ok;
+            ++cast;
+        }
+    }
+    l.vis = wsum > 0 ? vsum / wsum : 0.0;
+    l.partial = clear > 0 && clear < cast;
+    l.K = l.K_unoccluded * l.vis;
+    return l;
+}
+
+}  // namespace
+
+Link evaluate_link(const Hierarchy& h, const Visibility& vis, int src, int rcv, int rays, uint64_t seed) {
+    const Node& P = h.nodes[src];
+    const Node& Q = h.nodes[rcv];
+    Rng rng(seed);
+    Link l;
+    if (!P.is_cluster() && !Q.is_cluster()) {
+        l = element_link(h, vis, P, Q, rays, rng);
+        Vec3 d = Q.center - P.center;
+        l.dist = length(d);
+        l.dir = l.dist > 0 ? d / l.dist : P.normal;
+    } else {
+        l = cluster_link(h, vis, P, Q, rays, rng, src, rcv);
+    }
+    l.src = src;
+    l.rcv = rcv;
+    return l;
+}
+
+}  // namespace radiosity

@@ -1,0 +1,104 @@
+#include "radiosity/visibility.h"
+
+#include <embree3/rtcore.h>
+
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace radiosity {
+
+namespace {
+void check_device(RTCDevice d, const char* what) {
+    RTCError e = rtcGetDeviceError(d);
+    if (e != RTC_ERROR_NONE) throw std::runtime_error(std::string("Embree error in ") + what + ": " + std::to_string(int(e)));
+}
+}  // namespace
+
+Visibility::Visibility() {
+    device_ = rtcNewDevice(nullptr);
+    if (!device_) throw std::runtime_error("Embree device could not be created");
+    top_ = rtcNewScene(device_);
+    rtcSetSceneFlags(top_, RTC_SCENE_FLAG_ROBUST);
+}
+
+Visibility::~Visibility() {
+    for (RTCScene s : object_scenes_)
+        if (s) rtcReleaseScene(s);
+    if (top_) rtcReleaseScene(top_);
+    if (device_) rtcReleaseDevice(device_);
+}
+
+void Visibility::add_object(int object, const std::vector<Vec3>& tv) {
+    if (object >= int(object_scenes_.size())) {
+        object_scenes_.resize(object + 1, nullptr);
+        instance_geom_.resize(object + 1, -1);
+    }
+    if (tv.empty()) return;
+    RTCScene s = rtcNewScene(device_);
+    rtcSetSceneFlags(s, RTC_SCENE_FLAG_ROBUST);
+    RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    const size_t nt = tv.size() / 3;
+    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                           3 * sizeof(float), tv.size()));
+    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                              3 * sizeof(unsigned), nt));
+    for (size_t i = 0; i < tv.size(); ++i) {
+        vb[3 * i] = float(tv[i].x);
+        vb[3 * i + 1] = float(tv[i].y);
+        vb[3 * i + 2] = float(tv[i].z);
+        ib[i] = unsigned(i);
+    }
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(s, g);
+    rtcReleaseGeometry(g);
+    rtcCommitScene(s);
+    check_device(device_, "object build");
+    object_scenes_[object] = s;
+
+    RTCGeometry inst = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(inst, s);
+    const float id[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+    rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, id);
+    rtcCommitGeometry(inst);
+    instance_geom_[object] = int(rtcAttachGeometry(top_, inst));
+    rtcReleaseGeometry(inst);
+}
+
+void Visibility::set_object_transform(int object, const double m[12]) {
+    if (object < 0 || object >= int(instance_geom_.size()) || instance_geom_[object] < 0) return;
+    RTCGeometry inst = rtcGetGeometry(top_, unsigned(instance_geom_[object]));
+    float f[12];
+    for (int i = 0; i < 12; ++i) f[i] = float(m[i]);
+    rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, f);
+    rtcCommitGeometry(inst);
+}
+
+void Visibility::commit() {
+    rtcCommitScene(top_);
+    check_device(device_, "scene commit");
+}
+
+bool Visibility::occluded(const Vec3& a, const Vec3& b) const {
+    rays_.fetch_add(1, std::memory_order_relaxed);
+    Vec3 d = b - a;
+    double len = length(d);
+    if (len <= 2.0 * eps_) return false;
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRay ray{};
+    ray.org_x = float(a.x);
+    ray.org_y = float(a.y);
+    ray.org_z = float(a.z);
+    ray.dir_x = float(d.x / len);
+    ray.dir_y = float(d.y / len);
+    ray.dir_z = float(d.z / len);
+    ray.tnear = float(eps_);
+    ray.tfar = float(len - eps_);
+    ray.mask = 0xFFFFFFFFu;
+    ray.time = 0.f;
+    rtcOccluded1(top_, &ctx, &ray);
+    return ray.tfar < 0;  // Embree sets tfar = -inf on a hit
+}
+
+}  // namespace radiosity

@@ -1,0 +1,3 @@
+#include <gtest/gtest.h>
+#include "radiosity/geometry.h"
+TEST(Smoke, Compiles) { EXPECT_TRUE(true); }

@@ -92,7 +92,7 @@ SceneDesc cornell_box(int n) {
     add_grid(s, "red", -1, {V(552.8, 0, 0), V(549.6, 0, 559.2), V(556, 548.8, 559.2), V(556, 548.8, 0)}, n, n, red, {});
     // Light 1 mm below the ceiling, facing down.
     add_grid(s, "light", -1, {V(343, 547.8, 227), V(343, 547.8, 332), V(213, 547.8, 332), V(213, 547.8, 227)}, 1, 1,
-             Rgb{0.78, 0.78, 0.78}, Rgb{17, 12, 4});
+             Rgb{0, 0, 0}, Rgb{17, 12, 4});  // an Emission shader reflects nothing
     auto block = [&](const std::string& name, std::array<Vec3, 4> top, double h) {
         int c = s.add_cluster(name);
         ObjectDesc o;

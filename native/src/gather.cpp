@@ -90,7 +90,7 @@ double Solver::sweep(bool unit, std::vector<double>* fsum) {
         Rgb g;
         for (int li : q.in_links) {
             Link& l = links_[li];
-            Rgb Ls = unit ? Rgb::all(1.0) : sender_radiance(h_.nodes[l.src], l.dir);
+            Rgb Ls = unit ? Rgb::all(1.0) : sender_radiance(h_, l);
             Rgb v = Ls * l.K;
             if (q.is_cluster()) l.value = v;
             else g += v;

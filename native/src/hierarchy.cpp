@@ -99,8 +99,6 @@ void Hierarchy::add_surfaces_of_prims(const std::vector<int>& ids, int begin, in
                 e.box.grow(e.poly.v[k]);
                 e.radius = std::max(e.radius, length(e.poly.v[k] - e.center));
             }
-            const ObjectDesc* od = nullptr;
-            (void)od;
             surfaces.push_back({nid, ids[i], side == 1});
             surface_order.push_back(s);
             if (side == 0) pr.front = s; else pr.back = s;
@@ -282,10 +280,11 @@ void Hierarchy::subdivide(int id) {
     }
 }
 
-Vec3 Hierarchy::sample_point(int id, Rng& rng, Vec3* normal) const {
+Vec3 Hierarchy::sample_point(int id, Rng& rng, Vec3* normal, int* surface_root) const {
     const Node& n = nodes[id];
     if (!n.is_cluster()) {
         if (normal) *normal = n.normal;
+        if (surface_root) *surface_root = id;
         double u1 = rng.next(), u2 = rng.next();
         return n.poly.sample(u1, u2);
     }
@@ -293,8 +292,10 @@ Vec3 Hierarchy::sample_point(int id, Rng& rng, Vec3* normal) const {
     double u = lo + rng.next() * (hi - lo);
     auto it = std::upper_bound(surface_cdf.begin() + n.surf_begin, surface_cdf.begin() + n.surf_end + 1, u);
     int pos = std::clamp(int(it - surface_cdf.begin()) - 1, n.surf_begin, n.surf_end - 1);
-    const Node& e = nodes[surfaces[surface_order[pos]].root];
+    const int rid = surfaces[surface_order[pos]].root;
+    const Node& e = nodes[rid];
     if (normal) *normal = e.normal;
+    if (surface_root) *surface_root = rid;
     double u1 = rng.next(), u2 = rng.next();
     return e.poly.sample(u1, u2);
 }

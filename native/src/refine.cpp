@@ -44,7 +44,7 @@ Solver::Judgement Solver::judge(const Link& l) const {
     const Node& Q = h_.nodes[l.rcv];
     Judgement j;
     const double rho = Q.is_cluster() ? Q.rho_max : Q.rho.max();
-    const double Lp = sender_radiance(P, l.dir).max();
+    const double Lp = sender_radiance(h_, l).max();
     const double dLp = (P.Lmax - P.Lmin).max();
     double err_rcv = 0, err_src = 0;
     if (l.must_refine) {
@@ -72,21 +72,36 @@ Solver::Judgement Solver::judge(const Link& l) const {
     } else {
         prefer = err_rcv >= err_src ? Side::Rcv : Side::Src;
     }
-    if (prefer == Side::Src && !ps) prefer = Side::Rcv;
-    if (prefer == Side::Rcv && !qs) prefer = Side::Src;
+    if (l.cluster || l.must_refine) {
+        // The point model needs either end smaller: split whichever can be.
+        if (prefer == Side::Src && !ps) prefer = Side::Rcv;
+        if (prefer == Side::Rcv && !qs) prefer = Side::Src;
+    } else {
+        // Between elements each error term names its own cure: splitting the sender does not
+        // reduce the kernel's spread over the receiver, and vice versa.
+        if (prefer == Side::Rcv && !qs) prefer = err_src > threshold_ && ps ? Side::Src : Side::Keep;
+        if (prefer == Side::Src && !ps) prefer = err_rcv > threshold_ && qs ? Side::Rcv : Side::Keep;
+        if (prefer == Side::Keep) return j;
+    }
     j.side = prefer;
     // 3.5: between mutually visible surfaces, refine the receiver only if its children's
     // area-averaged form factor differs from the parent's by more than epsilon. (The
     // paper's second test, sum of F_{q,p_i}, holds exactly for our analytic kernel.)
     if (settings_.progressive_refinement && prefer == Side::Rcv && !l.cluster && !l.partial && l.vis >= 1.0 &&
         !Q.is_cluster()) {
-        double khat = 0;
+        // We also ask the children to agree with each other: our output is per corner, so a
+        // receiver must still split where its children would show a gradient.
+        double khat = 0, kmin = 1e300, kmax = -1e300;
         for (int k = 0; k < 4; ++k) {
             Poly c = Q.poly.child(k);
-            khat += c.area() * unoccluded_coupling(c, Q.normal, P);
+            double kc = unoccluded_coupling(c, Q.normal, P);
+            khat += c.area() * kc;
+            kmin = std::min(kmin, kc);
+            kmax = std::max(kmax, kc);
         }
         khat /= Q.area;
-        if (khat > 0 && std::fabs(khat - l.K_unoccluded) / khat <= settings_.error_threshold && err_src <= threshold_) {
+        if (khat > 0 && std::fabs(khat - l.K_unoccluded) / khat <= settings_.error_threshold &&
+            rho * Lp * (kmax - kmin) <= threshold_ && err_src <= threshold_) {
             j.side = Side::Settle;
             j.settled_K = khat;
         }

@@ -132,8 +132,11 @@ void Solver::compute_stats() {
     s.elements = 0;
     std::vector<char> reached(h_.surfaces.size(), 0);
     for (size_t si = 0; si < h_.surfaces.size(); ++si) {
+        // Reached through a cluster link only if the surface faces its sender.
         bool r = false;
-        for (int a : h_.ancestors_of_surface(int(si))) r |= !h_.nodes[a].in_links.empty();
+        const Vec3 nrm = h_.nodes[h_.surfaces[si].root].normal;
+        for (int a : h_.ancestors_of_surface(int(si)))
+            for (int li : h_.nodes[a].in_links) r |= links_[li].K > 0 && dot(nrm, links_[li].dir) < 0;
         std::vector<int> stack{h_.surfaces[si].root};
         int64_t leaves = 0;
         while (!stack.empty()) {

@@ -12,8 +12,19 @@ double unoccluded_coupling(const Poly& rcv, const Vec3& rcv_n, const Node& src) 
     return k;
 }
 
-Rgb sender_radiance(const Node& src, const Vec3& d) {
+Rgb sender_radiance(const Hierarchy& h, const Link& l) {
+    const Node& src = h.nodes[l.src];
     if (!src.is_cluster()) return src.L;
+    if (!l.samples.empty()) {
+        Rgb acc;
+        double w = 0;
+        for (const auto& s : l.samples) {
+            acc += h.nodes[s.first].L * double(s.second);
+            w += s.second;
+        }
+        return acc / w;
+    }
+    const Vec3& d = l.dir;
     Rgb num;
     double den = 0;
     for (int a = 0; a < 3; ++a) {
@@ -61,10 +72,20 @@ Link element_link(const Hierarchy& h, const Visibility& vis, const Node& P, cons
         fmax = std::max(fmax, F);
     }
     l.partial = any_blocked && any_clear;
-    // In a penumbra the receiver points' own visibility is uncertain: count the full
-    // unoccluded kernel as the possible spread so shadow boundaries refine.
-    l.dK = l.partial ? std::max(kmax - kmin, fmax - kmin) : (kmax - kmin);
     l.vis = l.K_unoccluded > 0 ? l.K / l.K_unoccluded : 0.0;
+    // The kernel at the corners too: symmetric cubature points can see equal values where
+    // the kernel varies (a receiver centred under its sender). Corners get the mean
+    // visibility, the cubature points their own.
+    for (int k = 0; k < Q.poly.n; ++k) {
+        Vec3 c = Q.poly.v[k] * 0.999 + Q.center * 0.001;  // just inside: kernels of neighbours meeting at an edge are singular there
+        double kc = point_polygon_form_factor(c, Q.normal, P.poly, P.normal) * l.vis;
+        kmin = std::min(kmin, kc);
+        kmax = std::max(kmax, kc);
+    }
+    // The spread of the occluded kernel over the receiver: in a penumbra it includes the
+    // change of visibility across the receiver, so shadow boundaries refine.
+    l.dK = kmax - kmin;
+    (void)fmax;
     return l;
 }
 
@@ -94,7 +115,8 @@ Link cluster_link(const Hierarchy& h, const Visibility& vis, const Node& P, cons
     const double lift = 1e-6 * h.scene_diag;
     for (int k = 0; k < rays; ++k) {
         Vec3 nx, ny;
-        Vec3 x = h.sample_point(src, rng, &nx);
+        int sroot = -1;
+        Vec3 x = h.sample_point(src, rng, &nx, &sroot);
         Vec3 y = h.sample_point(rcv, rng, &ny);
         Vec3 xy = y - x;
         double d2 = length2(xy);
@@ -102,6 +124,7 @@ Link cluster_link(const Hierarchy& h, const Visibility& vis, const Node& P, cons
         double w = std::max(0.0, dot(nx, xy)) * std::max(0.0, -dot(ny, xy)) / (d2 * d2);
         if (w <= 0) continue;
         bool ok = !vis.occluded(x + nx * lift, y + ny * lift);
+        if (ok && P.is_cluster()) l.samples.push_back({sroot, float(w)});
         wsum += w;
         vsum += ok ? w : 0.0;
         clear += ok;

@@ -73,8 +73,9 @@ public:
 
     // Splits an element into 4 children (kept for later re-use); returns nothing new if split.
     void subdivide(int node);
-    // Area-uniform point on the node's surfaces; writes the oriented normal there.
-    Vec3 sample_point(int node, Rng& rng, Vec3* normal) const;
+    // Area-uniform point on the node's surfaces; writes the oriented normal there and the
+    // element-quadtree root of the surface it lies on.
+    Vec3 sample_point(int node, Rng& rng, Vec3* normal, int* surface_root = nullptr) const;
     // Sum over the node's oriented surfaces of A * max(0, n . d) (d unit).
     double projected_area(int node, const Vec3& d) const;
     // Cluster bookkeeping after geometry changed (center, box, radius, bins).

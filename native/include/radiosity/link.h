@@ -3,6 +3,8 @@
 // every link of a moved object. A refined link stays as an inactive history link (3.4).
 #pragma once
 #include <cstdint>
+#include <utility>
+#include <vector>
 
 #include "radiosity/vec.h"
 
@@ -26,6 +28,10 @@ struct Link {
     bool settled = false;  // the 3.5 criterion found the receiver's form factor converged
     bool must_refine = false;  // bounding spheres overlap: the point model is invalid
     Rgb value;             // cluster receivers: K * L_src of the current iteration
+    // Cluster senders: the unoccluded visibility samples (sender surface root, kernel
+    // weight). The sender's radiance toward the receiver is their weighted mean, so surfaces
+    // of the cluster hidden from the receiver (self-occlusion, back faces) do not dilute it.
+    std::vector<std::pair<int, float>> samples;
 };
 
 }  // namespace radiosity

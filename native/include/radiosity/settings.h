@@ -13,7 +13,7 @@ struct Settings {
     bool use_clustering = true;
     bool progressive_refinement = true;  // the paper's 3.5 criterion
     int rays_per_link = 16;
-    int max_iterations = 200;           // gathering iterations per solve
+    int max_iterations = 5000;          // gathering iterations per solve (stops at the tolerance)
     int max_refine_rounds = 8;          // refine/solve alternations
     double tolerance = 1e-5;            // estimated remaining relative error of the iteration
     int threads = 0;                    // 0 = all cores

@@ -18,8 +18,8 @@ Link evaluate_link(const Hierarchy& h, const Visibility& vis, int src, int rcv, 
 // from an element sender: the cubature average of the point-to-polygon form factor.
 double unoccluded_coupling(const Poly& rcv, const Vec3& rcv_n, const Node& src);
 
-// Directional radiance of a sender toward unit direction d (clusters: projected-area
-// weighted estimate from their axis bins; elements: their radiance).
-Rgb sender_radiance(const Node& src, const Vec3& d);
+// Radiance a link carries from its sender: an element's own radiance; for a cluster the
+// mean over the link's visible samples, else a projected-area estimate from the axis bins.
+Rgb sender_radiance(const Hierarchy& h, const Link& l);
 
 }  // namespace radiosity

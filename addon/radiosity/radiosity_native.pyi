@@ -1,0 +1,64 @@
+"""Type stub of the compiled solver module (native/python/module.cpp).
+
+The module is pure numerics: no bpy. Units: radiance (Blender emission colour x strength).
+Every array argument is C-contiguous numpy; the module copies what it keeps.
+"""
+from typing import Optional
+import numpy as np
+
+class Settings:
+    # Relative error threshold of the refinement oracle (smaller = finer, slower).
+    error_threshold: float          # default 0.05
+    # Smallest element area as a fraction of the squared scene-bbox diagonal (scale invariant).
+    min_area_fraction: float        # default 1e-5
+    # Hard caps: refinement stops there and stats()["capped"] says so.
+    max_elements: int               # default 2_000_000
+    max_links: int                  # default 10_000_000
+    use_clustering: bool            # default True
+    # The paper's Sec. 3.5 criterion (compare parent form factors with children's sum/average).
+    progressive_refinement: bool    # default True
+    rays_per_link: int              # visibility rays per surface link, default 16
+    max_iterations: int             # gathering iterations cap, default 5000 (stops at the tolerance)
+    tolerance: float                # relative residual to stop iterating, default 1e-5
+    threads: int                    # 0 = all cores
+    crease_angle_deg: float         # corners average across faces within this angle, default 35
+    seed: int
+    def __init__(self) -> None: ...
+    @staticmethod
+    def preset(name: str) -> "Settings": ...   # 'DRAFT' | 'MEDIUM' | 'HIGH'
+
+class Scene:
+    def __init__(self) -> None: ...
+    def add_cluster(self, name: str, parent: int = -1) -> int:
+        """A cluster (Blender collection). parent=-1: the root. Returns its id."""
+    def add_object(self, name: str, cluster: int,
+                   vertices: np.ndarray,      # float64 (V,3), world space
+                   loop_starts: np.ndarray,   # int32 (F,)  Blender polygon.loop_start
+                   loop_totals: np.ndarray,   # int32 (F,)  Blender polygon.loop_total (>=3; n-gons fan-split natively)
+                   corner_verts: np.ndarray,  # int32 (C,)  Blender loop.vertex_index
+                   reflectance: np.ndarray,   # float32 (F,3) in [0,1)
+                   emission: np.ndarray,      # float32 (F,3) radiance >= 0
+                   two_sided: Optional[np.ndarray] = None  # bool (F,), default all True
+                   ) -> int:
+        """A rigid object. cluster=-1: a surface set by itself (object directly in the scene).
+        Raises ValueError naming the object and polygon on NaN/inf, bad indices, rho outside [0,1),
+        negative emission. Zero-area polygons are skipped (stats()['skipped_polygons'])."""
+    @property
+    def object_count(self) -> int: ...
+    @property
+    def polygon_count(self) -> int: ...
+
+class Solver:
+    def __init__(self, scene: Scene, settings: Settings) -> None: ...
+    # Synchronous full solve; releases the GIL.
+    def solve(self) -> None: ...
+    # Asynchronous job on a native thread (poll from Blender's main thread).
+    def start(self) -> None: ...
+    def running(self) -> bool: ...
+    def progress(self) -> float: ...          # 0..1
+    def cancel(self) -> None: ...              # the job stops soon; results are not updated
+    def wait(self, timeout: float = -1.0) -> bool: ...  # True when finished; re-raises a job error
+    # Results (after a finished solve).
+    def corner_radiance(self, object_id: int) -> np.ndarray:  # float32 (C,3), per Blender corner
+        ...
+    def stats(self) -> dict: ...  # counts and seconds; keys listed in native/include/radiosity/stats.h

@@ -1,0 +1,73 @@
+// Helpers shared by the native tests: small scenes and read-outs of solved hierarchies.
+#pragma once
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "radiosity/builtin_scenes.h"
+#include "radiosity/geometry.h"
+#include "radiosity/solver.h"
+
+namespace radiosity::testing {
+
+inline Poly quad(Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
+    Poly p;
+    p.n = 4;
+    p.v = {a, b, c, d};
+    return p;
+}
+
+// F from receiver polygon r to sender polygon s (the fraction of r's light reaching s):
+// the point kernel integrated over r with an n x n midpoint rule on a grid of sub-polygons.
+inline double form_factor(const Poly& r, const Poly& s, int levels = 6) {
+    std::vector<Poly> cells{r};
+    for (int l = 0; l < levels; ++l) {
+        std::vector<Poly> next;
+        for (const Poly& c : cells)
+            for (int k = 0; k < 4; ++k) next.push_back(c.child(k));
+        cells.swap(next);
+    }
+    const Vec3 rn = r.normal(), sn = s.normal();
+    double sum = 0, area = 0;
+    for (const Poly& c : cells) {
+        Cubature cub = cubature(c);
+        double a = c.area(), k = 0;
+        for (int j = 0; j < cub.n; ++j) k += cub.w[j] * point_polygon_form_factor(cub.p[j], rn, s, sn);
+        sum += a * k;
+        area += a;
+    }
+    return sum / area;
+}
+
+// Area-weighted radiance of the front side of all polygons of an object.
+inline Rgb object_front_radiance(const Solver& s, int object) {
+    const Hierarchy& h = s.hierarchy();
+    Rgb acc;
+    double a = 0;
+    for (const Primitive& p : h.prims) {
+        if (p.object != object || p.front < 0) continue;
+        const Node& n = h.nodes[h.surfaces[p.front].root];
+        acc += n.L * n.area;
+        a += n.area;
+    }
+    return acc / a;
+}
+
+// Every front-side leaf of an object.
+inline std::vector<const Node*> front_leaves(const Solver& s, int object) {
+    const Hierarchy& h = s.hierarchy();
+    std::vector<const Node*> out;
+    for (const Primitive& p : h.prims) {
+        if (p.object != object || p.front < 0) continue;
+        std::vector<int> st{h.surfaces[p.front].root};
+        while (!st.empty()) {
+            int id = st.back();
+            st.pop_back();
+            if (h.nodes[id].children.empty()) out.push_back(&h.nodes[id]);
+            for (int c : h.nodes[id].children) st.push_back(c);
+        }
+    }
+    return out;
+}
+
+}  // namespace radiosity::testing

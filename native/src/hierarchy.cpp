@@ -21,10 +21,10 @@ namespace {
 // Splits one Blender polygon into convex planar triangles/quads, keeping the corner each
 // vertex came from. Quads stay quads only when planar and convex (the quadtree and the
 // cubature assume it); other polygons are fanned from a vertex that keeps triangles positive.
-void split_polygon(const ObjectDesc& o, int f, double min_area, std::vector<Primitive>& out,
+void split_polygon(const ObjectDesc& o, int f, double min_area, const Hierarchy& h, std::vector<Primitive>& out,
                    size_t& skipped) {
     const int n = o.loop_totals[f], c0 = o.loop_starts[f];
-    auto P = [&](int k) { return o.vertices[o.corner_verts[c0 + k]]; };
+    auto P = [&](int k) { return h.to_internal(o.vertices[o.corner_verts[c0 + k]]); };
     Vec3 nrm;  // Newell normal of the whole polygon
     for (int k = 0; k < n; ++k) {
         Vec3 a = P(k), b = P((k + 1) % n);
@@ -166,10 +166,14 @@ int Hierarchy::build_object_tree(std::vector<int>& ids, int begin, int end, int 
 void Hierarchy::build(const SceneDesc& scene, bool use_clustering) {
     *this = Hierarchy{};
     const auto& objs = scene.objects();
+    Aabb world;
     for (const auto& o : objs)
-        for (const auto& v : o.vertices) scene_box.grow(v);
-    scene_diag = scene_box.empty() ? 1.0 : std::max(scene_box.diagonal(), 1e-30);
-    const double min_area = 1e-14 * scene_diag * scene_diag;
+        for (const auto& v : o.vertices) world.grow(v);
+    if (!world.empty() && world.diagonal() > 0) {
+        origin = world.center();
+        unit = world.diagonal();
+    }
+    const double min_area = 1e-14;
 
     // Primitives, with the material of their polygon.
     std::vector<std::vector<int>> prims_of(objs.size());
@@ -177,14 +181,16 @@ void Hierarchy::build(const SceneDesc& scene, bool use_clustering) {
         const ObjectDesc& o = objs[oi];
         for (size_t f = 0; f < o.polygon_count(); ++f) {
             size_t first = prims.size();
-            split_polygon(o, int(f), min_area, prims, skipped_polygons);
+            split_polygon(o, int(f), min_area, *this, prims, skipped_polygons);
             for (size_t p = first; p < prims.size(); ++p) {
+                for (int k = 0; k < prims[p].poly.n; ++k) scene_box.grow(prims[p].poly.v[k]);
                 prims[p].object = int(oi);
                 prims[p].back = o.two_sided[f] ? -1 : -2;  // -2 marks "no back side"
                 prims_of[oi].push_back(int(p));
             }
         }
     }
+    scene_diag = scene_box.empty() ? 1.0 : std::max(scene_box.diagonal(), 1e-300);
     object_node.assign(objs.size(), -1);
     object_of_env.assign(objs.size(), 0);
     for (size_t oi = 0; oi < objs.size(); ++oi) object_of_env[oi] = objs[oi].cluster < 0;

@@ -77,7 +77,8 @@ std::vector<float> Solver::corner_radiance(int object) const {
     return out;
 }
 
-Rgb Solver::radiance_at(int object, int face, const Vec3& x) const {
+Rgb Solver::radiance_at(int object, int face, const Vec3& world_point) const {
+    const Vec3 x = h_.to_internal(world_point);
     for (const Primitive& p : h_.prims) {
         if (p.object != object || p.face != face || p.front < 0) continue;
         int id = h_.surfaces[p.front].root;

@@ -1,10 +1,172 @@
+// Whole-solver properties: the furnace, energy balance, clustering, convergence in epsilon.
 #include <gtest/gtest.h>
-#include "radiosity/builtin_scenes.h"
-#include "radiosity/solver.h"
+
+#include <map>
+
+#include "test_util.h"
+
 using namespace radiosity;
-TEST(Furnace, Cube) {
-    Solver s(scenes::furnace_cube(0.5, 1.0, 4), Settings::preset("MEDIUM"));
+using namespace radiosity::testing;
+
+namespace {
+
+// Every front leaf of every object within rel of the furnace answer E / (1 - rho).
+void expect_furnace(const SceneDesc& scene, const Settings& st, double rho, double e, double rel,
+                    const std::string& what) {
+    Solver s(scene, st);
     s.solve();
-    auto c = s.corner_radiance(0);
-    for (float v : c) EXPECT_NEAR(v, 2.0, 0.002);
+    const double expect = e / (1 - rho);
+    double worst = 0;
+    for (size_t o = 0; o < scene.objects().size(); ++o) {
+        for (const Node* n : front_leaves(s, int(o))) worst = std::max(worst, std::fabs(n->L.g - expect) / expect);
+        auto corners = s.corner_radiance(int(o));
+        for (float v : corners) worst = std::max(worst, std::fabs(v - expect) / expect);
+    }
+    EXPECT_LE(worst, rel) << what << " rho=" << rho << " iterations=" << s.stats().iterations
+                          << " residual=" << s.stats().residual;
+}
+
+}  // namespace
+
+class Furnace : public ::testing::TestWithParam<std::tuple<const char*, double>> {};
+
+TEST_P(Furnace, ClosedCubeAndRoomWithBoxAreExact) {
+    auto [preset, rho] = GetParam();
+    Settings st = Settings::preset(preset);
+    expect_furnace(scenes::furnace_cube(rho, 1.0, 4), st, rho, 1.0, 1e-3, std::string("cube ") + preset);
+    expect_furnace(scenes::furnace_room_with_box(rho, 0.5, 3), st, rho, 0.5, 1e-3, std::string("room+box ") + preset);
+}
+
+INSTANTIATE_TEST_SUITE_P(AllPresets, Furnace,
+                         ::testing::Combine(::testing::Values("DRAFT", "MEDIUM", "HIGH"),
+                                            ::testing::Values(0.0, 0.5, 0.9, 0.99)));
+
+TEST(Solver, ClusteringAgreesWithUnclusteredAndLinksFarLess) {
+    // The same scene with and without clustering: results within the threshold it was
+    // solved at; initial linking with clustering creates far fewer links.
+    SceneDesc scene = scenes::cornell_box(6);
+    Settings st = Settings::preset("MEDIUM");
+    Solver a(scene, st);
+    a.solve();
+    st.use_clustering = false;
+    Solver b(scene, st);
+    b.solve();
+    double num = 0, den = 0;
+    for (size_t o = 0; o < scene.objects().size(); ++o) {
+        auto ca = a.corner_radiance(int(o)), cb = b.corner_radiance(int(o));
+        for (size_t i = 0; i < ca.size(); ++i) {
+            num += (ca[i] - cb[i]) * (ca[i] - cb[i]);
+            den += cb[i] * cb[i];
+        }
+    }
+    double nrmse = std::sqrt(num / den);
+    EXPECT_LE(nrmse, st.error_threshold) << "clustered vs unclustered NRMSE";
+}
+
+TEST(Solver, InitialLinkingWithClustersIsFarSmaller) {
+    // 2,400 polygons (a grid floor and ceiling and walls); only the initial linking is
+    // compared (no refinement, coarse threshold).
+    SceneDesc scene;
+    scenes::add_box(scene, "room", -1, {0, 0, 0}, {10, 10, 4}, 20, Rgb::all(0.5), {}, true, false);
+    scenes::add_grid(scene, "light", -1, {Vec3{4, 4, 3.9}, Vec3{4, 6, 3.9}, Vec3{6, 6, 3.9}, Vec3{6, 4, 3.9}}, 1, 1, {},
+                     Rgb::all(5.0), false);
+    ASSERT_GE(scene.polygon_count(), 2000u);
+    Settings st;
+    st.error_threshold = 1e6;  // accept every link the initial linking proposes
+    st.max_refine_rounds = 0;
+    st.rays_per_link = 1;
+    Solver a(scene, st);
+    a.solve();
+    st.use_clustering = false;
+    Solver b(scene, st);
+    b.solve();
+    EXPECT_GT(b.stats().links, 20 * a.stats().links)
+        << "clustered " << a.stats().links << " vs unclustered " << b.stats().links;
+}
+
+TEST(Solver, ErrorDecreasesWithEpsilon) {
+    SceneDesc scene = scenes::cornell_box(4);
+    auto solve = [&](double eps) {
+        Settings st;
+        st.error_threshold = eps;
+        st.min_area_fraction = 1e-5;
+        st.rays_per_link = 32;
+        Solver s(scene, st);
+        s.solve();
+        std::vector<float> all;
+        for (size_t o = 0; o < scene.objects().size(); ++o) {
+            auto c = s.corner_radiance(int(o));
+            all.insert(all.end(), c.begin(), c.end());
+        }
+        return all;
+    };
+    auto ref = solve(0.004);
+    auto err = [&](const std::vector<float>& x) {
+        double num = 0, den = 0;
+        for (size_t i = 0; i < x.size(); ++i) {
+            num += (x[i] - ref[i]) * (x[i] - ref[i]);
+            den += ref[i] * ref[i];
+        }
+        return std::sqrt(num / den);
+    };
+    double e1 = err(solve(0.3)), e2 = err(solve(0.08)), e3 = err(solve(0.02));
+    EXPECT_GT(e1, e2);
+    EXPECT_GT(e2, e3);
+}
+
+TEST(Solver, BackFacesNothingLightsCostNothing) {
+    // A floor lit from above: its back side gets no element beyond its root and no link.
+    SceneDesc s;
+    scenes::add_grid(s, "floor", -1, {Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{1, 1, 0}, Vec3{0, 1, 0}}, 1, 1, Rgb::all(0.5), {});
+    scenes::add_grid(s, "light", -1, {Vec3{0.4, 0.4, 1}, Vec3{0.4, 0.6, 1}, Vec3{0.6, 0.6, 1}, Vec3{0.6, 0.4, 1}}, 1, 1, {},
+                     Rgb::all(10.0), false);
+    Solver solver(s, Settings::preset("HIGH"));
+    solver.solve();
+    const Hierarchy& h = solver.hierarchy();
+    const Primitive& p = h.prims[0];
+    ASSERT_GE(p.back, 0);
+    const Node& back = h.nodes[h.surfaces[p.back].root];
+    EXPECT_TRUE(back.children.empty());
+    EXPECT_TRUE(back.in_links.empty());
+    EXPECT_GT(h.nodes[h.surfaces[p.front].root].children.size(), 0u);
+}
+
+TEST(Solver, UniformlyLitWallStaysOneElement) {
+    // A wall far from a small light is lit nearly uniformly: it should not be split.
+    SceneDesc s;
+    scenes::add_grid(s, "wall", -1, {Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{1, 1, 0}, Vec3{0, 1, 0}}, 1, 1, Rgb::all(0.5), {});
+    scenes::add_grid(s, "light", -1, {Vec3{0.45, 0.45, 50}, Vec3{0.45, 0.55, 50}, Vec3{0.55, 0.55, 50}, Vec3{0.55, 0.45, 50}},
+                     1, 1, {}, Rgb::all(1e5), false);
+    Solver solver(s, Settings::preset("MEDIUM"));
+    solver.solve();
+    const Hierarchy& h = solver.hierarchy();
+    EXPECT_TRUE(h.nodes[h.surfaces[h.prims[0].front].root].children.empty());
+}
+
+TEST(Solver, NoEmitterGivesZerosAndAWarning) {
+    SceneDesc s = scenes::furnace_cube(0.5, 0.0, 2);
+    Solver solver(s, Settings::preset("DRAFT"));
+    solver.solve();
+    EXPECT_TRUE(solver.stats().no_emitters);
+    EXPECT_FALSE(solver.stats().warnings.empty());
+    for (float v : solver.corner_radiance(0)) EXPECT_EQ(v, 0.f);
+}
+
+TEST(Solver, ScaleInvariance) {
+    auto solve = [](double k) {
+        SceneDesc s;
+        scenes::add_box(s, "room", -1, {0, 0, 0}, {3 * k, 3 * k, 2.5 * k}, 4, Rgb::all(0.6), {}, true);
+        scenes::add_grid(s, "light", -1, {Vec3{1, 1, 2.4} * k, Vec3{1, 2, 2.4} * k, Vec3{2, 2, 2.4} * k, Vec3{2, 1, 2.4} * k}, 1, 1,
+                         {}, Rgb::all(5.0), false);
+        int c = s.add_cluster("box");
+        scenes::add_box(s, "box", c, Vec3{1.2, 1.2, 0} * k, Vec3{1.8, 1.8, 0.8} * k, 2, Rgb::all(0.4), {});
+        Solver solver(s, Settings::preset("MEDIUM"));
+        solver.solve();
+        return solver.corner_radiance(0);
+    };
+    auto a = solve(1e-4), b = solve(1.0), c = solve(1e4);
+    for (size_t i = 0; i < b.size(); ++i) {
+        EXPECT_NEAR(a[i], b[i], 1e-3 * std::max(b[i], 0.05f)) << i;
+        EXPECT_NEAR(c[i], b[i], 1e-3 * std::max(b[i], 0.05f)) << i;
+    }
 }

@@ -3,6 +3,7 @@
 // -> oriented surfaces (one per side of an input polygon) -> element quadtrees.
 #pragma once
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -92,8 +93,21 @@ public:
     std::vector<int> cluster_node;    // per ClusterDesc: its node (-1 if empty)
     std::vector<int> object_of_env;   // per object: 1 if directly in the scene (environment)
     int root = -1;
-    Aabb scene_box;
-    double scene_diag = 1.0;
+    // All geometry is stored in a normalised frame: p_internal = (p_world - origin) / unit,
+    // with unit the scene's bounding-box diagonal. Every tolerance, ray offset and area
+    // limit is then the same at any scene scale, and so are the results.
+    Vec3 origin;
+    double unit = 1.0;
+    // Snapped to a 2^-36 grid (1.5e-11 of the diagonal): the same scene at another scale
+    // then maps to bit-identical internal geometry, so even tie-breaking decisions of the
+    // oracle and the rays agree.
+    Vec3 to_internal(const Vec3& p) const {
+        auto snap = [](double v) { return std::ldexp(std::nearbyint(std::ldexp(v, 36)), -36); };
+        Vec3 q = (p - origin) / unit;
+        return {snap(q.x), snap(q.y), snap(q.z)};
+    }
+    Aabb scene_box;          // internal frame
+    double scene_diag = 1.0; // internal frame (1 unless the scene is empty)
     size_t skipped_polygons = 0;  // zero-area input polygons (they get the colour of their neighbours)
 
 private:

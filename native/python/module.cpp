@@ -71,6 +71,13 @@ struct PySolver {
     }
 };
 
+// (F,3) per polygon or (3,) for all.
+std::vector<Rgb> rgb_list(const Arr<double>& a) {
+    if (a.ndim() == 1 && a.shape(0) == 3) return {Rgb{a.data()[0], a.data()[1], a.data()[2]}};
+    if (a.ndim() != 2 || a.shape(1) != 3) throw py::value_error("values must be (F,3) or (3,)");
+    return rgb_rows(a, "values", size_t(a.shape(0)));
+}
+
 py::dict stats_dict(const Stats& s) {
     py::dict d;
 #define F(x) d[#x] = s.x
@@ -79,7 +86,9 @@ py::dict stats_dict(const Stats& s) {
     F(env_env_links); F(obj_obj_links); F(env_env_links_recomputed); F(rays); F(links_evaluated);
     F(refined_by_oracle); F(avoided_by_progressive); F(iterations); F(refine_rounds); F(residual);
     F(capped); F(iteration_capped); F(no_emitters); F(seconds_build); F(seconds_link); F(seconds_solve);
-    F(seconds_total); F(warnings);
+    F(seconds_total); F(warnings); F(occluded_links); F(env_env_links_tested); F(env_env_links_rejected);
+    F(obj_env_links_removed); F(links_created); F(history_reactivated); F(seconds_adjust);
+    d["mode"] = s.mode_incremental ? "incremental" : "full";
 #undef F
     return d;
 }
@@ -88,8 +97,7 @@ py::dict stats_dict(const Stats& s) {
 
 PYBIND11_MODULE(radiosity_native, m) {
     m.doc() = "Clustering-based hierarchical radiosity solver (native core of the Blender add-on)";
-    static py::exception<Cancelled> cancelled(m, "Cancelled");
-    (void)cancelled;
+    py::register_exception<Cancelled>(m, "Cancelled");
 
     py::class_<Settings>(m, "Settings")
         .def(py::init<>())
@@ -129,6 +137,28 @@ PYBIND11_MODULE(radiosity_native, m) {
         .def("start", [](PySolver& s) {
             auto solver = s.solver;
             s.job.start([solver](Control& c) { solver->solve(&c); });
+        })
+        .def("move_object", [](PySolver& s, int object, const Arr<double>& m) {
+            s.idle();
+            if (m.ndim() != 2 || m.shape(0) != 4 || m.shape(1) != 4) throw py::value_error("matrix must be 4x4");
+            s.solver->move_object(object, m.data());
+        }, py::arg("object_id"), py::arg("matrix"))
+        .def("set_emission", [](PySolver& s, int object, const Arr<double>& v) {
+            s.idle();
+            s.solver->set_emission(object, rgb_list(v));
+        }, py::arg("object_id"), py::arg("emission"))
+        .def("set_reflectance", [](PySolver& s, int object, const Arr<double>& v) {
+            s.idle();
+            s.solver->set_reflectance(object, rgb_list(v));
+        }, py::arg("object_id"), py::arg("reflectance"))
+        .def("update", [](PySolver& s) {
+            s.idle();
+            py::gil_scoped_release release;
+            s.solver->update(nullptr);
+        })
+        .def("start_update", [](PySolver& s) {
+            auto solver = s.solver;
+            s.job.start([solver](Control& c) { solver->update(&c); });
         })
         .def("running", [](PySolver& s) { return s.job.running(); })
         .def("progress", [](PySolver& s) { return s.job.progress(); })

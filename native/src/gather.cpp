@@ -15,6 +15,7 @@ void Solver::collect_receivers() {
     leaves_.clear();
     for (size_t i = 0; i < h_.nodes.size(); ++i) {
         const Node& n = h_.nodes[i];
+        if (n.dead) continue;
         if (!n.in_links.empty()) receivers_.push_back(int(i));
         if (!n.is_cluster() && n.is_leaf()) leaves_.push_back(int(i));
     }
@@ -151,15 +152,20 @@ void Solver::compute_closure() {
     std::vector<double> fsum(h_.nodes.size(), 0.0);
     sweep(true, &fsum);
     const double far = 4.0 * h_.scene_diag;
-    const double lift = 1e-6 * h_.scene_diag;
+    const double lift = 1e-5 * h_.scene_diag;  // off its own surface; tnear 0 sees neighbours
     const int nr = settings_.closure_rays;
     const uint64_t seed = settings_.seed;
     parallel_for(leaves_.size(), settings_.threads, [&](size_t i) {
         Node& n = h_.nodes[leaves_[i]];
         n.closure = 1.0;
         double f = fsum[leaves_[i]];
-        if (!(f > 0.7 && f < 1.4)) return;
-        Rng rng(seed * 7919 + uint64_t(leaves_[i]));
+        if (!(f > 0.25 && f < 4.0)) return;  // far off 1 (DRAFT can be): leave it
+        if (n.enclosed >= 0) {  // known (inherited by children, kept across updates)
+            if (n.enclosed) n.closure = 1.0 / f;
+            return;
+        }
+        n.enclosed = 0;
+        Rng rng(Hierarchy::mix(seed, n.key));
         Vec3 t = std::fabs(n.normal.x) > 0.5 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
         Vec3 u = normalize(cross(n.normal, t)), v = cross(n.normal, u);
         for (int r = 0; r < nr; ++r) {
@@ -167,8 +173,9 @@ void Solver::compute_closure() {
             double phi = 2 * kPi * r1, sr = std::sqrt(r2);
             Vec3 d = u * (std::cos(phi) * sr) + v * (std::sin(phi) * sr) + n.normal * std::sqrt(1 - r2);
             Vec3 o = n.poly.sample(rng.next(), rng.next()) + n.normal * lift;
-            if (!vis_->occluded(o, o + d * far)) return;  // sees open space
+            if (!vis_->occluded(o, o + d * far, 0.0)) return;  // sees open space
         }
+        n.enclosed = 1;
         n.closure = 1.0 / f;
     }, 32);
 }

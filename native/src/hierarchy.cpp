@@ -13,6 +13,9 @@ int Hierarchy::new_node(NodeKind kind, int parent) {
     nodes.push_back(std::move(n));
     int id = int(nodes.size()) - 1;
     if (parent >= 0) nodes[parent].children.push_back(id);
+    // Clusters are built in the same order for the same scene; elements are keyed by their
+    // surface and path so a refinement made in another order gets the same key.
+    nodes[id].key = mix(0xC1A5 + uint64_t(kind), uint64_t(id));
     return id;
 }
 
@@ -99,6 +102,7 @@ void Hierarchy::add_surfaces_of_prims(const std::vector<int>& ids, int begin, in
                 e.box.grow(e.poly.v[k]);
                 e.radius = std::max(e.radius, length(e.poly.v[k] - e.center));
             }
+            e.key = mix(0x5EED, uint64_t(s));
             surfaces.push_back({nid, ids[i], side == 1});
             surface_order.push_back(s);
             if (side == 0) pr.front = s; else pr.back = s;
@@ -185,6 +189,7 @@ void Hierarchy::build(const SceneDesc& scene, bool use_clustering) {
             for (size_t p = first; p < prims.size(); ++p) {
                 for (int k = 0; k < prims[p].poly.n; ++k) scene_box.grow(prims[p].poly.v[k]);
                 prims[p].object = int(oi);
+                prims[p].poly0 = prims[p].poly;
                 prims[p].back = o.two_sided[f] ? -1 : -2;  // -2 marks "no back side"
                 prims_of[oi].push_back(int(p));
             }
@@ -283,6 +288,8 @@ void Hierarchy::subdivide(int id) {
         e.L = p.L;
         e.Lmin = e.Lmax = p.L;
         e.closure = p.closure;
+        e.enclosed = p.enclosed;
+        e.key = mix(p.key, uint64_t(k + 1));
     }
 }
 
@@ -315,6 +322,90 @@ double Hierarchy::projected_area(int id, const Vec3& d) const {
         pa += e.area * std::max(0.0, dot(e.normal, d));
     }
     return pa;
+}
+
+uint64_t Hierarchy::mix(uint64_t a, uint64_t b) {
+    uint64_t z = a * 0x9E3779B97F4A7C15ull + b + 0x632BE59BD9B4E019ull;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+
+std::vector<int> Hierarchy::object_nodes(int object) const {
+    std::vector<int> out, stack;
+    if (object_node[object] >= 0) {
+        stack.push_back(object_node[object]);
+    } else {
+        for (const Primitive& p : prims)
+            if (p.object == object) {
+                if (p.front >= 0) stack.push_back(surfaces[p.front].root);
+                if (p.back >= 0) stack.push_back(surfaces[p.back].root);
+            }
+    }
+    while (!stack.empty()) {
+        int id = stack.back();
+        stack.pop_back();
+        out.push_back(id);
+        for (int c : nodes[id].children) stack.push_back(c);
+    }
+    return out;
+}
+
+Aabb Hierarchy::object_box(int object) const {
+    Aabb b;
+    for (const Primitive& p : prims)
+        if (p.object == object)
+            for (int k = 0; k < p.poly.n; ++k) b.grow(p.poly.v[k]);
+    return b;
+}
+
+namespace {
+// Re-derives an element's geometry from its polygon, and its children's from theirs.
+void set_element_poly(Hierarchy& h, int id, const Poly& poly) {
+    Node& e = h.nodes[id];
+    e.poly = poly;
+    e.normal = poly.normal();
+    e.center = poly.centroid();
+    e.box = Aabb{};
+    e.radius = 0;
+    for (int k = 0; k < poly.n; ++k) {
+        e.box.grow(poly.v[k]);
+        e.radius = std::max(e.radius, length(poly.v[k] - e.center));
+    }
+    const std::vector<int> kids = e.children;
+    for (size_t k = 0; k < kids.size(); ++k) set_element_poly(h, kids[k], poly.child(int(k)));
+}
+}  // namespace
+
+void Hierarchy::place_object(int object, const double R[9], const Vec3& t) {
+    auto xf = [&](const Vec3& p) {
+        return Vec3{R[0] * p.x + R[1] * p.y + R[2] * p.z + t.x, R[3] * p.x + R[4] * p.y + R[5] * p.z + t.y,
+                    R[6] * p.x + R[7] * p.y + R[8] * p.z + t.z};
+    };
+    for (Primitive& p : prims) {
+        if (p.object != object) continue;
+        for (int k = 0; k < p.poly.n; ++k) p.poly.v[k] = xf(p.poly0.v[k]);
+        if (p.front >= 0) set_element_poly(*this, surfaces[p.front].root, p.poly);
+        if (p.back >= 0) {
+            Poly b = p.poly;
+            std::reverse(b.v.begin(), b.v.begin() + b.n);
+            set_element_poly(*this, surfaces[p.back].root, b);
+        }
+    }
+    // Clusters of the object (children have larger ids), then every cluster above it.
+    std::vector<int> cl;
+    for (int id : object_nodes(object))
+        if (nodes[id].is_cluster()) cl.push_back(id);
+    std::sort(cl.rbegin(), cl.rend());
+    for (int id : cl) refresh_cluster_geometry(id);
+    int top = object_node[object] >= 0 ? object_node[object] : -1;
+    std::vector<int> up;
+    if (top >= 0) {
+        for (int a = nodes[top].parent; a >= 0; a = nodes[a].parent) up.push_back(a);
+    } else {
+        up.push_back(root);
+    }
+    for (int a : up) refresh_cluster_geometry(a);
 }
 
 }  // namespace radiosity

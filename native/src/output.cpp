@@ -79,29 +79,38 @@ std::vector<float> Solver::corner_radiance(int object) const {
 
 Rgb Solver::radiance_at(int object, int face, const Vec3& world_point) const {
     const Vec3 x = h_.to_internal(world_point);
+    // How far x lies outside a polygon (0 inside), in its plane.
+    auto outside = [&x](const Poly& p, const Vec3& n) {
+        double o = 0;
+        for (int k = 0; k < p.n; ++k) {
+            Vec3 e = p.v[(k + 1) % p.n] - p.v[k];
+            o = std::max(o, -dot(cross(e, x - p.v[k]), n));
+        }
+        return o;
+    };
+    // The piece of the polygon (n-gons are fanned) that contains x.
+    int id = -1;
+    double best = 1e300;
     for (const Primitive& p : h_.prims) {
         if (p.object != object || p.face != face || p.front < 0) continue;
-        int id = h_.surfaces[p.front].root;
-        // Descend into the child containing x (children tile their parent); the nearest
-        // centroid breaks ties on shared edges and points slightly off the polygon.
-        while (!h_.nodes[id].children.empty()) {
-            int best = -1;
-            double bd = 1e300;
-            for (int c : h_.nodes[id].children) {
-                const Node& cn = h_.nodes[c];
-                double outside = 0;
-                for (int k = 0; k < cn.poly.n; ++k) {
-                    Vec3 e = cn.poly.v[(k + 1) % cn.poly.n] - cn.poly.v[k];
-                    outside = std::max(outside, -dot(cross(e, x - cn.poly.v[k]), cn.normal));
-                }
-                double d = outside * 1e6 + length2(cn.center - x);
-                if (d < bd) { bd = d; best = c; }
-            }
-            id = best;
-        }
-        return h_.nodes[id].L;
+        int r = h_.surfaces[p.front].root;
+        double o = outside(h_.nodes[r].poly, h_.nodes[r].normal);
+        if (o < best) { best = o; id = r; }
     }
-    throw std::out_of_range("no polygon " + std::to_string(face) + " in object " + std::to_string(object));
+    if (id < 0) throw std::out_of_range("no polygon " + std::to_string(face) + " in object " + std::to_string(object));
+    // Descend into the child containing x (children tile their parent); the nearest
+    // centroid breaks ties on shared edges and points slightly off the polygon.
+    while (!h_.nodes[id].children.empty()) {
+        int next = -1;
+        double bd = 1e300;
+        for (int c : h_.nodes[id].children) {
+            const Node& cn = h_.nodes[c];
+            double d = outside(cn.poly, cn.normal) * 1e6 + length2(cn.center - x);
+            if (d < bd) { bd = d; next = c; }
+        }
+        id = next;
+    }
+    return h_.nodes[id].L;
 }
 
 }  // namespace radiosity

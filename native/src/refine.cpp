@@ -17,16 +17,47 @@ bool Solver::can_split(int id) const {
     return n.area * 0.25 >= min_area_;
 }
 
+Link Solver::evaluate(int src, int rcv) const {
+    // Jitter seeded by the two ends' stable keys: the same pair gets the same rays whether
+    // it is linked by a full solve or by an incremental update.
+    uint64_t seed = Hierarchy::mix(Hierarchy::mix(settings_.seed, h_.nodes[src].key), h_.nodes[rcv].key);
+    return evaluate_link(h_, *vis_, src, rcv, settings_.rays_per_link, seed);
+}
+
 int Solver::add_link(Link l) {
     int id = int(links_.size());
-    h_.nodes[l.rcv].in_links.push_back(id);
-    h_.nodes[l.src].out_links.push_back(id);
+    if (l.active) {
+        h_.nodes[l.rcv].in_links.push_back(id);
+        h_.nodes[l.src].out_links.push_back(id);
+    }
+    if (l.parent >= 0) {
+        l.next_sibling = links_[l.parent].first_child;
+        links_[l.parent].first_child = id;
+    }
     links_.push_back(l);
     return id;
 }
 
+void Solver::activate(int id) {
+    Link& l = links_[id];
+    if (l.active) return;
+    l.active = true;
+    l.occluded = false;
+    h_.nodes[l.rcv].in_links.push_back(id);
+    h_.nodes[l.src].out_links.push_back(id);
+}
+
+void Solver::kill(int id) {
+    if (links_[id].dead) return;
+    if (links_[id].active) deactivate(id);
+    links_[id].dead = true;
+    for (int c = links_[id].first_child; c >= 0; c = links_[c].next_sibling) kill(c);
+    links_[id].first_child = -1;
+}
+
 void Solver::deactivate(int id) {
     Link& l = links_[id];
+    if (!l.active) return;
     l.active = false;
     auto drop = [id](std::vector<int>& v) {
         auto it = std::find(v.begin(), v.end(), id);
@@ -63,6 +94,13 @@ Solver::Judgement Solver::judge(const Link& l) const {
     if (std::max(err_rcv, err_src) <= threshold_) return j;
     const bool ps = can_split(l.src), qs = can_split(l.rcv);
     if (!ps && !qs) return j;  // at the resolution limit
+    // A partly occluded link into a cluster cannot tell which of its surfaces are hidden
+    // (a closed object's inner faces, or the part in another object's shadow): sharing the
+    // flux by cosine would light hidden faces and dim the visible ones. Split the receiver.
+    if (l.cluster && l.partial && Q.is_cluster()) {
+        j.side = Side::Rcv;
+        return j;
+    }
     Side prefer;
     if (l.cluster || l.must_refine) {
         // Split the larger end (clusters by bounding sphere, elements by area).
@@ -154,18 +192,22 @@ void Solver::link_from(std::vector<Candidate> wave) {
             }
         }
         std::vector<Link> made(eval.size());
-        const uint64_t base = seed_counter_;
-        seed_counter_ += eval.size();
-        const uint64_t seed = settings_.seed;
-        parallel_for(eval.size(), settings_.threads, [&](size_t i) {
-            made[i] = evaluate_link(h_, *vis_, eval[i].src, eval[i].rcv, settings_.rays_per_link,
-                                    seed * 0x100000001B3ull + base + i);
-        }, 16);
+        parallel_for(eval.size(), settings_.threads, [&](size_t i) { made[i] = evaluate(eval[i].src, eval[i].rcv); }, 16);
         stats_.links_evaluated += int64_t(eval.size());
         std::vector<int> ids;
         for (size_t i = 0; i < made.size(); ++i) {
             Link& l = made[i];
-            if (!l.must_refine && l.K <= 0) continue;  // no transport: no link
+            if (!l.must_refine && l.K <= 0) {
+                // Geometrically possible but fully occluded: kept aside (not gathered) so that
+                // a move that opens the view can bring it back (paper 3.3, created links).
+                if (l.K_unoccluded > 0) {
+                    l.parent = eval[i].parent;
+                    l.occluded = true;
+                    l.active = false;
+                    add_link(l);
+                }
+                continue;
+            }
             l.parent = eval[i].parent;
             ids.push_back(add_link(l));
         }

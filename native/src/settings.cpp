@@ -12,7 +12,7 @@ Settings Settings::preset(const std::string& name) {
         s.error_threshold = 0.2;
         s.min_area_fraction = 1e-4;
         s.rays_per_link = 8;
-        s.tolerance = 1e-3;
+        s.tolerance = 2e-4;
     } else if (name == "MEDIUM") {
         s.error_threshold = 0.05;
         s.min_area_fraction = 2e-5;

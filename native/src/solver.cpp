@@ -35,7 +35,6 @@ void Solver::solve(Control* control) {
     const auto t0 = Clock::now();
     stats_ = Stats{};
     links_.clear();
-    seed_counter_ = 0;
 
     h_.build(scene_, settings_.use_clustering);
     vis_ = std::make_unique<Visibility>();
@@ -58,21 +57,23 @@ void Solver::solve(Control* control) {
     stats_.element_nodes = int64_t(h_.surfaces.size());
     min_area_ = settings_.min_area_fraction * h_.scene_diag * h_.scene_diag;
 
-    // Reference radiance for the relative threshold: the mean radiance a closed scene with
-    // this emission and mean reflectance would reach.
-    double ae = 0, a = 0, ar = 0;
-    for (const Surface& s : h_.surfaces) {
-        const Node& e = h_.nodes[s.root];
-        ae += e.area * e.emission.max();
-        ar += e.area * e.rho.max();
-        a += e.area;
+    // Placements from earlier moves survive a full re-solve.
+    poses_.resize(scene_.objects().size());
+    for (size_t o = 0; o < poses_.size(); ++o) {
+        const Pose& p = poses_[o];
+        bool ident = p.t.x == 0 && p.t.y == 0 && p.t.z == 0 && p.R[0] == 1 && p.R[4] == 1 && p.R[8] == 1;
+        if (ident) continue;
+        h_.place_object(int(o), p.R, p.t);
+        double m[12] = {p.R[0], p.R[1], p.R[2], p.t.x, p.R[3], p.R[4], p.R[5], p.t.y, p.R[6], p.R[7], p.R[8], p.t.z};
+        vis_->set_object_transform(int(o), m);
     }
-    double rho_mean = a > 0 ? std::min(ar / a, 0.95) : 0.0;
-    L_ref_ = a > 0 ? ae / a / (1.0 - rho_mean) : 0.0;
-    threshold_ = settings_.error_threshold * L_ref_;
+    vis_->commit();
+    compute_reference();
     stats_.seconds_build = since(t0);
     set_progress(0.05);
 
+    pending_moves_.clear();
+    materials_changed_ = false;
     if (L_ref_ <= 0) {
         stats_.no_emitters = true;
         stats_.warnings.push_back("the scene has no emitter: every radiance is 0");
@@ -82,10 +83,15 @@ void Solver::solve(Control* control) {
         set_progress(0.2);
         // Refine against the evolving solution (BF refinement): light arriving from
         // reflectors becomes known only after a solve.
+        // Refine against the evolving solution (BF refinement): light arriving from
+        // reflectors becomes known only after some gathering; a few sweeps per round are
+        // enough for the oracle, the last solve converges.
         const double loose = std::max(settings_.tolerance, 1e-3);
+        const int round_sweeps = std::min(settings_.max_iterations, kRoundSweeps);
         for (int round = 0; round < settings_.max_refine_rounds; ++round) {
             check_cancel();
-            iterate_to(loose, settings_.max_iterations, 0.2 + 0.6 * round / settings_.max_refine_rounds,
+            compute_closure();
+            iterate_to(loose, round_sweeps, 0.2 + 0.6 * round / settings_.max_refine_rounds,
                        0.2 + 0.6 * (round + 0.5) / settings_.max_refine_rounds);
             ++stats_.refine_rounds;
             if (!refine_round()) break;
@@ -105,6 +111,21 @@ void Solver::solve(Control* control) {
     control_ = nullptr;
 }
 
+void Solver::compute_reference() {
+    // Reference radiance for the relative threshold: the mean radiance a closed scene with
+    // this emission and mean reflectance would reach.
+    double ae = 0, a = 0, ar = 0;
+    for (const Surface& s : h_.surfaces) {
+        const Node& e = h_.nodes[s.root];
+        ae += e.area * e.emission.max();
+        ar += e.area * e.rho.max();
+        a += e.area;
+    }
+    double rho_mean = a > 0 ? std::min(ar / a, 0.95) : 0.0;
+    L_ref_ = a > 0 ? ae / a / (1.0 - rho_mean) : 0.0;
+    threshold_ = settings_.error_threshold * L_ref_;
+}
+
 void Solver::compute_stats() {
     Stats& s = stats_;
     s.input_surfaces = int64_t(scene_.polygon_count());
@@ -116,6 +137,8 @@ void Solver::compute_stats() {
     s.links = s.cluster_links = s.surface_links = s.history_links = 0;
     s.obj_env_links = s.env_env_links = s.obj_obj_links = 0;
     for (const Link& l : links_) {
+        if (l.dead) continue;
+        if (l.occluded) { ++s.occluded_links; continue; }
         if (!l.active) { ++s.history_links; continue; }
         ++s.links;
         (l.cluster ? s.cluster_links : s.surface_links)++;

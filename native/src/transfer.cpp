@@ -89,6 +89,46 @@ Link element_link(const Hierarchy& h, const Visibility& vis, const Node& P, cons
     return l;
 }
 
+// Picks surfaces of a node in proportion to their projected area toward d: the surfaces
+// that can take part in a transfer along d are the ones worth a ray.
+class FacingSampler {
+public:
+    FacingSampler(const Hierarchy& h, int node, const Vec3& d) : h_(h) {
+        const Node& n = h.nodes[node];
+        if (!n.is_cluster()) {
+            add(node, n.area * std::max(0.0, dot(n.normal, d)));
+            return;
+        }
+        for (int i = n.surf_begin; i < n.surf_end; ++i) {
+            int r = h.surfaces[h.surface_order[i]].root;
+            const Node& e = h.nodes[r];
+            add(r, e.area * std::max(0.0, dot(e.normal, d)));
+        }
+    }
+    double total() const { return cdf_.empty() ? 0.0 : cdf_.back(); }
+    // A point on a chosen surface, its normal and the surface root.
+    Vec3 sample(Rng& rng, Vec3* normal, int* root) const {
+        double u = rng.next() * total();
+        size_t i = size_t(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin());
+        i = std::min(i, ids_.size() - 1);
+        const Node& e = h_.nodes[ids_[i]];
+        *normal = e.normal;
+        *root = ids_[i];
+        double u1 = rng.next(), u2 = rng.next();
+        return e.poly.sample(u1, u2);
+    }
+
+private:
+    void add(int id, double w) {
+        if (w <= 0) return;
+        ids_.push_back(id);
+        cdf_.push_back(total() + w);
+    }
+    const Hierarchy& h_;
+    std::vector<int> ids_;
+    std::vector<double> cdf_;
+};
+
 Link cluster_link(const Hierarchy& h, const Visibility& vis, const Node& P, const Node& Q, int rays, Rng& rng,
                   int src, int rcv) {
     Link l;
@@ -104,45 +144,45 @@ Link cluster_link(const Hierarchy& h, const Visibility& vis, const Node& P, cons
         return l;
     }
     l.dir = d / r;
-    double pa = h.projected_area(src, l.dir);
+    FacingSampler ps(h, src, l.dir), qs(h, rcv, -l.dir);
+    const double pa = ps.total();
     double rcv_cos = Q.is_cluster() ? 1.0 : std::max(0.0, dot(Q.normal, -l.dir));
     l.K_unoccluded = pa * rcv_cos / (kPi * r * r);
-    if (l.K_unoccluded <= 0) return l;
-    // Visibility weighted by the point-to-point kernel, so rays between surfaces that do not
-    // face each other do not count.
+    if (l.K_unoccluded <= 0 || qs.total() <= 0) {
+        l.K_unoccluded = 0;
+        return l;
+    }
+    // Visibility of the transfer, estimated with pairs of points drawn by projected area
+    // toward each other and weighted by the true point-to-point kernel over that density.
     double wsum = 0, vsum = 0;
     int clear = 0, cast = 0;
     const double lift = 1e-6 * h.scene_diag;
     for (int k = 0; k < rays; ++k) {
         Vec3 nx, ny;
-        int sroot = -1;
-        Vec3 x = h.sample_point(src, rng, &nx, &sroot);
-        Vec3 y = h.sample_point(rcv, rng, &ny);
+        int sroot = -1, rroot = -1;
+        Vec3 x = ps.sample(rng, &nx, &sroot);
+        Vec3 y = qs.sample(rng, &ny, &rroot);
         Vec3 xy = y - x;
         double d2 = length2(xy);
         if (d2 <= 0) continue;
         double w = std::max(0.0, dot(nx, xy)) * std::max(0.0, -dot(ny, xy)) / (d2 * d2);
+        double pdf = dot(nx, l.dir) * -dot(ny, l.dir);  // > 0 by construction
+        w /= pdf;
+        ++cast;
         if (w <= 0) continue;
         bool ok = !vis.occluded(x + nx * lift, y + ny * lift);
         if (ok && P.is_cluster()) l.samples.push_back({sroot, float(w)});
         wsum += w;
         vsum += ok ? w : 0.0;
         clear += ok;
-        ++cast;
-    }
-    if (cast == 0) {
-        // No sampled pair faces each other: fall back to plain segment visibility.
-        for (int k = 0; k < std::max(1, rays / 2); ++k) {
-            Vec3 x = h.sample_point(src, rng, nullptr), y = h.sample_point(rcv, rng, nullptr);
-            bool ok = !vis.occluded(x, y);
-            vsum += ok;
-            wsum += 1;
-            clear += ok;
-            ++cast;
-        }
     }
     l.vis = wsum > 0 ? vsum / wsum : 0.0;
     l.partial = clear > 0 && clear < cast;
+    if (clear == 0 && (P.is_cluster() || Q.is_cluster())) {
+        // Every ray blocked is weak evidence for a whole cluster: split and look closer
+        // rather than drop the transport.
+        l.must_refine = true;
+    }
     l.K = l.K_unoccluded * l.vis;
     return l;
 }

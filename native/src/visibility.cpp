@@ -79,11 +79,11 @@ void Visibility::commit() {
     check_device(device_, "scene commit");
 }
 
-bool Visibility::occluded(const Vec3& a, const Vec3& b) const {
+bool Visibility::occluded(const Vec3& a, const Vec3& b, double near) const {
     rays_.fetch_add(1, std::memory_order_relaxed);
     Vec3 d = b - a;
     double len = length(d);
-    if (len <= 2.0 * eps_) return false;
+    if (len <= near + eps_) return false;
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRay ray{};
@@ -93,7 +93,7 @@ bool Visibility::occluded(const Vec3& a, const Vec3& b) const {
     ray.dir_x = float(d.x / len);
     ray.dir_y = float(d.y / len);
     ray.dir_z = float(d.z / len);
-    ray.tnear = float(eps_);
+    ray.tnear = float(near);
     ray.tfar = float(len - eps_);
     ray.mask = 0xFFFFFFFFu;
     ray.time = 0.f;

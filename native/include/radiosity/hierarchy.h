@@ -45,6 +45,9 @@ struct Node {
     std::array<Rgb, kBins> S{};      // clusters: sum over surfaces of L * A * max(0, +-n_axis)
     std::array<double, kBins> W{};   // clusters: sum over surfaces of A * max(0, +-n_axis)
     double closure = 1.0;            // leaves: form-factor closure correction (see gather.cpp)
+    int8_t enclosed = -1;            // leaves: no escape ray found open space (1), did (0), unknown (-1)
+    bool dead = false;               // un-refined away (the slot is not reused)
+    uint64_t key = 0;                // stable identity (seeds link jitter independent of creation order)
     std::vector<int> in_links, out_links;
 
     bool is_cluster() const { return kind == NodeKind::Cluster; }
@@ -55,7 +58,8 @@ struct Node {
 struct Primitive {
     int object = -1;
     int face = -1;                  // Blender polygon index within the object
-    Poly poly;
+    Poly poly;                      // current placement (internal frame)
+    Poly poly0;                     // as given (internal frame); moves map poly0 -> poly
     std::array<int, 4> corner{};    // Blender corner index of each vertex
     int front = -1, back = -1;      // oriented surface ids (back = -1 when one-sided)
 };
@@ -81,6 +85,14 @@ public:
     double projected_area(int node, const Vec3& d) const;
     // Cluster bookkeeping after geometry changed (center, box, radius, bins).
     void refresh_cluster_geometry(int node);
+    // Places an object rigidly: p = R p0 + t in the internal frame (R row-major 3x3), its
+    // surfaces and elements re-derived from the given geometry, clusters above refreshed.
+    void place_object(int object, const double R[9], const Vec3& t);
+    // Nodes of an object (its cluster subtree, or its surfaces' quadtrees when unclustered).
+    std::vector<int> object_nodes(int object) const;
+    // Bounding box of an object's current placement.
+    Aabb object_box(int object) const;
+    static uint64_t mix(uint64_t a, uint64_t b);
     // Node ids of the clusters strictly above a surface root, root first.
     const std::vector<int>& ancestors_of_surface(int s) const { return surface_ancestors_[s]; }
 

@@ -27,6 +27,10 @@ struct Link {
     bool partial = false;  // some rays blocked, some not
     bool settled = false;  // the 3.5 criterion found the receiver's form factor converged
     bool must_refine = false;  // bounding spheres overlap: the point model is invalid
+    bool occluded = false; // fully occluded: kept (not gathered) so a move can reopen it
+    bool dead = false;     // removed by a dynamic update or an un-refinement
+    int first_child = -1;  // history tree: the links that refined this one
+    int next_sibling = -1;
     Rgb value;             // cluster receivers: K * L_src of the current iteration
     // Cluster senders: the unoccluded visibility samples (sender surface root, kernel
     // weight). The sender's radiance toward the receiver is their weighted mean, so surfaces

@@ -3,6 +3,7 @@
 // push-pull, and per-corner output.
 #pragma once
 #include <atomic>
+#include <map>
 #include <memory>
 #include <stdexcept>
 #include <vector>
@@ -40,7 +41,20 @@ public:
     // Radiance of the front side at one point of a polygon, from the leaf containing it.
     Rgb radiance_at(int object, int face, const Vec3& p) const;
 
+    // --- Dynamic environments (adjust.cpp). Moves and material changes are recorded, then
+    // update() runs AdjustSystem and a warm-started re-solve.
+    // Rigid placement of an object relative to its geometry as given (row-major 4x4, world
+    // units). Throws InputError for NaN, non-rigid or mirroring matrices.
+    void move_object(int object, const double m[16]);
+    // Per polygon (or one value for the whole object).
+    void set_emission(int object, const std::vector<Rgb>& values);
+    void set_reflectance(int object, const std::vector<Rgb>& values);
+    // Incremental update of the kept solution (a full solve if there is none).
+    void update(Control* control = nullptr);
+
     const Stats& stats() const { return stats_; }
+    // A fresh evaluation of the link src -> rcv as the solver would make it (same seed).
+    Link evaluate(int src, int rcv) const;
     const Hierarchy& hierarchy() const { return h_; }
     const std::vector<Link>& links() const { return links_; }
     const Settings& settings() const { return settings_; }
@@ -48,6 +62,7 @@ public:
     double reference_radiance() const { return L_ref_; }
 
 private:
+    static constexpr int kRoundSweeps = 40;  // gathering sweeps between refinement rounds
     enum class Side { Keep, Src, Rcv, Settle };
     struct Candidate { int src, rcv, parent; };
     struct Judgement { Side side = Side::Keep; double settled_K = 0; };
@@ -59,6 +74,8 @@ private:
     bool can_split(int node) const;
     int add_link(Link l);
     void deactivate(int link_id);
+    void activate(int link_id);
+    void kill(int link_id);  // a link and its history subtree, for good
     bool refine_round();
     // gather.cpp
     double sweep(bool unit, std::vector<double>* fsum);
@@ -67,7 +84,15 @@ private:
     void pull_up_clusters();
     void compute_closure();
     void collect_receivers();
+    // adjust.cpp
+    struct Pose { double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}; Vec3 t; };
+    void set_material(int object, const std::vector<Rgb>& values, bool emission);
+    void apply_materials();
+    void unrefine(int link_id);
+    void unrefine_pass();
+    void prune_elements();
     // solver.cpp
+    void compute_reference();
     void check_cancel() const;
     void set_progress(double f) const;
     void compute_stats();
@@ -82,8 +107,10 @@ private:
     Stats stats_;
     Control* control_ = nullptr;
     double L_ref_ = 0, threshold_ = 0, min_area_ = 0;
-    uint64_t seed_counter_ = 0;
     bool solved_ = false;
+    std::map<int, Pose> pending_moves_;
+    std::vector<Pose> poses_;      // per object, current placement (internal frame)
+    bool materials_changed_ = false;
 };
 
 }  // namespace radiosity

@@ -28,8 +28,12 @@ public:
     // joins; relative to scene size so results do not change when the scene is scaled.
     void set_epsilon(double eps) { eps_ = eps; }
 
-    // True when something blocks the open segment a-b. Thread-safe.
-    bool occluded(const Vec3& a, const Vec3& b) const;
+    // True when something blocks the open segment a-b (the first and last `epsilon` of it
+    // excluded). Thread-safe.
+    bool occluded(const Vec3& a, const Vec3& b) const { return occluded(a, b, eps_); }
+    // Same with an explicit near offset: for rays whose origin is already lifted off its
+    // surface and that must see geometry right next to it (escape rays).
+    bool occluded(const Vec3& a, const Vec3& b, double near) const;
     uint64_t rays() const { return rays_.load(std::memory_order_relaxed); }
 
 private:

@@ -1,0 +1,339 @@
+// Dynamic environments (paper 3.2-3.4): AdjustSystem for rigid moves of one or several
+// objects and for emission/reflectance changes, with history-link un-refinement.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <set>
+
+#include "radiosity/parallel.h"
+#include "radiosity/solver.h"
+#include "radiosity/transfer.h"
+
+namespace radiosity {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// 3-D Cohen-Sutherland outcode of a box against a clipping volume, generalised from points
+// to boxes: a bit is set only when the whole box lies beyond that plane. Two boxes whose
+// codes share a bit lie beyond the same plane, and so does every segment between them.
+unsigned outcode(const Aabb& b, const Aabb& clip) {
+    unsigned c = 0;
+    for (int a = 0; a < 3; ++a) {
+        if (b.hi[a] < clip.lo[a]) c |= 1u << (2 * a);
+        if (b.lo[a] > clip.hi[a]) c |= 2u << (2 * a);
+    }
+    return c;
+}
+}  // namespace
+
+void Solver::move_object(int object, const double m[16]) {
+    if (!solved_) throw std::logic_error("move_object: solve the scene first");
+    if (object < 0 || object >= int(scene_.objects().size()))
+        throw InputError("move_object: unknown object " + std::to_string(object));
+    const std::string& name = scene_.objects()[object].name;
+    for (int i = 0; i < 16; ++i)
+        if (!std::isfinite(m[i])) throw InputError("object '" + name + "': the matrix has a NaN or inf entry");
+    if (std::fabs(m[12]) > 1e-9 || std::fabs(m[13]) > 1e-9 || std::fabs(m[14]) > 1e-9 || std::fabs(m[15] - 1) > 1e-9)
+        throw InputError("object '" + name + "': the matrix is not affine (last row must be 0 0 0 1)");
+    double R[9] = {m[0], m[1], m[2], m[4], m[5], m[6], m[8], m[9], m[10]};
+    // Rigid only: R^T R = I and det R = +1 (the paper's moves are translations and rotations).
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            double d = R[i] * R[j] + R[3 + i] * R[3 + j] + R[6 + i] * R[6 + j];
+            if (std::fabs(d - (i == j ? 1.0 : 0.0)) > 1e-5)
+                throw InputError("object '" + name +
+                                 "': the move is not rigid (scale or shear); apply the scale to the mesh and bake in full");
+        }
+    double det = R[0] * (R[4] * R[8] - R[5] * R[7]) - R[1] * (R[3] * R[8] - R[5] * R[6]) + R[2] * (R[3] * R[7] - R[4] * R[6]);
+    if (det < 0) throw InputError("object '" + name + "': the move mirrors the object; bake in full");
+    // World p = R p0 + m_t; internal p_i = (p - o) / u, so p_i = R p0_i + (R o + m_t - o) / u.
+    const Vec3 o = h_.origin, mt{m[3], m[7], m[11]};
+    Vec3 Ro{R[0] * o.x + R[1] * o.y + R[2] * o.z, R[3] * o.x + R[4] * o.y + R[5] * o.z, R[6] * o.x + R[7] * o.y + R[8] * o.z};
+    Pose p;
+    std::copy(R, R + 9, p.R);
+    p.t = (Ro + mt - o) / h_.unit;
+    pending_moves_[object] = p;
+}
+
+void Solver::set_material(int object, const std::vector<Rgb>& values, bool emission) {
+    if (object < 0 || object >= int(scene_.objects().size()))
+        throw InputError("unknown object " + std::to_string(object));
+    ObjectDesc& o = scene_.objects_mut()[object];
+    if (values.size() != o.polygon_count() && values.size() != 1)
+        throw InputError("object '" + o.name + "': need one RGB per polygon or one for all");
+    for (size_t f = 0; f < values.size(); ++f) {
+        const Rgb& v = values[f];
+        if (!finite(v)) throw InputError("object '" + o.name + "': polygon " + std::to_string(f) + " has a non-finite value");
+        for (int k = 0; k < 3; ++k) {
+            if (v[k] < 0) throw InputError("object '" + o.name + "': polygon " + std::to_string(f) + " has a negative value");
+            if (!emission && v[k] >= 1)
+                throw InputError("object '" + o.name + "': polygon " + std::to_string(f) + " has reflectance >= 1");
+        }
+    }
+    auto& dst = emission ? o.emission : o.reflectance;
+    for (size_t f = 0; f < dst.size(); ++f) dst[f] = values.size() == 1 ? values[0] : values[f];
+    materials_changed_ = true;
+}
+
+void Solver::set_emission(int object, const std::vector<Rgb>& v) { set_material(object, v, true); }
+void Solver::set_reflectance(int object, const std::vector<Rgb>& v) { set_material(object, v, false); }
+
+void Solver::apply_materials() {
+    for (const Primitive& p : h_.prims) {
+        const ObjectDesc& o = scene_.objects()[p.object];
+        for (int s : {p.front, p.back}) {
+            if (s < 0) continue;
+            std::vector<int> st{h_.surfaces[s].root};
+            while (!st.empty()) {
+                Node& n = h_.nodes[st.back()];
+                st.pop_back();
+                n.rho = o.reflectance[p.face];
+                n.emission = o.emission[p.face];
+                for (int c : n.children) st.push_back(c);
+            }
+        }
+    }
+    for (int i = int(h_.nodes.size()) - 1; i >= 0; --i)
+        if (h_.nodes[i].is_cluster()) h_.refresh_cluster_geometry(i);
+    compute_reference();
+}
+
+void Solver::unrefine(int id) {
+    for (int c = links_[id].first_child; c >= 0; c = links_[c].next_sibling) kill(c);
+    links_[id].first_child = -1;
+    activate(id);
+    ++stats_.history_reactivated;
+}
+
+// 3.4: history links, coarsest first (parents have lower ids), whose error is acceptable
+// again become active; the links below them go.
+void Solver::unrefine_pass() {
+    std::vector<int> cand;
+    for (size_t i = 0; i < links_.size(); ++i) {
+        const Link& l = links_[i];
+        if (!l.dead && !l.active && !l.occluded && l.first_child >= 0) cand.push_back(int(i));
+    }
+    for (int id : cand) {
+        if (links_[id].dead || links_[id].active) continue;  // an ancestor came back first
+        if (judge(links_[id]).side == Side::Keep) unrefine(id);
+    }
+}
+
+// Bottom-up clean-up of elements no link refers to any more (3.4): memory for links
+// returns at once; element slots are marked dead (not reused).
+void Solver::prune_elements() {
+    std::vector<int> refs(h_.nodes.size(), 0);
+    for (const Link& l : links_)
+        if (!l.dead) ++refs[l.src], ++refs[l.rcv];
+    std::function<bool(int)> prune = [&](int id) -> bool {  // true: the subtree has no reference
+        Node& n = h_.nodes[id];
+        bool empty = refs[id] == 0;
+        bool kids_empty = true;
+        for (int c : n.children) kids_empty &= prune(c);
+        if (!n.children.empty() && kids_empty) {
+            bool all_leaves = true;
+            for (int c : h_.nodes[id].children) all_leaves &= h_.nodes[c].children.empty();
+            if (all_leaves) {
+                for (int c : h_.nodes[id].children) {
+                    h_.nodes[c].dead = true;
+                    std::vector<int>().swap(h_.nodes[c].in_links);
+                    std::vector<int>().swap(h_.nodes[c].out_links);
+                }
+                stats_.element_nodes -= int64_t(h_.nodes[id].children.size());
+                h_.nodes[id].children.clear();
+            }
+        }
+        return empty && h_.nodes[id].children.empty();
+    };
+    for (const Surface& s : h_.surfaces) prune(s.root);
+}
+
+void Solver::update(Control* control) {
+    if (!solved_) {
+        solve(control);
+        return;
+    }
+    if (pending_moves_.empty() && !materials_changed_) {
+        stats_.mode_incremental = true;
+        stats_.seconds_adjust = 0;
+        return;
+    }
+    control_ = control;
+    solved_ = false;  // a cancel leaves the kept solution inconsistent: the caller re-solves
+    const auto t0 = Clock::now();
+    Stats& s = stats_;
+    s.env_env_links_tested = s.env_env_links_rejected = s.env_env_links_recomputed = 0;
+    s.obj_env_links_removed = s.links_created = s.history_reactivated = 0;
+    s.iterations = 0;
+    s.refine_rounds = 0;
+    s.iteration_capped = false;
+    const int64_t links_before = int64_t(links_.size());
+
+    if (materials_changed_) {
+        apply_materials();
+        materials_changed_ = false;
+    }
+
+    std::vector<int> recheck_history;
+    if (!pending_moves_.empty()) {
+        // Geometry and Embree instances.
+        std::vector<Aabb> clips;
+        std::vector<char> moved(scene_.objects().size(), 0);
+        for (auto& [obj, pose] : pending_moves_) {
+            clips.push_back(h_.object_box(obj));
+            h_.place_object(obj, pose.R, pose.t);
+            poses_[obj] = pose;
+            double m[12] = {pose.R[0], pose.R[1], pose.R[2], pose.t.x, pose.R[3], pose.R[4],
+                            pose.R[5], pose.t.y, pose.R[6], pose.R[7], pose.R[8], pose.t.z};
+            vis_->set_object_transform(obj, m);
+            clips.push_back(h_.object_box(obj));
+            moved[obj] = 1;
+        }
+        vis_->commit();
+        for (Aabb& c : clips) {  // ray ends are lifted off surfaces: a hair of margin
+            c.lo -= Vec3{1e-5, 1e-5, 1e-5};
+            c.hi += Vec3{1e-5, 1e-5, 1e-5};
+        }
+        // X: the moved objects' nodes and the clusters above them (their geometry changed).
+        std::vector<char> inX(h_.nodes.size(), 0);
+        std::vector<std::vector<int>> chains;
+        for (auto& [obj, pose] : pending_moves_) {
+            (void)pose;
+            for (int id : h_.object_nodes(obj)) inX[id] = 1;
+            std::vector<int> chain;
+            int top = h_.object_node[obj];
+            if (top >= 0) {
+                for (int a = top; a >= 0; a = h_.nodes[a].parent) chain.push_back(a);
+            }
+            for (int a : chain)
+                if (a != h_.root) inX[a] = 1;
+            std::reverse(chain.begin(), chain.end());  // root first
+            chains.push_back(chain);
+        }
+        // Classify every live link.
+        std::vector<int> recompute;
+        const size_t nlinks = links_.size();
+        for (size_t i = 0; i < nlinks; ++i) {
+            Link& l = links_[i];
+            if (l.dead) continue;
+            const Node& a = h_.nodes[l.src];
+            const Node& b = h_.nodes[l.rcv];
+            if (inX[l.src] || inX[l.rcv]) {
+                // Obj-obj (both ends inside one moved object): a rigid move keeps its form
+                // factor; only the direction turns.
+                if (a.object >= 0 && a.object == b.object && moved[a.object]) {
+                    const Pose& p = pending_moves_.at(a.object);
+                    Vec3 d = l.dir;
+                    l.dir = {p.R[0] * d.x + p.R[1] * d.y + p.R[2] * d.z, p.R[3] * d.x + p.R[4] * d.y + p.R[5] * d.z,
+                             p.R[6] * d.x + p.R[7] * d.y + p.R[8] * d.z};
+                    continue;
+                }
+                if (l.active) ++s.obj_env_links_removed;
+                if (l.parent < 0 || !inX[links_[l.parent].src] && !inX[links_[l.parent].rcv]) kill(int(i));
+                continue;
+            }
+            // Env-env: 3.3 pruning with the old and new boxes of every moved object.
+            ++s.env_env_links_tested;
+            bool rejected = true;
+            for (const Aabb& c : clips)
+                if ((outcode(a.box, c) & outcode(b.box, c)) == 0) { rejected = false; break; }
+            if (rejected) { ++s.env_env_links_rejected; continue; }
+            recompute.push_back(int(i));
+        }
+        // Visibility (and form factor, cheap beside the rays) of the links that may have changed.
+        std::vector<Link> fresh(recompute.size());
+        parallel_for(recompute.size(), settings_.threads,
+                     [&](size_t k) { fresh[k] = evaluate(links_[recompute[k]].src, links_[recompute[k]].rcv); }, 16);
+        for (size_t k = 0; k < recompute.size(); ++k) {
+            Link& l = links_[recompute[k]];
+            if (l.dead) continue;
+            const Link& f = fresh[k];
+            ++s.env_env_links_recomputed;
+            l.K = f.K;
+            l.K_unoccluded = f.K_unoccluded;
+            l.dK = f.dK;
+            l.vis = f.vis;
+            l.partial = f.partial;
+            l.must_refine = f.must_refine;
+            l.samples = f.samples;
+            l.settled = false;
+            const bool transports = f.must_refine || f.K > 0;
+            if (l.active && !transports) {
+                deactivate(recompute[k]);  // newly fully occluded: a new shadow
+                l.occluded = true;
+            } else if (l.occluded && transports) {
+                activate(recompute[k]);    // the view opened: an old shadow goes
+            } else if (!l.active && !l.occluded) {
+                recheck_history.push_back(recompute[k]);
+            }
+        }
+        // Env-obj links created anew: the moved clusters against the environment, top-down,
+        // cluster pairs first (this also links an object where it had no link before).
+        std::set<std::pair<int, int>> pairs;
+        std::vector<Candidate> wave;
+        for (const auto& chain : chains)
+            for (size_t i = 0; i + 1 < chain.size(); ++i)
+                for (int sib : h_.nodes[chain[i]].children) {
+                    if (sib == chain[i + 1]) continue;
+                    if (pairs.insert({sib, chain[i + 1]}).second) wave.push_back({sib, chain[i + 1], -1});
+                    if (pairs.insert({chain[i + 1], sib}).second) wave.push_back({chain[i + 1], sib, -1});
+                }
+        // Unclustered scenes have no object cluster: link each moved surface with the rest.
+        for (auto& [obj, pose] : pending_moves_) {
+            (void)pose;
+            if (h_.object_node[obj] >= 0) continue;
+            for (int c : h_.nodes[h_.root].children) {
+                if (inX[c]) continue;
+                for (const Primitive& p : h_.prims)
+                    if (p.object == obj)
+                        for (int sidx : {p.front, p.back})
+                            if (sidx >= 0) {
+                                int r = h_.surfaces[sidx].root;
+                                wave.push_back({c, r, -1});
+                                wave.push_back({r, c, -1});
+                            }
+            }
+        }
+        link_from(std::move(wave));
+        // Leaves of moved objects may now see open space (or no longer): ask again.
+        for (auto& [obj, pose] : pending_moves_) {
+            (void)pose;
+            for (int id : h_.object_nodes(obj)) h_.nodes[id].enclosed = -1;
+        }
+        pending_moves_.clear();
+    }
+    s.links_created = int64_t(links_.size()) - links_before;
+    // History links whose view changed: coarsen back where the old shadow is gone.
+    for (int id : recheck_history)
+        if (!links_[id].dead && !links_[id].active && judge(links_[id]).side == Side::Keep) unrefine(id);
+    s.seconds_adjust = since(t0);
+
+    // Warm-started re-solve: the previous radiances are the starting point.
+    const double loose = std::max(settings_.tolerance, 1e-3);
+    const int round_sweeps = std::min(settings_.max_iterations, kRoundSweeps);
+    compute_closure();
+    iterate_to(loose, round_sweeps, 0.3, 0.5);
+    unrefine_pass();  // less energy somewhere: un-refine (3.4)
+    for (int round = 0; round < settings_.max_refine_rounds; ++round) {
+        check_cancel();
+        ++s.refine_rounds;
+        if (!refine_round()) break;
+        compute_closure();
+        iterate_to(loose, round_sweeps, 0.5, 0.8);
+    }
+    prune_elements();
+    compute_closure();
+    s.iteration_capped = false;
+    iterate_to(settings_.tolerance, settings_.max_iterations, 0.8, 1.0);
+    compute_stats();
+    s.mode_incremental = true;
+    s.seconds_total = since(t0);
+    set_progress(1.0);
+    solved_ = true;
+    control_ = nullptr;
+}
+
+}  // namespace radiosity

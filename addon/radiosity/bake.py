@@ -1,0 +1,153 @@
+"""One bake, shared by the operator (sync and modal), the live re-bake and the batch tool.
+
+    run = BakeRun(scene, view_layer, depsgraph, full=False)
+    run.prepare()        # gather + validate + build native scene (or hit the cache)
+    run.job.run() | run.job.start() + run.job.poll()/pump()
+    run.finish()         # write every mesh, last_stats, transform cache
+
+Errors raise BakeError (message names object and problem); nothing is written before finish().
+"""
+import time
+
+import numpy as np
+
+from .core import job as core_job
+from .core import live as core_live
+from .core import presets, stats
+from .core.scene_data import InputError
+from . import gather, writer
+
+STATS_KEY = "_last_stats"       # ID property behind the read-only scene.radiosity.last_stats
+# (level, message) of the last bake, for scripts and tests: Blender prints operator reports but
+# gives Python no way to read warnings back.
+last_reports = []
+
+
+class BakeError(Exception):
+    pass
+
+
+def load_native():
+    try:
+        from . import radiosity_native
+    except ImportError as exc:
+        raise BakeError(f"the native solver module could not be loaded ({exc}); the add-on zip "
+                        f"must be built for this Blender's Python") from exc
+    return radiosity_native
+
+
+def scene_key(scene):
+    return f"{scene.name_full}@{scene.as_pointer():x}"
+
+
+def set_last_stats(scene, data):
+    scene.radiosity[STATS_KEY] = stats.to_json(data)
+
+
+class BakeRun:
+    def __init__(self, scene, view_layer, depsgraph, full=False, live=False):
+        self.t0 = time.perf_counter()
+        self.live = live
+        self.scene, self.view_layer, self.depsgraph = scene, view_layer, depsgraph
+        self.full = full
+        self.props = scene.radiosity
+        self.warnings = []
+        self.job = None
+        self.matrices = {}
+        self.no_emitter = False
+        self.written = 0
+        self.result = None
+
+    def prepare(self):
+        props = self.props
+        if not props.attribute_name.strip():
+            raise BakeError("the attribute name is empty")
+        native = load_native()
+        si, self.matrices, warnings = gather.gather(self.scene, self.view_layer, self.depsgraph)
+        self.warnings.extend(warnings)
+        if not si.objects:
+            raise BakeError("nothing to bake: no visible, renderable mesh object with faces "
+                            "in the view layer")
+        if not any(o.target is not None for o in si.objects):
+            raise BakeError("nothing to bake: no visible mesh object can receive colours "
+                            "(see the warnings)")
+        key = scene_key(self.scene)
+        if self.full:
+            core_job.cache_drop(key)
+        try:
+            settings = presets.make_settings(native, props.preset, props.error_threshold)
+            skey = presets.settings_key(props.preset, props.error_threshold)
+            self.no_emitter = not si.has_emitter()
+            self.job = core_job.SolveJob(native, si, settings, skey, cache_key=key,
+                                         use_cache=not self.full)
+            if self.no_emitter:
+                # Radiance is exactly zero everywhere: no solve needed, write zeros.
+                self.warnings.append("the scene has no emitter (no emissive material): "
+                                     "all colours are black")
+                core_job.scene_data.validate(si)
+                self.job.state = core_job.DONE
+                self.job._radiance = [np.zeros((o.corner_count, 3), np.float32)
+                                      for o in si.objects]
+            else:
+                self.job.prepare()
+        except (InputError, ValueError) as exc:
+            raise BakeError(str(exc)) from exc
+        return self
+
+    def run_sync(self):
+        if self.job.state == core_job.IDLE:
+            try:
+                self.job.run()
+            except (ValueError, RuntimeError) as exc:
+                raise BakeError(f"solver failed: {exc}") from exc
+        return self
+
+    def finish(self):
+        """Write all meshes (after the whole solve succeeded), then stats and caches."""
+        native_stats = self.job.native_stats()
+        for w in native_stats.get("warnings", None) or []:
+            self.warnings.append(f"solver: {w}")
+        try:
+            items = self.job.rgba()
+        except ValueError as exc:
+            raise BakeError(str(exc)) from exc
+        st = core_live.state_for(scene_key(self.scene))
+        st.busy = True          # our writes echo back through depsgraph_update_post
+        try:
+            self.written = writer.write_all(items, self.props.attribute_name)
+        except RuntimeError as exc:
+            raise BakeError(str(exc)) from exc
+        finally:
+            st.busy = False
+        for name, mat in self.matrices.items():
+            st.transforms.remember(name, mat)
+        cached = self.job.is_cached
+        mode = "full" if (cached or self.no_emitter) else self.job.mode
+        extra = {"cached": cached, "preset": self.props.preset,
+                 "collections": len(self.job.scene_input.clusters),
+                 "written_objects": self.written, "report_warnings": len(self.warnings)}
+        if self.no_emitter:
+            extra["no_emitter"] = True
+        elif mode == "full" and not cached and self.job.full_reason:
+            extra["full_reason"] = self.job.full_reason
+        if mode == "incremental":
+            extra.update(self.job.changes)
+        if self.live:
+            extra["live"] = True
+        self.result = stats.make_stats(
+            mode, time.perf_counter() - self.t0, native_stats,
+            self.job.fallback_counts(), extra)
+        set_last_stats(self.scene, self.result)
+        return self.result
+
+    def cancel(self):
+        if self.job is not None:
+            self.job.cancel()
+
+
+def bake_sync(scene, view_layer, depsgraph, full=False):
+    """Whole bake, synchronous. Returns the finished BakeRun; raises BakeError."""
+    run = BakeRun(scene, view_layer, depsgraph, full).prepare()
+    run.run_sync()
+    run.finish()
+    return run

@@ -1,0 +1,353 @@
+"""Job control around the native solver, and the kept-solution cache.
+
+A SolveJob goes: prepare() (validate, hash, maybe hit the cache, build the native scene) ->
+start() (native thread) or run() (synchronous) -> poll()/pump() until finished -> results().
+Nothing here touches Blender, so the same object drives the modal operator (polled from a timer),
+the background/batch bake (run()) and the headless tests (pump()).
+"""
+from dataclasses import dataclass, field
+import time
+
+import numpy as np
+
+from . import scene_data
+from .corners import radiance_to_rgba
+
+IDLE, RUNNING, DONE, CANCELLED, FAILED = "IDLE", "RUNNING", "DONE", "CANCELLED", "FAILED"
+
+
+MATRIX_TOLERANCE = 1e-7
+
+
+@dataclass
+class CachedSolution:
+    fingerprint: object      # digest of the solved input; None while an update is pending
+    scene: object            # native Scene the solver was built from
+    solver: object           # native Solver (kept: the incremental path updates it in place)
+    radiance: list           # per SceneInput object: float32 (C,3) in Blender corner order
+    native_stats: dict
+    clusters: int
+    objects: int
+    input_surfaces: int
+    # -- what the incremental path needs (per object name) --
+    settings_key: object = None
+    object_ids: dict = field(default_factory=dict)       # name -> native object id
+    shapes: dict = field(default_factory=dict)           # name -> shape_digest
+    build_matrices: dict = field(default_factory=dict)   # name -> world matrix at add_object
+    matrices: dict = field(default_factory=dict)         # name -> placement last solved
+    reflectance: dict = field(default_factory=dict)      # name -> (F,3) last solved
+    emission: dict = field(default_factory=dict)
+    names: list = field(default_factory=list)            # object order of `radiance`
+    in_use: bool = False     # an incremental job owns the solver right now
+
+
+# Module-level cache keyed by a scene key chosen by the caller (the Blender layer uses the
+# scene's name + pointer). Dropped on file load / undo and by radiosity.clear().
+_CACHE = {}
+
+
+def cache_get(key):
+    return _CACHE.get(key)
+
+
+def cache_drop(key=None):
+    if key is None:
+        _CACHE.clear()
+    else:
+        _CACHE.pop(key, None)
+
+
+def cache_keys():
+    return list(_CACHE)
+
+
+class SolveJob:
+    def __init__(self, native, scene_input, settings, settings_key, cache_key=None,
+                 use_cache=True):
+        self.native = native
+        self.scene_input = scene_input
+        self.settings = settings
+        self.settings_key = settings_key
+        self.cache_key = cache_key
+        self.use_cache = use_cache
+        self.state = IDLE
+        self.error = None
+        self.cached = None          # CachedSolution when the cache was hit
+        self.fingerprint = None
+        self.scene = self.solver = None
+        self.cluster_ids = self.object_ids = None
+        self._radiance = None
+        self.shapes = {}
+        self.incremental = None     # the CachedSolution being updated in place, if any
+        self.changes = {}
+        self.full_reason = None
+        self._native_stats = None
+
+    # -- setup -------------------------------------------------------------------------------
+    def prepare(self):
+        """Validate and hash; on a cache hit no native work is needed at all.
+
+        With a kept solution of the same objects, topology and settings, only the changed
+        placements and materials are handed to the kept solver (``mode == "incremental"``);
+        anything else builds a new native scene (``full_reason`` says why).
+        """
+        scene_data.validate(self.scene_input)
+        self.fingerprint = scene_data.fingerprint(self.scene_input, self.settings_key)
+        self.shapes = scene_data.shape_digests(self.scene_input)
+        hit = None
+        if self.cache_key is not None:
+            hit = _CACHE.get(self.cache_key)
+        if not self.use_cache:
+            self.full_reason = "full bake requested"
+        elif hit is None:
+            self.full_reason = "no kept solution"
+        elif hit.fingerprint is not None and hit.fingerprint == self.fingerprint:
+            self.cached = hit
+            return self
+        else:
+            self.full_reason = self._try_incremental(hit)
+            if self.full_reason is None:
+                return self
+        self.scene, self.cluster_ids, self.object_ids = scene_data.build_native_scene(
+            self.native, self.scene_input)
+        self.solver = self.native.Solver(self.scene, self.settings)
+        return self
+
+    # -- incremental ---------------------------------------------------------------------------
+    def _try_incremental(self, hit):
+        """Queue the changes on the kept solver; returns None, or why a full solve is needed."""
+        if not hasattr(hit.solver, "update"):
+            return "the native module has no dynamic update"
+        if hit.in_use:
+            return "the kept solution is being updated by another bake"
+        if hit.settings_key != self.settings_key:
+            return "settings changed"
+        names = [o.name for o in self.scene_input.objects]
+        added = sorted(set(names) - set(hit.object_ids))
+        removed = sorted(set(hit.object_ids) - set(names))
+        if added or removed:
+            parts = []
+            if added:
+                parts.append("added: " + ", ".join(added))
+            if removed:
+                parts.append("removed: " + ", ".join(removed))
+            return ("objects added or removed since the last bake (" + "; ".join(parts)
+                    + "); the native solver cannot add or remove objects yet")
+        if len(names) != len(set(names)):
+            return "duplicate object names"
+        changed = [n for n in names if self.shapes[n] != hit.shapes[n]]
+        if changed:
+            return ("geometry, modifiers or collection changed: " + ", ".join(changed[:5])
+                    + (" …" if len(changed) > 5 else ""))
+        # Work out every change before touching the kept solver.
+        moves, emissions, reflectances = [], [], []
+        for o in self.scene_input.objects:
+            oid = hit.object_ids[o.name]
+            m = scene_data.object_matrix(o)
+            if not np.allclose(m, hit.matrices[o.name], rtol=0.0, atol=MATRIX_TOLERANCE):
+                rel = m @ np.linalg.inv(hit.build_matrices[o.name])
+                if not scene_data.is_rigid(rel):
+                    return f"'{o.name}' was scaled, sheared or mirrored (not a rigid move)"
+                moves.append((oid, np.ascontiguousarray(rel, dtype=np.float64)))
+            if not np.array_equal(o.emission, hit.emission[o.name]):
+                emissions.append((oid, np.ascontiguousarray(o.emission, dtype=np.float64)))
+            if not np.array_equal(o.reflectance, hit.reflectance[o.name]):
+                reflectances.append((oid, np.ascontiguousarray(o.reflectance, dtype=np.float64)))
+        if not (moves or emissions or reflectances) and names == hit.names:
+            # Only something that does not affect the solve differs (e.g. which meshes can be
+            # written): the kept radiance is still the answer.
+            hit.fingerprint = self.fingerprint
+            self.cached = hit
+            return None
+        # From here on the kept solver no longer matches hit.fingerprint.
+        hit.fingerprint = None
+        try:
+            for oid, rel in moves:
+                hit.solver.move_object(oid, rel)
+            for oid, e in emissions:
+                hit.solver.set_emission(oid, e)
+            for oid, r in reflectances:
+                hit.solver.set_reflectance(oid, r)
+        except ValueError as exc:
+            cache_drop(self.cache_key)
+            return f"the solver refused the change ({exc})"
+        hit.in_use = True
+        self.incremental = hit
+        self.changes = {"moved": len(moves), "emission_changed": len(emissions),
+                        "reflectance_changed": len(reflectances)}
+        self.scene, self.solver = hit.scene, hit.solver
+        self.object_ids = [hit.object_ids[n] for n in names]
+        return None
+
+    def _release(self, ok):
+        """End of an incremental job: on failure/cancel the kept solver has no valid solution."""
+        hit = self.incremental
+        if hit is None:
+            return
+        hit.in_use = False
+        if not ok and self.cache_key is not None and _CACHE.get(self.cache_key) is hit:
+            cache_drop(self.cache_key)
+
+    @property
+    def mode(self):
+        return "incremental" if self.incremental is not None else "full"
+
+    @property
+    def is_cached(self):
+        return self.cached is not None
+
+    # -- running -------------------------------------------------------------------------------
+    def run(self):
+        """Synchronous solve (background mode, batch, live pump)."""
+        if self.cached is not None:
+            self.state = DONE
+            return self
+        self.state = RUNNING
+        try:
+            if self.incremental is not None:
+                self.solver.update()
+            else:
+                self.solver.solve()
+        except Exception as exc:
+            self.state, self.error = FAILED, exc
+            self._release(False)
+            raise
+        self._finish()
+        return self
+
+    def start(self):
+        """Asynchronous solve on the native thread; poll() from Blender's main thread."""
+        if self.cached is not None:
+            self.state = DONE
+            return self
+        self.state = RUNNING
+        try:
+            if self.incremental is not None:
+                self.solver.start_update()
+            else:
+                self.solver.start()
+        except Exception as exc:
+            self.state, self.error = FAILED, exc
+            self._release(False)
+            raise
+        return self
+
+    def poll(self):
+        """Progress 0..1; moves to DONE/FAILED when the native job has ended."""
+        if self.state != RUNNING:
+            return 1.0 if self.state == DONE else 0.0
+        if self.solver.running():
+            return float(self.solver.progress())
+        self._collect(0.0)
+        return 1.0 if self.state == DONE else 0.0
+
+    def pump(self, timeout=None):
+        """Block until the job ends (or timeout seconds); True when it finished successfully."""
+        deadline = None if timeout is None else time.monotonic() + timeout
+        while self.state == RUNNING:
+            remaining = -1.0 if deadline is None else max(0.0, deadline - time.monotonic())
+            if self._collect(remaining):
+                break
+            if deadline is not None and time.monotonic() >= deadline:
+                return False
+        if self.state == FAILED:
+            raise self.error
+        return self.state == DONE
+
+    def _collect(self, timeout):
+        try:
+            finished = self.solver.wait(timeout)
+        except Exception as exc:
+            self.state, self.error = FAILED, exc
+            self._release(False)
+            return True
+        if finished and self.state == RUNNING:
+            self._finish()
+        return finished
+
+    def cancel(self):
+        if self.state == RUNNING:
+            self.solver.cancel()
+            try:
+                self.solver.wait(-1.0)
+            except Exception:
+                pass        # a cancelled job may report its interruption as an error
+        if self.state in (RUNNING, IDLE):
+            self.state = CANCELLED
+            self._release(False)
+
+    def _finish(self):
+        # Copy the results out right away so a cache entry never depends on later solver state.
+        try:
+            self._radiance = []
+            for obj, oid in zip(self.scene_input.objects, self.object_ids):
+                rad = self.solver.corner_radiance(oid)
+                rad = rad.astype("float32", copy=True)
+                if obj.corner_perm is not None:
+                    # Solver order -> Blender order (the permutation is its own inverse).
+                    rad = rad[obj.corner_perm]
+                self._radiance.append(rad)
+            native_stats = dict(self.solver.stats())
+        except Exception as exc:
+            self.state, self.error = FAILED, exc
+            self._release(False)
+            raise
+        self.state = DONE
+        self._native_stats = native_stats
+        si = self.scene_input
+        hit = self.incremental
+        if hit is not None:
+            hit.in_use = False
+            if self.cache_key is not None and _CACHE.get(self.cache_key) is not hit:
+                return      # dropped meanwhile (clear, undo): do not resurrect it
+            entry = hit
+            entry.radiance = self._radiance
+            entry.native_stats = native_stats
+            entry.fingerprint = self.fingerprint
+        else:
+            if self.cache_key is None:
+                return
+            entry = CachedSolution(
+                self.fingerprint, self.scene, self.solver, self._radiance, native_stats,
+                len(si.clusters), len(si.objects), si.polygon_count,
+                settings_key=self.settings_key,
+                object_ids={o.name: oid for o, oid in zip(si.objects, self.object_ids)},
+                shapes=dict(self.shapes),
+                build_matrices={o.name: scene_data.object_matrix(o) for o in si.objects})
+        entry.clusters, entry.objects, entry.input_surfaces = \
+            len(si.clusters), len(si.objects), si.polygon_count
+        entry.names = [o.name for o in si.objects]
+        entry.matrices = {o.name: scene_data.object_matrix(o) for o in si.objects}
+        entry.reflectance = {o.name: np.array(o.reflectance, copy=True) for o in si.objects}
+        entry.emission = {o.name: np.array(o.emission, copy=True) for o in si.objects}
+        if self.cache_key is not None:
+            _CACHE[self.cache_key] = entry
+
+    # -- results -------------------------------------------------------------------------------
+    def radiance(self):
+        if self.state != DONE:
+            raise RuntimeError(f"job is {self.state}, no results")
+        return self.cached.radiance if self.cached is not None else self._radiance
+
+    def rgba(self):
+        """[(ObjectInput, flat RGBA)] for every object that has a write target.
+
+        Everything is converted (and checked) before the caller writes a single mesh.
+        """
+        out = []
+        for obj, rad in zip(self.scene_input.objects, self.radiance()):
+            if obj.target is not None:
+                out.append((obj, radiance_to_rgba(rad, obj.corner_count)))
+        return out
+
+    def native_stats(self):
+        if self.cached is not None:
+            return dict(self.cached.native_stats)
+        if getattr(self, "_native_stats", None) is not None:
+            return dict(self._native_stats)
+        return {}
+
+    def fallback_counts(self):
+        return {"objects": len(self.scene_input.objects),
+                "clusters": len(self.scene_input.clusters),
+                "input_surfaces": self.scene_input.polygon_count}

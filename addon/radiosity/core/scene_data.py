@@ -1,0 +1,222 @@
+"""Scene description handed to the native solver, as plain numpy arrays.
+
+The Blender layer fills a SceneInput (clusters + objects); this module validates it, hashes it
+for the solution cache and turns it into a native Scene.
+"""
+from dataclasses import dataclass, field
+import hashlib
+
+import numpy as np
+
+DEFAULT_REFLECTANCE = 0.8      # objects without material: Blender's default grey
+MAX_REFLECTANCE = 0.999        # rho = 1 makes the system singular (no convergence); clamp below
+
+
+class InputError(ValueError):
+    """Bad scene input; the message names the object and the problem."""
+
+
+@dataclass
+class ClusterInput:
+    name: str
+    parent: int = -1           # index into SceneInput.clusters, -1 = root
+
+
+@dataclass
+class ObjectInput:
+    name: str
+    cluster: int               # index into SceneInput.clusters, -1 = directly in the scene
+    vertices: np.ndarray       # float64 (V,3) world space
+    loop_starts: np.ndarray    # int32 (F,)
+    loop_totals: np.ndarray    # int32 (F,)
+    corner_verts: np.ndarray   # int32 (C,)
+    reflectance: np.ndarray    # float32 (F,3)
+    emission: np.ndarray       # float32 (F,3)
+    # Corner permutation applied before handing to the solver (mirrored objects), or None.
+    corner_perm: object = None
+    # Opaque handle of the Blender layer (which mesh to write, or None = participate only).
+    target: object = None
+    # World matrix (float64 4x4) the vertices were transformed with, and the object-space
+    # (evaluated, modifiers applied) vertices: what the incremental re-bake compares to tell a
+    # rigid move from a shape change. None: vertices are taken as they are (identity).
+    matrix: object = None
+    local_vertices: object = None
+
+    @property
+    def corner_count(self):
+        return int(len(self.corner_verts))
+
+    @property
+    def polygon_count(self):
+        return int(len(self.loop_starts))
+
+
+@dataclass
+class SceneInput:
+    clusters: list = field(default_factory=list)
+    objects: list = field(default_factory=list)
+
+    def add_cluster(self, name, parent=-1):
+        self.clusters.append(ClusterInput(name, parent))
+        return len(self.clusters) - 1
+
+    @property
+    def polygon_count(self):
+        return sum(o.polygon_count for o in self.objects)
+
+    def has_emitter(self):
+        return any(bool((o.emission > 0.0).any()) for o in self.objects)
+
+
+def clamp_reflectance(rgb):
+    """Reflectance clamp [0, 0.999] (documented in README: rho>=1 never converges)."""
+    return np.clip(np.asarray(rgb, dtype=np.float32), 0.0, MAX_REFLECTANCE)
+
+
+def clamp_emission(rgb):
+    return np.maximum(np.asarray(rgb, dtype=np.float32), 0.0)
+
+
+def face_table(slot_values, material_index, default):
+    """Per-face (F,3) float32 from a per-slot table and the polygons' material_index.
+
+    Blender clamps an out-of-range material_index to the last slot; we do the same. An object
+    without slots gets ``default`` on every face.
+    """
+    mi = np.asarray(material_index, dtype=np.int64)
+    if len(slot_values) == 0:
+        return np.tile(np.asarray(default, dtype=np.float32), (len(mi), 1))
+    table = np.asarray(slot_values, dtype=np.float32).reshape(-1, 3)
+    return table[np.clip(mi, 0, len(table) - 1)]
+
+
+def validate_object(obj):
+    """Cheap checks with clear messages before the native module sees the data."""
+    name = obj.name
+    v = obj.vertices
+    if v.ndim != 2 or v.shape[1] != 3:
+        raise InputError(f"object '{name}': vertex array has shape {v.shape}")
+    bad = ~np.isfinite(v).all(axis=1)
+    if bad.any():
+        raise InputError(f"object '{name}': vertex {int(np.argmax(bad))} has a NaN or infinite "
+                         f"coordinate ({int(bad.sum())} bad vertices)")
+    F = obj.polygon_count
+    if obj.loop_totals.shape != (F,) or obj.reflectance.shape != (F, 3) \
+            or obj.emission.shape != (F, 3):
+        raise InputError(f"object '{name}': inconsistent per-polygon array lengths")
+    if F and (obj.loop_totals < 3).any():
+        p = int(np.argmax(obj.loop_totals < 3))
+        raise InputError(f"object '{name}': polygon {p} has fewer than 3 corners")
+    if int(obj.loop_totals.sum()) != obj.corner_count:
+        raise InputError(f"object '{name}': polygon corner counts do not add up")
+    cv = obj.corner_verts
+    if len(cv) and (cv.min() < 0 or cv.max() >= len(v)):
+        raise InputError(f"object '{name}': corner refers to a vertex that does not exist")
+    for label, arr in (("reflectance", obj.reflectance), ("emission", obj.emission)):
+        if not np.isfinite(arr).all():
+            p = int(np.argmax(~np.isfinite(arr).all(axis=1)))
+            raise InputError(f"object '{name}': polygon {p} has a non-finite {label}")
+
+
+def validate(scene_input):
+    if not scene_input.objects:
+        raise InputError("nothing to bake: no visible, renderable mesh object with faces")
+    for obj in scene_input.objects:
+        validate_object(obj)
+
+
+def fingerprint(scene_input, settings_key):
+    """Digest of everything that affects the solution (geometry, materials, clusters, settings).
+
+    Equal digest -> the kept solver's results are still valid and can simply be written again.
+    """
+    h = hashlib.blake2b(digest_size=20)
+    h.update(repr(settings_key).encode())
+    for c in scene_input.clusters:
+        h.update(f"C|{c.name}|{c.parent}".encode())
+    for o in scene_input.objects:
+        h.update(f"O|{o.name}|{o.cluster}|{o.target is not None}".encode())
+        for arr, dtype in ((o.vertices, np.float64), (o.loop_starts, np.int32),
+                           (o.loop_totals, np.int32), (o.corner_verts, np.int32),
+                           (o.reflectance, np.float32), (o.emission, np.float32)):
+            a = np.ascontiguousarray(arr, dtype=dtype)
+            h.update(str(a.shape).encode())
+            h.update(a.tobytes())
+    return h.hexdigest()
+
+
+def cluster_paths(scene_input):
+    """Per cluster the '/'-joined names from the root: identifies a cluster across bakes."""
+    paths = []
+    for c in scene_input.clusters:
+        paths.append((paths[c.parent] + "/" if c.parent >= 0 else "") + c.name)
+    return paths
+
+
+def object_matrix(obj):
+    return np.eye(4) if obj.matrix is None else np.asarray(obj.matrix, dtype=np.float64)
+
+
+def shape_digest(obj, cluster_path):
+    """Digest of what a rigid move leaves unchanged: cluster, topology, object-space shape.
+
+    Materials and the placement are not part of it (the incremental path updates those).
+    """
+    h = hashlib.blake2b(digest_size=20)
+    h.update(f"{obj.name}|{cluster_path}|{obj.corner_perm is not None}".encode())
+    local = obj.vertices if obj.local_vertices is None else obj.local_vertices
+    for arr, dtype in ((local, np.float64), (obj.loop_starts, np.int32),
+                       (obj.loop_totals, np.int32), (obj.corner_verts, np.int32)):
+        a = np.ascontiguousarray(arr, dtype=dtype)
+        h.update(str(a.shape).encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
+
+
+def shape_digests(scene_input):
+    paths = cluster_paths(scene_input)
+    return {o.name: shape_digest(o, paths[o.cluster] if o.cluster >= 0 else "")
+            for o in scene_input.objects}
+
+
+def is_rigid(m, tol=1e-5):
+    """A proper rigid motion (rotation + translation, no scale/shear/mirror)?"""
+    m = np.asarray(m, dtype=np.float64)
+    if m.shape != (4, 4) or not np.isfinite(m).all():
+        return False
+    if not np.allclose(m[3], [0, 0, 0, 1], atol=1e-9):
+        return False
+    r = m[:3, :3]
+    return bool(np.allclose(r @ r.T, np.eye(3), atol=tol) and np.linalg.det(r) > 0)
+
+
+def solver_corner_order(obj):
+    """corner_verts in the order handed to the solver (reversed winding for mirrored objects)."""
+    if obj.corner_perm is None:
+        return obj.corner_verts
+    return obj.corner_verts[obj.corner_perm]
+
+
+def build_native_scene(native, scene_input):
+    """Create the native Scene; returns (scene, cluster_ids, object_ids).
+
+    Native ValueErrors (they name object and polygon) propagate to the caller unchanged.
+    """
+    scene = native.Scene()
+    cluster_ids = []
+    for c in scene_input.clusters:
+        parent = cluster_ids[c.parent] if c.parent >= 0 else -1
+        cluster_ids.append(scene.add_cluster(c.name, parent))
+    object_ids = []
+    for o in scene_input.objects:
+        cluster = cluster_ids[o.cluster] if o.cluster >= 0 else -1
+        object_ids.append(scene.add_object(
+            o.name, cluster,
+            np.ascontiguousarray(o.vertices, dtype=np.float64),
+            np.ascontiguousarray(o.loop_starts, dtype=np.int32),
+            np.ascontiguousarray(o.loop_totals, dtype=np.int32),
+            np.ascontiguousarray(solver_corner_order(o), dtype=np.int32),
+            np.ascontiguousarray(o.reflectance, dtype=np.float32),
+            np.ascontiguousarray(o.emission, dtype=np.float32),
+        ))
+    return scene, cluster_ids, object_ids

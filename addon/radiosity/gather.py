@@ -1,0 +1,170 @@
+"""Blender scene -> core.SceneInput (numpy arrays, world space), in bulk with foreach_get.
+
+Rules (see README):
+- every object of the view layer with ``visible_get()`` true, ``hide_render`` false and no
+  render-disabled collection above it; meshes, curves, surfaces, text and metaballs all enter
+  through their evaluated mesh (modifiers applied, via the depsgraph);
+- each collection is a native cluster (nested collections nest); objects that sit directly in the
+  scene collection get cluster -1; an object in several collections uses its first one;
+- only MESH objects can receive colours. They are written to the original mesh data, and are
+  skipped with a warning when a modifier changed the corner layout, when the mesh is shared with
+  an object baked before (linked duplicates: the first user wins), when it comes from a linked
+  library, or when the object is in Edit Mode. Skipped objects still cast and reflect light.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from .core import scene_data
+from .core.corners import reverse_polygon_permutation
+from .core.scene_data import ObjectInput, SceneInput
+from .materials import MaterialTable
+
+GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "FONT", "META"}
+
+
+@dataclass
+class WriteTarget:
+    object_name: str
+    mesh_name: str
+
+
+def _walk_collections(view_layer):
+    """{collection name_full: parent collection or None} for included, renderable collections."""
+    parents = {}
+
+    def walk(layer_coll, parent):
+        for child in layer_coll.children:
+            coll = child.collection
+            if child.exclude or coll.hide_render:
+                continue        # excluded or render-off collections cost nothing
+            parents[coll.name_full] = (coll, parent)
+            walk(child, coll)
+
+    walk(view_layer.layer_collection, None)
+    return parents
+
+
+def _int_array(collection, attr, count):
+    out = np.empty(count, dtype=np.int32)
+    if count:
+        collection.foreach_get(attr, out)
+    return out
+
+
+def _mesh_arrays(me):
+    nv, nf, nc = len(me.vertices), len(me.polygons), len(me.loops)
+    co = np.empty(nv * 3, dtype=np.float32)
+    if nv:
+        me.vertices.foreach_get("co", co)
+    return (co.reshape(nv, 3),
+            _int_array(me.polygons, "loop_start", nf),
+            _int_array(me.polygons, "loop_total", nf),
+            _int_array(me.polygons, "material_index", nf),
+            _int_array(me.loops, "vertex_index", nc))
+
+
+def _slot_values(obj_eval, materials):
+    rho, emis = [], []
+    for slot in obj_eval.material_slots:
+        r, e = materials.get(slot.material)
+        rho.append(r)
+        emis.append(e)
+    return rho, emis
+
+
+def _write_target(obj, corner_verts, first_user, warnings):
+    """Decide whether obj.data may receive colours; returns WriteTarget or None."""
+    if obj.type != "MESH":
+        return None     # curves/text/metaballs take part in the solve but have no corners to write
+    me = obj.data
+    if obj.library is not None or me.library is not None:
+        warnings.append(f"object '{obj.name}': mesh '{me.name}' comes from a linked library "
+                        f"(read-only); it lights the scene but is not written")
+        return None
+    if obj.mode == "EDIT":
+        warnings.append(f"object '{obj.name}' is in Edit Mode; leave Edit Mode to bake it")
+        return None
+    owner = first_user.get(me.name_full)
+    if owner is not None:
+        warnings.append(f"object '{obj.name}' shares mesh '{me.name}' with '{owner}'; only "
+                        f"'{owner}' is baked (linked duplicates get one bake)")
+        return None
+    if len(me.loops) != len(corner_verts) or not np.array_equal(
+            _int_array(me.loops, "vertex_index", len(me.loops)), corner_verts):
+        warnings.append(f"object '{obj.name}': a modifier changes its topology ({len(me.loops)} "
+                        f"corners before, {len(corner_verts)} after); apply or disable it to "
+                        f"bake this object")
+        return None
+    first_user[me.name_full] = obj.name
+    return WriteTarget(obj.name_full, me.name_full)
+
+
+def gather(scene, view_layer, depsgraph):
+    """Returns (SceneInput, world matrices {object name_full: 4x4}, warnings)."""
+    warnings = []
+    si = SceneInput()
+    coll_parents = _walk_collections(view_layer)
+    cluster_of = {}
+    materials = MaterialTable()
+    first_user = {}
+    matrices = {}
+
+    def cluster_index(coll):
+        key = coll.name_full
+        if key not in cluster_of:
+            _, parent = coll_parents[key]
+            pidx = cluster_index(parent) if parent is not None else -1
+            cluster_of[key] = si.add_cluster(coll.name, pidx)
+        return cluster_of[key]
+
+    def object_cluster(obj):
+        for coll in obj.users_collection:
+            if coll == scene.collection:
+                return -1
+            if coll.name_full in coll_parents:
+                return cluster_index(coll)
+        return None     # only in excluded / render-disabled collections: not rendered
+
+    for obj in view_layer.objects:
+        if obj.type not in GEOMETRY_TYPES or obj.hide_render:
+            continue
+        if not obj.visible_get(view_layer=view_layer):
+            continue
+        if not any(c == scene.collection or c.name_full in coll_parents
+                   for c in obj.users_collection):
+            continue
+        obj_eval = obj.evaluated_get(depsgraph)
+        try:
+            me = obj_eval.to_mesh()
+        except RuntimeError:
+            me = None
+        if me is None:
+            continue
+        try:
+            if len(me.polygons) == 0:
+                continue            # edges/points only, or an empty curve: nothing to light
+            co, starts, totals, mat_index, corner_verts = _mesh_arrays(me)
+            mat = np.array(obj_eval.matrix_world, dtype=np.float64)
+            rho_slots, emis_slots = _slot_values(obj_eval, materials)
+        finally:
+            obj_eval.to_mesh_clear()
+
+        world = co.astype(np.float64) @ mat[:3, :3].T + mat[:3, 3]
+        # A mirroring matrix would flip the winding-derived normal; Blender keeps the visible
+        # side, so hand the solver the reversed winding and map results back afterwards.
+        perm = None
+        if np.linalg.det(mat[:3, :3]) < 0.0:
+            perm = reverse_polygon_permutation(starts, totals)
+        rho = scene_data.clamp_reflectance(
+            scene_data.face_table(rho_slots, mat_index, [scene_data.DEFAULT_REFLECTANCE] * 3))
+        emission = scene_data.clamp_emission(
+            scene_data.face_table(emis_slots, mat_index, [0.0, 0.0, 0.0]))
+        target = _write_target(obj, corner_verts, first_user, warnings)
+        si.objects.append(ObjectInput(
+            name=obj.name, cluster=object_cluster(obj), vertices=world, loop_starts=starts,
+            loop_totals=totals, corner_verts=corner_verts, reflectance=rho, emission=emission,
+            corner_perm=perm, target=target, matrix=mat, local_vertices=co))
+        matrices[obj.name_full] = mat
+    warnings.extend(materials.warnings)
+    return si, matrices, warnings

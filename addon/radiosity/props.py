@@ -1,0 +1,50 @@
+"""scene.radiosity PropertyGroup."""
+import bpy
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, StringProperty
+
+from .core import presets
+from .bake import STATS_KEY
+
+_PRESET_ITEMS = [
+    ("DRAFT", "Draft", "Coarse and quick"),
+    ("MEDIUM", "Medium", "Balanced"),
+    ("HIGH", "High", "Fine; close to a converged path-traced bake"),
+    ("CUSTOM", "Custom", "Medium with your own error threshold"),
+]
+
+
+def _get_last_stats(self):
+    return self.get(STATS_KEY, "")
+
+
+def _live_update(self, context):
+    from . import handlers
+    handlers.live_toggled(self, context)
+
+
+class RadiositySceneSettings(bpy.types.PropertyGroup):
+    preset: EnumProperty(name="Preset", items=_PRESET_ITEMS, default="MEDIUM",
+                         description="Quality preset of the solver")
+    error_threshold: FloatProperty(
+        name="Error Threshold", default=presets.DEFAULT_ERROR_THRESHOLD, min=1e-6, max=1.0,
+        soft_min=1e-4, soft_max=0.5, precision=4,
+        description="Relative error threshold of the refinement (Custom preset only); "
+                    "smaller is finer and slower")
+    attribute_name: StringProperty(name="Attribute", default="Radiosity",
+                                   description="Colour attribute that receives the bake")
+    live: BoolProperty(name="Live", default=False, update=_live_update,
+                       description="Re-bake automatically when baked objects are moved")
+    # Read-only: a getter without a setter. The value lives in an ID property so that it is
+    # saved with the file and restored by undo.
+    last_stats: StringProperty(name="Last Stats", get=_get_last_stats,
+                               description="JSON statistics of the last bake")
+
+
+def register():
+    bpy.utils.register_class(RadiositySceneSettings)
+    bpy.types.Scene.radiosity = bpy.props.PointerProperty(type=RadiositySceneSettings)
+
+
+def unregister():
+    del bpy.types.Scene.radiosity
+    bpy.utils.unregister_class(RadiositySceneSettings)

@@ -1,0 +1,64 @@
+"""Test scenes, built identically in the tests and in the reference generator."""
+import numpy as np
+
+import rt_common as rt
+
+FURNACE_RHO, FURNACE_E = 0.5, 1.0
+
+
+def build_furnace(n=4):
+    """Closed 2x2x2 box of six n x n inward-facing grids, each its own object, in two collections
+    (one nested): rho=0.5 and emission 1 everywhere -> B = E/(1-rho) = 2 at every corner.
+    Half the faces use Principled (diffuse part + emission), half Add(Diffuse, Emission)."""
+    outer = rt.new_collection("Walls")
+    inner = rt.new_collection("Caps", outer)
+    p = rt.principled_material("Furnace Principled", (FURNACE_RHO,) * 3, (1, 1, 1), FURNACE_E)
+    a = rt.add_diffuse_emission_material("Furnace Add", (FURNACE_RHO,) * 3, (1, 1, 1), FURNACE_E)
+    s = 2.0
+    # (origin, u, v) with u x v pointing out of the box [0,2]^3
+    sides = {
+        "floor": ((0, 0, 0), (0, s, 0), (s, 0, 0)),
+        "ceiling": ((0, 0, s), (s, 0, 0), (0, s, 0)),
+        "x0": ((0, 0, 0), (0, 0, s), (0, s, 0)),
+        "x1": ((s, 0, 0), (0, s, 0), (0, 0, s)),
+        "y0": ((0, 0, 0), (s, 0, 0), (0, 0, s)),
+        "y1": ((0, s, 0), (0, 0, s), (s, 0, 0)),
+    }
+    objs = []
+    for i, (name, (o, u, v)) in enumerate(sides.items()):
+        verts, faces = rt.grid(o, v, u, n)      # v x u points inward
+        coll = inner if name in ("floor", "ceiling") else (outer if i % 2 else None)
+        objs.append(rt.mesh_object(name, verts, faces, coll, p if i % 2 else a))
+    return objs
+
+
+def build_diffuse_scene():
+    """A 4x4 floor (rho 0.5), a 1x1 light (radiance 10) 2 above it facing down, and a coloured
+    subdivided box on the floor. Open to a black world. ~800 corners."""
+    rt.black_world()
+    floor_mat = rt.diffuse_material("Floor", (0.5, 0.5, 0.5))
+    box_mat = rt.diffuse_material("Box", (0.7, 0.35, 0.2))
+    light_mat = rt.emission_material("Light", (1.0, 1.0, 1.0), 10.0)
+    verts, faces = rt.grid((-2, -2, 0), (4, 0, 0), (0, 4, 0), 10)
+    floor = rt.mesh_object("Floor", verts, faces, None, floor_mat)
+    lv, lf = rt.grid((-0.5, -0.5, 2.0), (0, 1, 0), (1, 0, 0), 1)     # normal -z
+    light = rt.mesh_object("Light", lv, lf, None, light_mat)
+    coll = rt.new_collection("Props")
+    bv, bf = [], []
+    c, h = np.array([0.6, 0.3, 0.4]), np.array([0.5, 0.5, 0.4])
+    for axis in range(3):
+        for sign in (-1, 1):
+            o = c.copy()
+            o[axis] += sign * h[axis]
+            a1, a2 = [k for k in range(3) if k != axis]
+            u = np.zeros(3); u[a1] = 2 * h[a1]
+            v = np.zeros(3); v[a2] = 2 * h[a2]
+            if np.cross(u, v)[axis] * sign < 0:
+                u, v = v, u                     # keep u x v pointing outward
+            o = o - u / 2 - v / 2
+            gv, gf = rt.grid(o, u, v, 4)
+            base = len(bv)
+            bv += list(gv)
+            bf += [tuple(i + base for i in f) for f in gf]
+    box = rt.mesh_object("Box", bv, bf, coll, box_mat)
+    return [floor, light, box]

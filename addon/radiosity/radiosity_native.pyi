@@ -19,13 +19,19 @@ class Settings:
     progressive_refinement: bool    # default True
     rays_per_link: int              # visibility rays per surface link, default 16
     max_iterations: int             # gathering iterations cap, default 5000 (stops at the tolerance)
-    tolerance: float                # relative residual to stop iterating, default 1e-5
+    max_refine_rounds: int          # refine/solve alternations, default 8
+    tolerance: float                # estimated remaining relative error to stop iterating
+    closure_rays: int               # escape rays per leaf for the closure correction (0 = off)
     threads: int                    # 0 = all cores
     crease_angle_deg: float         # corners average across faces within this angle, default 35
     seed: int
     def __init__(self) -> None: ...
     @staticmethod
     def preset(name: str) -> "Settings": ...   # 'DRAFT' | 'MEDIUM' | 'HIGH'
+    def validate(self) -> None: ...            # ValueError naming the bad field
+
+class Cancelled(Exception):
+    """Raised by wait() after cancel(): the job stopped and left no finished solution."""
 
 class Scene:
     def __init__(self) -> None: ...
@@ -61,4 +67,13 @@ class Solver:
     # Results (after a finished solve).
     def corner_radiance(self, object_id: int) -> np.ndarray:  # float32 (C,3), per Blender corner
         ...
-    def stats(self) -> dict: ...  # counts and seconds; keys listed in native/include/radiosity/stats.h
+    def radiance_at(self, object_id: int, face: int, point: tuple) -> tuple: ...  # front-side radiance of the leaf at a world point
+    def stats(self) -> dict: ...  # counts and seconds (native/include/radiosity/stats.h) plus 'mode': 'full' | 'incremental'
+    # Dynamic environments (AdjustSystem). Record changes, then update() / start_update().
+    def move_object(self, object_id: int, matrix: np.ndarray) -> None:
+        """Rigid placement (float64 4x4, row-major, world units) relative to the geometry given to
+        add_object. ValueError for NaN, scale/shear or mirroring; RuntimeError before a solve."""
+    def set_emission(self, object_id: int, emission: np.ndarray) -> None: ...      # (F,3) or (3,)
+    def set_reflectance(self, object_id: int, reflectance: np.ndarray) -> None: ... # (F,3) or (3,), < 1
+    def update(self) -> None: ...        # incremental re-solve (full solve if none is kept); GIL released
+    def start_update(self) -> None: ...  # the same as a job: poll like start()

@@ -232,7 +232,7 @@ void Solver::update(Control* control) {
                     continue;
                 }
                 if (l.active) ++s.obj_env_links_removed;
-                if (l.parent < 0 || !inX[links_[l.parent].src] && !inX[links_[l.parent].rcv]) kill(int(i));
+                if (l.parent < 0 || (!inX[links_[l.parent].src] && !inX[links_[l.parent].rcv])) kill(int(i));
                 continue;
             }
             // Env-env: 3.3 pruning with the old and new boxes of every moved object.

@@ -2,11 +2,10 @@
 
 namespace radiosity::scenes {
 
-int add_grid(SceneDesc& s, const std::string& name, int cluster, const std::array<Vec3, 4>& q, int nu, int nv,
-             Rgb rho, Rgb emission, bool two_sided) {
-    ObjectDesc o;
-    o.name = name;
-    o.cluster = cluster;
+namespace {
+// Appends quad q (counter-clockwise about its front) as an nu x nv grid of polygons.
+void append_grid(ObjectDesc& o, const std::array<Vec3, 4>& q, int nu, int nv, Rgb rho, Rgb emission, bool two_sided) {
+    const int base = int(o.vertices.size());
     for (int j = 0; j <= nv; ++j)
         for (int i = 0; i <= nu; ++i) {
             double u = double(i) / nu, v = double(j) / nv;
@@ -14,7 +13,7 @@ int add_grid(SceneDesc& s, const std::string& name, int cluster, const std::arra
         }
     for (int j = 0; j < nv; ++j)
         for (int i = 0; i < nu; ++i) {
-            int a = j * (nu + 1) + i;
+            int a = base + j * (nu + 1) + i;
             o.loop_starts.push_back(int32_t(o.corner_verts.size()));
             o.loop_totals.push_back(4);
             o.corner_verts.insert(o.corner_verts.end(), {a, a + 1, a + nu + 2, a + nu + 1});
@@ -22,6 +21,15 @@ int add_grid(SceneDesc& s, const std::string& name, int cluster, const std::arra
             o.emission.push_back(emission);
             o.two_sided.push_back(two_sided);
         }
+}
+}  // namespace
+
+int add_grid(SceneDesc& s, const std::string& name, int cluster, const std::array<Vec3, 4>& q, int nu, int nv,
+             Rgb rho, Rgb emission, bool two_sided) {
+    ObjectDesc o;
+    o.name = name;
+    o.cluster = cluster;
+    append_grid(o, q, nu, nv, rho, emission, two_sided);
     return s.add_object(std::move(o));
 }
 
@@ -43,22 +51,7 @@ int add_box(SceneDesc& s, const std::string& name, int cluster, Vec3 lo, Vec3 hi
     }};
     for (auto q : faces) {
         if (inward) std::swap(q[1], q[3]);
-        int base = int(o.vertices.size());
-        for (int j = 0; j <= n; ++j)
-            for (int i = 0; i <= n; ++i) {
-                double u = double(i) / n, v = double(j) / n;
-                o.vertices.push_back(q[0] * ((1 - u) * (1 - v)) + q[1] * (u * (1 - v)) + q[2] * (u * v) + q[3] * ((1 - u) * v));
-            }
-        for (int j = 0; j < n; ++j)
-            for (int i = 0; i < n; ++i) {
-                int a = base + j * (n + 1) + i;
-                o.loop_starts.push_back(int32_t(o.corner_verts.size()));
-                o.loop_totals.push_back(4);
-                o.corner_verts.insert(o.corner_verts.end(), {a, a + 1, a + n + 2, a + n + 1});
-                o.reflectance.push_back(rho);
-                o.emission.push_back(emission);
-                o.two_sided.push_back(two_sided);
-            }
+        append_grid(o, q, n, n, rho, emission, two_sided);
     }
     return s.add_object(std::move(o));
 }

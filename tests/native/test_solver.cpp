@@ -170,3 +170,46 @@ TEST(Solver, ScaleInvariance) {
         EXPECT_NEAR(c[i], b[i], 1e-3 * std::max(b[i], 0.05f)) << i;
     }
 }
+
+TEST(Solver, EnergyBalanceInAnOpenScene) {
+    // Emitted = absorbed + escaped. Escaped power is measured independently of the solver's
+    // links: cosine-distributed rays from every leaf into open space.
+    SceneDesc s;
+    scenes::add_grid(s, "floor", -1, {Vec3{-2, -2, 0}, Vec3{2, -2, 0}, Vec3{2, 2, 0}, Vec3{-2, 2, 0}}, 6, 6, Rgb::all(0.6), {});
+    scenes::add_grid(s, "light", -1, {Vec3{-0.5, -0.5, 2}, Vec3{-0.5, 0.5, 2}, Vec3{0.5, 0.5, 2}, Vec3{0.5, -0.5, 2}}, 1, 1,
+                     Rgb::all(0.0), Rgb::all(10.0));  // two-sided: its back absorbs what hits it
+    int c = s.add_cluster("box");
+    scenes::add_box(s, "box", c, {0.2, -0.3, 0.3}, {1.0, 0.5, 1.1}, 3, Rgb::all(0.6), {});
+    Settings st = Settings::preset("HIGH");
+    if (const char* e = std::getenv("RADIOSITY_TEST_NOCLUSTER")) st.use_clustering = e[0] != '1';
+    Solver solver(s, st);
+    solver.solve();
+    const Hierarchy& h = solver.hierarchy();
+    double emitted = 0, absorbed = 0, escaped = 0;
+    const int rays = 256;
+    for (size_t i = 0; i < h.nodes.size(); ++i) {
+        const Node& n = h.nodes[i];
+        if (n.is_cluster() || !n.children.empty() || n.dead) continue;
+        const double rho = n.rho.g, E = n.emission.g, L = n.L.g;
+        emitted += n.area * E;
+        if (rho > 0) absorbed += n.area * (1 - rho) * (L - E) / rho;
+        if (L <= 0) continue;
+        Rng rng(i);
+        Vec3 t = std::fabs(n.normal.x) > 0.5 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
+        Vec3 u = normalize(cross(n.normal, t)), v = cross(n.normal, u);
+        int out = 0;
+        for (int r = 0; r < rays; ++r) {
+            double phi = 2 * kPi * rng.next(), r2 = rng.next(), sr = std::sqrt(r2);
+            Vec3 d = u * (std::cos(phi) * sr) + v * (std::sin(phi) * sr) + n.normal * std::sqrt(1 - r2);
+            Vec3 o = n.poly.sample(rng.next(), rng.next()) + n.normal * 1e-5;
+            out += !solver.visibility().occluded(o, o + d * 10.0, 0.0);
+        }
+        escaped += n.area * L * out / rays;
+    }
+    std::printf("[ figure ] energy: emitted %.5f absorbed %.5f escaped %.5f, imbalance %.3f %%\n", emitted, absorbed,
+                escaped, 100 * (absorbed + escaped - emitted) / emitted);
+    // Goal (issue 2): 0.5 %. Measured: -2.1 % clustered, -1.3 % unclustered (HIGH) -- light is
+    // lost somewhere in the discretised transport (not found yet). This bound guards against
+    // regressions until it is.
+    EXPECT_NEAR(absorbed + escaped, emitted, 0.03 * emitted);
+}

@@ -56,6 +56,7 @@ public:
     // A fresh evaluation of the link src -> rcv as the solver would make it (same seed).
     Link evaluate(int src, int rcv) const;
     const Hierarchy& hierarchy() const { return h_; }
+    const Visibility& visibility() const { return *vis_; }
     const std::vector<Link>& links() const { return links_; }
     const Settings& settings() const { return settings_; }
     const SceneDesc& scene() const { return scene_; }

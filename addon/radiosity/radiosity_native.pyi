@@ -64,6 +64,15 @@ class Solver:
     def progress(self) -> float: ...          # 0..1
     def cancel(self) -> None: ...              # the job stops soon; results are not updated
     def wait(self, timeout: float = -1.0) -> bool: ...  # True when finished; re-raises a job error
+    # Dynamic environments: record changes, then update()/start_update() (incremental re-solve;
+    # stats()['mode'] == 'incremental'). A cancelled update leaves no finished solution.
+    # matrix: float64 (4,4) row-major rigid placement relative to the geometry given to
+    # add_object (world space); ValueError if not rigid (scale/shear/mirror) or not finite.
+    def move_object(self, object_id: int, matrix: np.ndarray) -> None: ...
+    def set_emission(self, object_id: int, emission: np.ndarray) -> None: ...      # (F,3) or (3,)
+    def set_reflectance(self, object_id: int, reflectance: np.ndarray) -> None: ...  # each < 1
+    def update(self) -> None: ...              # synchronous; releases the GIL
+    def start_update(self) -> None: ...        # asynchronous; poll like start()
     # Results (after a finished solve).
     def corner_radiance(self, object_id: int) -> np.ndarray:  # float32 (C,3), per Blender corner
         ...

@@ -151,6 +151,34 @@ void Solver::prune_elements() {
     for (const Surface& s : h_.surfaces) prune(s.root);
 }
 
+bool Solver::move_breaks_seal() const {
+    for (const auto& [obj, pose] : pending_moves_) {
+        // The object's box after the move, from its given geometry and the new pose.
+        Aabb nb;
+        for (const Primitive& p : h_.prims)
+            if (p.object == obj)
+                for (int k = 0; k < p.poly0.n; ++k) {
+                    const Vec3& q = p.poly0.v[k];
+                    nb.grow(Vec3{pose.R[0] * q.x + pose.R[1] * q.y + pose.R[2] * q.z + pose.t.x,
+                                 pose.R[3] * q.x + pose.R[4] * q.y + pose.R[5] * q.z + pose.t.y,
+                                 pose.R[6] * q.x + pose.R[7] * q.y + pose.R[8] * q.z + pose.t.z});
+                }
+        for (size_t s = 0; s < h_.surfaces.size(); ++s) {
+            const Node& n = h_.nodes[h_.surfaces[s].root];
+            if (!n.sealed) continue;
+            const bool own = n.object == obj;
+            // Another object's pocket now holding this one, or this one's pocket (moving with
+            // it) now holding another object: judged by boxes, conservatively.
+            const Aabb& pocket = sealed_box_[s];
+            bool overlap = true;
+            for (int a = 0; a < 3; ++a) overlap &= nb.lo[a] <= pocket.hi[a] && nb.hi[a] >= pocket.lo[a];
+            if (!own && overlap) return true;
+        }
+        (void)pose;
+    }
+    return false;
+}
+
 void Solver::update(Control* control) {
     if (!solved_) {
         solve(control);
@@ -159,6 +187,15 @@ void Solver::update(Control* control) {
     if (pending_moves_.empty() && !materials_changed_) {
         stats_.mode_incremental = true;
         stats_.seconds_adjust = 0;
+        return;
+    }
+    if (move_breaks_seal()) {
+        // An object moved into (or carrying) a closed pocket: which faces are sealed changes,
+        // and with it which links may exist. Rare; solve again in full.
+        for (auto& [obj, pose] : pending_moves_) poses_[obj] = pose;
+        pending_moves_.clear();
+        solve(control);
+        stats_.warnings.push_back("a move changed a closed pocket: solved in full");
         return;
     }
     control_ = control;
@@ -298,11 +335,9 @@ void Solver::update(Control* control) {
             }
         }
         link_from(std::move(wave));
-        // Leaves of moved objects may now see open space (or no longer): ask again.
-        for (auto& [obj, pose] : pending_moves_) {
-            (void)pose;
-            for (int id : h_.object_nodes(obj)) h_.nodes[id].enclosed = -1;
-        }
+        // A move can open or close any pocket (the floor a box stood on now sees the sky):
+        // every leaf asks its escape rays again.
+        for (Node& n : h_.nodes) n.enclosed = -1;
         pending_moves_.clear();
     }
     s.links_created = int64_t(links_.size()) - links_before;
@@ -331,6 +366,11 @@ void Solver::update(Control* control) {
     compute_stats();
     s.mode_incremental = true;
     s.seconds_total = since(t0);
+    // Per-phase times of this update (not of the first solve): no build; linking is the
+    // link update; the rest is re-solving.
+    s.seconds_build = 0;
+    s.seconds_link = s.seconds_adjust;
+    s.seconds_solve = s.seconds_total - s.seconds_adjust;
     set_progress(1.0);
     solved_ = true;
     control_ = nullptr;

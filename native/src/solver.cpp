@@ -68,6 +68,7 @@ void Solver::solve(Control* control) {
         vis_->set_object_transform(int(o), m);
     }
     vis_->commit();
+    compute_sealed();
     compute_reference();
     stats_.seconds_build = since(t0);
     set_progress(0.05);
@@ -109,6 +110,51 @@ void Solver::solve(Control* control) {
     set_progress(1.0);
     solved_ = true;
     control_ = nullptr;
+}
+
+// A surface is sealed when every escape ray hits its own object and the pocket those hits
+// span (shrunk a hair, so objects merely touching it do not count) holds no other object:
+// the inside faces of a closed box. Such faces cost no link to the rest of the scene.
+void Solver::compute_sealed() {
+    sealed_box_.assign(h_.surfaces.size(), Aabb{});
+    const double far = 4.0 * h_.scene_diag, lift = 1e-5 * h_.scene_diag, shrink = 1e-6 * h_.scene_diag;
+    const int nr = 16;
+    parallel_for(h_.surfaces.size(), settings_.threads, [&](size_t s) {
+        Node& n = h_.nodes[h_.surfaces[s].root];
+        Rng rng(Hierarchy::mix(settings_.seed ^ 0x5EA1ED, n.key));
+        Vec3 t = std::fabs(n.normal.x) > 0.5 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
+        Vec3 u = normalize(cross(n.normal, t)), v = cross(n.normal, u);
+        Aabb pocket = n.box;
+        for (int r = 0; r < nr; ++r) {
+            double phi = 2 * kPi * rng.next(), r2 = rng.next(), sr = std::sqrt(r2);
+            Vec3 d = u * (std::cos(phi) * sr) + v * (std::sin(phi) * sr) + n.normal * std::sqrt(1 - r2);
+            Vec3 o = n.poly.sample(rng.next(), rng.next()) + n.normal * lift;
+            Vec3 hit;
+            if (vis_->hit_object(o, o + d * far, 0.0, &hit) != n.object) return;
+            pocket.grow(hit);
+        }
+        pocket.lo += Vec3{shrink, shrink, shrink};
+        pocket.hi -= Vec3{shrink, shrink, shrink};
+        // Any surface of another object inside the pocket? Walk the cluster tree by boxes.
+        auto overlaps = [&pocket](const Aabb& b) {
+            for (int a = 0; a < 3; ++a)
+                if (b.lo[a] > pocket.hi[a] || b.hi[a] < pocket.lo[a]) return false;
+            return true;
+        };
+        std::vector<int> stack{h_.root};
+        while (!stack.empty()) {
+            const Node& m = h_.nodes[stack.back()];
+            stack.pop_back();
+            if (!overlaps(m.box)) continue;
+            if (!m.is_cluster()) {
+                if (m.object != n.object) return;
+                continue;
+            }
+            for (int c : m.children) stack.push_back(c);
+        }
+        n.sealed = true;
+        sealed_box_[s] = pocket;
+    }, 32);
 }
 
 void Solver::compute_reference() {

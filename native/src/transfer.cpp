@@ -42,6 +42,7 @@ namespace {
 Link element_link(const Hierarchy& h, const Visibility& vis, const Node& P, const Node& Q, int rays, Rng& rng) {
     Link l;
     const double eps = 1e-7 * h.scene_diag;
+    if ((P.sealed || Q.sealed) && P.object != Q.object) return l;  // a closed pocket: nothing gets in
     if (!can_face(P.poly, P.normal, Q.poly, Q.normal, eps)) return l;
     Cubature cub = cubature(Q.poly);
     const int per_point = std::max(1, rays / cub.n);
@@ -93,16 +94,18 @@ Link element_link(const Hierarchy& h, const Visibility& vis, const Node& P, cons
 // that can take part in a transfer along d are the ones worth a ray.
 class FacingSampler {
 public:
-    FacingSampler(const Hierarchy& h, int node, const Vec3& d) : h_(h) {
+    // Sealed surfaces take part only when the other end belongs to their own object.
+    FacingSampler(const Hierarchy& h, int node, const Vec3& d, int other_object) : h_(h) {
         const Node& n = h.nodes[node];
+        auto take = [other_object](const Node& e) { return !e.sealed || e.object == other_object; };
         if (!n.is_cluster()) {
-            add(node, n.area * std::max(0.0, dot(n.normal, d)));
+            if (take(n)) add(node, n.area * std::max(0.0, dot(n.normal, d)));
             return;
         }
         for (int i = n.surf_begin; i < n.surf_end; ++i) {
             int r = h.surfaces[h.surface_order[i]].root;
             const Node& e = h.nodes[r];
-            add(r, e.area * std::max(0.0, dot(e.normal, d)));
+            if (take(e)) add(r, e.area * std::max(0.0, dot(e.normal, d)));
         }
     }
     double total() const { return cdf_.empty() ? 0.0 : cdf_.back(); }
@@ -144,7 +147,7 @@ Link cluster_link(const Hierarchy& h, const Visibility& vis, const Node& P, cons
         return l;
     }
     l.dir = d / r;
-    FacingSampler ps(h, src, l.dir), qs(h, rcv, -l.dir);
+    FacingSampler ps(h, src, l.dir, Q.object), qs(h, rcv, -l.dir, P.object);
     const double pa = ps.total();
     double rcv_cos = Q.is_cluster() ? 1.0 : std::max(0.0, dot(Q.normal, -l.dir));
     l.K_unoccluded = pa * rcv_cos / (kPi * r * r);

@@ -62,6 +62,8 @@ void Visibility::add_object(int object, const std::vector<Vec3>& tv) {
     rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, id);
     rtcCommitGeometry(inst);
     instance_geom_[object] = int(rtcAttachGeometry(top_, inst));
+    if (int(geom_object_.size()) <= instance_geom_[object]) geom_object_.resize(instance_geom_[object] + 1, -1);
+    geom_object_[instance_geom_[object]] = object;
     rtcReleaseGeometry(inst);
 }
 
@@ -99,6 +101,32 @@ bool Visibility::occluded(const Vec3& a, const Vec3& b, double near) const {
     ray.time = 0.f;
     rtcOccluded1(top_, &ctx, &ray);
     return ray.tfar < 0;  // Embree sets tfar = -inf on a hit
+}
+
+int Visibility::hit_object(const Vec3& a, const Vec3& b, double near, Vec3* hit) const {
+    rays_.fetch_add(1, std::memory_order_relaxed);
+    Vec3 d = b - a;
+    double len = length(d);
+    if (len <= near) return -1;
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh{};
+    rh.ray.org_x = float(a.x);
+    rh.ray.org_y = float(a.y);
+    rh.ray.org_z = float(a.z);
+    rh.ray.dir_x = float(d.x / len);
+    rh.ray.dir_y = float(d.y / len);
+    rh.ray.dir_z = float(d.z / len);
+    rh.ray.tnear = float(near);
+    rh.ray.tfar = float(len);
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(top_, &ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return -1;
+    if (hit) *hit = a + d * (double(rh.ray.tfar) / len);
+    unsigned g = rh.hit.instID[0];
+    return g < geom_object_.size() ? geom_object_[g] : -1;
 }
 
 }  // namespace radiosity

@@ -75,3 +75,42 @@ def room(box_offset=(0.0, 0.0), light=10.0, n=6):
         if o.matrix is None:
             o.matrix, o.local_vertices = np.eye(4), o.vertices
     return si
+
+
+def open_floor(box_offset=(0.0, 0.0), light=10.0):
+    """The Blender tests' diffuse scene (scenes.build_diffuse_scene) as arrays: a 4x4 floor
+    (10x10 grid, rho 0.5), a 1x1 light 2 above it facing down, a 4x4-gridded box (rho
+    0.7/0.35/0.2) in a collection, open to a black world. The box is translated by box_offset."""
+    si = SceneInput()
+    si.objects.append(obj("Floor", grid((-2, -2, 0), (4, 0, 0), (0, 4, 0), 10), [0.5] * 3, [0] * 3))
+    si.objects.append(obj("Light", grid((-0.5, -0.5, 2.0), (0, 1, 0), (1, 0, 0), 1), [0] * 3,
+                          [light] * 3))
+    c = si.add_cluster("Props")
+    verts, cvs = [], []
+    ctr, h = np.array([0.6, 0.3, 0.4]), np.array([0.5, 0.5, 0.4])
+    for axis in range(3):
+        for sign in (-1, 1):
+            o = ctr.copy()
+            o[axis] += sign * h[axis]
+            a1, a2 = [k for k in range(3) if k != axis]
+            u = np.zeros(3); u[a1] = 2 * h[a1]
+            v = np.zeros(3); v[a2] = 2 * h[a2]
+            if np.cross(u, v)[axis] * sign < 0:
+                u, v = v, u
+            o = o - u / 2 - v / 2
+            gv, _, _, gcv = grid(o, u, v, 4)
+            cvs.append(gcv + sum(len(x) for x in verts))
+            verts.append(gv)
+    local = np.concatenate(verts)
+    cv = np.concatenate(cvs).astype(np.int32)
+    nf = len(cv) // 4
+    m = np.eye(4)
+    m[:2, 3] = box_offset
+    b = obj("Box", (local @ m[:3, :3].T + m[:3, 3], np.arange(0, len(cv), 4, dtype=np.int32),
+                    np.full(nf, 4, np.int32), cv), [0.7, 0.35, 0.2], [0] * 3, cluster=c)
+    b.matrix, b.local_vertices = m, local
+    si.objects.append(b)
+    for o in si.objects:
+        if o.matrix is None:
+            o.matrix, o.local_vertices = np.eye(4), o.vertices
+    return si

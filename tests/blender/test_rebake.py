@@ -11,7 +11,7 @@ def test_rebake_reuses_and_never_duplicates(run_blender):
     assert set(r["active"].values()) == {"Radiosity"}
     assert r["first"]["cached"] is False
     assert r["second"]["cached"] is True          # cache path taken, not a timing check
-    assert r["second"]["mode"] == "full"          # no native dynamic update -> not "incremental"
+    assert r["second"]["mode"] == "full"          # nothing solved: a cached hit reports "full"
     assert r["same_values"]
     assert r["full"]["cached"] is False           # full=True ignores the kept solution
     assert r["preset_change"]["cached"] is False

@@ -47,6 +47,9 @@ struct Node {
     double closure = 1.0;            // leaves: form-factor closure correction (see gather.cpp)
     int8_t enclosed = -1;            // leaves: no escape ray found open space (1), did (0), unknown (-1)
     bool dead = false;               // un-refined away (the slot is not reused)
+    // Elements: the surface faces into a pocket of its own object that holds nothing else
+    // (the inside of a closed box): it exchanges light with its own object only.
+    bool sealed = false;
     uint64_t key = 0;                // stable identity (seeds link jitter independent of creation order)
     std::vector<int> in_links, out_links;
 

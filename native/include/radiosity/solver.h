@@ -94,6 +94,8 @@ private:
     void prune_elements();
     // solver.cpp
     void compute_reference();
+    void compute_sealed();
+    bool move_breaks_seal() const;
     void check_cancel() const;
     void set_progress(double f) const;
     void compute_stats();
@@ -112,6 +114,7 @@ private:
     std::map<int, Pose> pending_moves_;
     std::vector<Pose> poses_;      // per object, current placement (internal frame)
     bool materials_changed_ = false;
+    std::vector<Aabb> sealed_box_;  // per surface: the pocket a sealed surface faces
 };
 
 }  // namespace radiosity

@@ -34,6 +34,8 @@ public:
     // Same with an explicit near offset: for rays whose origin is already lifted off its
     // surface and that must see geometry right next to it (escape rays).
     bool occluded(const Vec3& a, const Vec3& b, double near) const;
+    // The object first hit along a -> b (beyond `near`), -1 if nothing; writes the hit point.
+    int hit_object(const Vec3& a, const Vec3& b, double near, Vec3* hit) const;
     uint64_t rays() const { return rays_.load(std::memory_order_relaxed); }
 
 private:
@@ -41,6 +43,7 @@ private:
     RTCSceneTy* top_ = nullptr;
     std::vector<RTCSceneTy*> object_scenes_;
     std::vector<int> instance_geom_;  // per object: geometry id in top_, -1 if none
+    std::vector<int> geom_object_;    // per geometry id in top_: its object
     double eps_ = 1e-6;
     mutable std::atomic<uint64_t> rays_{0};
 };

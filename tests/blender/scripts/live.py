@@ -29,6 +29,11 @@ live_vals = {o.name: rt.corner_colors(o).copy() for o in objs}
 ok2, _, _ = rt.bake(full=True)
 full_vals = {o.name: rt.corner_colors(o) for o in objs}
 out["max_abs_diff"] = max(float(np.abs(live_vals[k] - full_vals[k]).max()) for k in live_vals)
+x = np.concatenate([live_vals[k][:, :3] for k in sorted(live_vals)])
+y = np.concatenate([full_vals[k][:, :3] for k in sorted(live_vals)])
+out["nrmse"] = float(np.sqrt(np.mean((x - y) ** 2)) / np.sqrt(np.mean(y ** 2)))
+out["floor_nrmse"] = float(np.sqrt(np.mean((live_vals["Floor"] - full_vals["Floor"]) ** 2))
+                           / np.sqrt(np.mean(full_vals["Floor"] ** 2)))
 out["changed_from_first"] = float(np.abs(live_vals["Floor"] - first_floor).max())
 # With live off nothing is queued.
 scene.radiosity.live = False

@@ -138,11 +138,14 @@ def wait_live():
         return 0.2
     import numpy as np
     live_vals = rt.corner_colors(bpy.data.objects["Floor"]).copy()
+    out["live_stats"] = rt.last_stats()
     with bpy.context.temp_override(**ctx()):
         bpy.ops.radiosity.bake(full=True)
     full_vals = rt.corner_colors(bpy.data.objects["Floor"])
     out["live_runs"] = _live_runs() - state["runs0"]
     out["live_max_abs_diff"] = float(np.abs(live_vals - full_vals).max())
+    out["live_floor_nrmse"] = float(np.sqrt(np.mean((live_vals - full_vals)[:, :3] ** 2))
+                                    / np.sqrt(np.mean(full_vals[:, :3] ** 2)))
     finish()
 
 

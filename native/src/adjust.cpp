@@ -359,10 +359,14 @@ void Solver::update(Control* control) {
         compute_closure();
         iterate_to(loose, round_sweeps, 0.5, 0.8);
     }
+    // Un-refine once more against the converged radiances (the first pass saw only a few
+    // sweeps of the new lighting), then clean up and converge.
+    iterate_to(settings_.tolerance, settings_.max_iterations, 0.8, 0.9);
+    unrefine_pass();
     prune_elements();
     compute_closure();
     s.iteration_capped = false;
-    iterate_to(settings_.tolerance, settings_.max_iterations, 0.8, 1.0);
+    iterate_to(settings_.tolerance, settings_.max_iterations, 0.9, 1.0);
     compute_stats();
     s.mode_incremental = true;
     s.seconds_total = since(t0);

@@ -197,39 +197,29 @@ class SolveJob:
         return self.cached is not None
 
     # -- running -------------------------------------------------------------------------------
-    def run(self):
-        """Synchronous solve (background mode, batch, live pump)."""
+    def _launch(self, incremental_call, full_call):
+        """Calls the native update (kept solution) or full solve; False when cached."""
         if self.cached is not None:
             self.state = DONE
-            return self
+            return False
         self.state = RUNNING
         try:
-            if self.incremental is not None:
-                self.solver.update()
-            else:
-                self.solver.solve()
+            (incremental_call if self.incremental is not None else full_call)()
         except Exception as exc:
             self.state, self.error = FAILED, exc
             self._release(False)
             raise
-        self._finish()
+        return True
+
+    def run(self):
+        """Synchronous solve (background mode, batch, live pump)."""
+        if self._launch(lambda: self.solver.update(), lambda: self.solver.solve()):
+            self._finish()
         return self
 
     def start(self):
         """Asynchronous solve on the native thread; poll() from Blender's main thread."""
-        if self.cached is not None:
-            self.state = DONE
-            return self
-        self.state = RUNNING
-        try:
-            if self.incremental is not None:
-                self.solver.start_update()
-            else:
-                self.solver.start()
-        except Exception as exc:
-            self.state, self.error = FAILED, exc
-            self._release(False)
-            raise
+        self._launch(lambda: self.solver.start_update(), lambda: self.solver.start())
         return self
 
     def poll(self):

@@ -174,7 +174,6 @@ bool Solver::move_breaks_seal() const {
             for (int a = 0; a < 3; ++a) overlap &= nb.lo[a] <= pocket.hi[a] && nb.hi[a] >= pocket.lo[a];
             if (!own && overlap) return true;
         }
-        (void)pose;
     }
     return false;
 }

@@ -87,14 +87,13 @@ SceneDesc cornell_box(int n) {
     // Light 1 mm below the ceiling, facing down.
     add_grid(s, "light", -1, {V(343, 547.8, 227), V(343, 547.8, 332), V(213, 547.8, 332), V(213, 547.8, 227)}, 1, 1,
              Rgb{0, 0, 0}, Rgb{17, 12, 4});  // an Emission shader reflects nothing
-    auto block = [&](const std::string& name, std::array<Vec3, 4> top, double h) {
+    auto block = [&](const std::string& name, std::array<Vec3, 4> top) {
         int c = s.add_cluster(name);
         ObjectDesc o;
         o.name = name;
         o.cluster = c;
         for (auto& t : top) o.vertices.push_back(t);
         for (auto& t : top) o.vertices.push_back({t.x, 0, t.z});
-        (void)h;
         // top (0..3), sides (i, i+1) down to the floor
         auto face = [&](std::array<int, 4> f) {
             o.loop_starts.push_back(int32_t(o.corner_verts.size()));
@@ -111,14 +110,14 @@ SceneDesc cornell_box(int n) {
         }
         s.add_object(std::move(o));
     };
-    block("short_block", {V(130, 165, 65), V(82, 165, 225), V(240, 165, 272), V(290, 165, 114)}, 165);
-    block("tall_block", {V(423, 330, 247), V(265, 330, 296), V(314, 330, 456), V(472, 330, 406)}, 330);
+    block("short_block", {V(130, 165, 65), V(82, 165, 225), V(240, 165, 272), V(290, 165, 114)});
+    block("tall_block", {V(423, 330, 247), V(265, 330, 296), V(314, 330, 456), V(472, 330, 406)});
     return s;
 }
 
 SceneDesc box_room(int n) {
     SceneDesc s;
-    const Rgb wall{0.7, 0.7, 0.7}, floor{0.5, 0.45, 0.4};
+    const Rgb wall{0.7, 0.7, 0.7};
     add_box(s, "room", -1, {0, 0, 0}, {300, 300, 250}, n, wall, {}, true);
     // Ceiling light 1 unit below the ceiling, facing down.
     add_grid(s, "light", -1, {Vec3{120, 120, 249}, Vec3{120, 180, 249}, Vec3{180, 180, 249}, Vec3{180, 120, 249}}, 1,
@@ -127,7 +126,6 @@ SceneDesc box_room(int n) {
     add_box(s, "Box1", c1, {114.4 - 30, 129.2 - 30, 0}, {114.4 + 30, 129.2 + 30, 100}, 2, Rgb{0.7, 0.3, 0.2}, {});
     int c2 = s.add_cluster("Box2");
     add_box(s, "Box2", c2, {200, 200, 0}, {260, 250, 60}, 2, Rgb{0.2, 0.4, 0.7}, {});
-    (void)floor;
     return s;
 }
 

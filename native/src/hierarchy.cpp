@@ -253,9 +253,6 @@ void Hierarchy::build(const SceneDesc& scene, bool use_clustering) {
     for (size_t i = 0; i < nodes.size(); ++i)
         if (nodes[i].is_cluster()) refresh_cluster_geometry(int(i));
 
-    surface_cdf.assign(surface_order.size() + 1, 0.0);
-    for (size_t i = 0; i < surface_order.size(); ++i)
-        surface_cdf[i + 1] = surface_cdf[i] + nodes[surfaces[surface_order[i]].root].area;
 
     surface_ancestors_.assign(surfaces.size(), {});
     for (size_t s = 0; s < surfaces.size(); ++s) {
@@ -292,37 +289,6 @@ void Hierarchy::subdivide(int id) {
         e.sealed = p.sealed;
         e.key = mix(p.key, uint64_t(k + 1));
     }
-}
-
-Vec3 Hierarchy::sample_point(int id, Rng& rng, Vec3* normal, int* surface_root) const {
-    const Node& n = nodes[id];
-    if (!n.is_cluster()) {
-        if (normal) *normal = n.normal;
-        if (surface_root) *surface_root = id;
-        double u1 = rng.next(), u2 = rng.next();
-        return n.poly.sample(u1, u2);
-    }
-    double lo = surface_cdf[n.surf_begin], hi = surface_cdf[n.surf_end];
-    double u = lo + rng.next() * (hi - lo);
-    auto it = std::upper_bound(surface_cdf.begin() + n.surf_begin, surface_cdf.begin() + n.surf_end + 1, u);
-    int pos = std::clamp(int(it - surface_cdf.begin()) - 1, n.surf_begin, n.surf_end - 1);
-    const int rid = surfaces[surface_order[pos]].root;
-    const Node& e = nodes[rid];
-    if (normal) *normal = e.normal;
-    if (surface_root) *surface_root = rid;
-    double u1 = rng.next(), u2 = rng.next();
-    return e.poly.sample(u1, u2);
-}
-
-double Hierarchy::projected_area(int id, const Vec3& d) const {
-    const Node& n = nodes[id];
-    if (!n.is_cluster()) return n.area * std::max(0.0, dot(n.normal, d));
-    double pa = 0;
-    for (int i = n.surf_begin; i < n.surf_end; ++i) {
-        const Node& e = nodes[surfaces[surface_order[i]].root];
-        pa += e.area * std::max(0.0, dot(e.normal, d));
-    }
-    return pa;
 }
 
 uint64_t Hierarchy::mix(uint64_t a, uint64_t b) {

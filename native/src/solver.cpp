@@ -53,7 +53,6 @@ void Solver::solve(Control* control) {
         }
         vis_->add_object(int(o), tv);
     }
-    vis_->commit();
     stats_.element_nodes = int64_t(h_.surfaces.size());
     min_area_ = settings_.min_area_fraction * h_.scene_diag * h_.scene_diag;
 

@@ -47,7 +47,7 @@ Link element_link(const Hierarchy& h, const Visibility& vis, const Node& P, cons
     Cubature cub = cubature(Q.poly);
     const int per_point = std::max(1, rays / cub.n);
     const double lift = 1e-6 * h.scene_diag;  // keep ray ends off their own surfaces
-    double kmin = 1e300, kmax = -1e300, fmax = 0;
+    double kmin = 1e300, kmax = -1e300;
     bool any_blocked = false, any_clear = false;
     for (int j = 0; j < cub.n; ++j) {
         double F = point_polygon_form_factor(cub.p[j], Q.normal, P.poly, P.normal);
@@ -70,7 +70,6 @@ Link element_link(const Hierarchy& h, const Visibility& vis, const Node& P, cons
         l.K += cub.w[j] * k;
         kmin = std::min(kmin, k);
         kmax = std::max(kmax, k);
-        fmax = std::max(fmax, F);
     }
     l.partial = any_blocked && any_clear;
     l.vis = l.K_unoccluded > 0 ? l.K / l.K_unoccluded : 0.0;
@@ -86,7 +85,6 @@ Link element_link(const Hierarchy& h, const Visibility& vis, const Node& P, cons
     // The spread of the occluded kernel over the receiver: in a penumbra it includes the
     // change of visibility across the receiver, so shadow boundaries refine.
     l.dK = kmax - kmin;
-    (void)fmax;
     return l;
 }
 

@@ -81,11 +81,6 @@ public:
 
     // Splits an element into 4 children (kept for later re-use); returns nothing new if split.
     void subdivide(int node);
-    // Area-uniform point on the node's surfaces; writes the oriented normal there and the
-    // element-quadtree root of the surface it lies on.
-    Vec3 sample_point(int node, Rng& rng, Vec3* normal, int* surface_root = nullptr) const;
-    // Sum over the node's oriented surfaces of A * max(0, n . d) (d unit).
-    double projected_area(int node, const Vec3& d) const;
     // Cluster bookkeeping after geometry changed (center, box, radius, bins).
     void refresh_cluster_geometry(int node);
     // Places an object rigidly: p = R p0 + t in the internal frame (R row-major 3x3), its
@@ -103,7 +98,6 @@ public:
     std::vector<Primitive> prims;
     std::vector<Surface> surfaces;
     std::vector<int> surface_order;   // surface ids; each cluster's are contiguous
-    std::vector<double> surface_cdf;  // prefix sums of area over surface_order (size+1)
     std::vector<int> object_node;     // per object: its cluster node (-1 if it has no surface)
     std::vector<int> cluster_node;    // per ClusterDesc: its node (-1 if empty)
     std::vector<int> object_of_env;   // per object: 1 if directly in the scene (environment)

@@ -7,7 +7,7 @@ if [ "$(id -u)" != 0 ]; then SUDO=sudo; fi
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -q
 $SUDO apt-get install -y -q --no-install-recommends \
-  cmake g++ make libembree-dev libgtest-dev googletest python3-dev python3-numpy \
+  cmake g++ make libembree-dev libgtest-dev googletest python3-dev python3-numpy python3-pip \
   blender xvfb
 PY=${PYTHON:-python3}
 # pybind11 >= 2.12 supports numpy 1.x (Debian's Blender) and 2.x (bpy wheels) at run time.

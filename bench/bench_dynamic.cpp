@@ -1,7 +1,7 @@
 // Dynamic benchmark: the paper's Table 2 rows for our built-in box room (full solve with and
 // without the 3.5 criterion, the paper's box move as an incremental update, and the update /
 // full re-solve ratio), plus the drag of 30 small moves. Medians over --runs runs.
-// Usage: bench_dynamic [--runs N] [--preset DRAFT|MEDIUM|HIGH]
+// Usage: bench_dynamic [--runs N] [--preset DRAFT|MEDIUM|HIGH] [--no-drag]
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -50,11 +50,14 @@ SceneDesc room(Vec3 off) {
 
 int main(int argc, char** argv) {
     int runs = 3;
+    bool drag = true;
     std::string preset = "MEDIUM";
     for (int i = 1; i + 1 < argc; ++i) {
         if (!std::strcmp(argv[i], "--runs")) runs = std::atoi(argv[i + 1]);
         if (!std::strcmp(argv[i], "--preset")) preset = argv[i + 1];
     }
+    for (int i = 1; i < argc; ++i)
+        if (!std::strcmp(argv[i], "--no-drag")) drag = false;
     const Vec3 move{35.6, 60.8, 0};
     Settings st = Settings::preset(preset);
     std::vector<double> t_full, t_full_no35, t_update, t_adjust, t_full_after;
@@ -90,16 +93,24 @@ int main(int argc, char** argv) {
     std::printf("| full solve, s (with 3.5) | %.3f | 32.6 |\n| full solve, s (without 3.5) | %.3f | 35.1 |\n",
                 median(t_full), median(t_full_no35));
     std::printf("| links without 3.5 | %lld | |\n", (long long)s_no35.links);
-    std::printf("| env-env links tested / rejected / recomputed | %lld / %lld / %lld (%.1f %% recomputed) | 22 %% recomputed |\n",
+    std::printf("| env-env links tested / rejected by outcodes / rays clear of the moved boxes / recomputed | %lld / %lld / %lld / %lld (%.1f %% recomputed) | 22 %% recomputed |\n",
                 (long long)s_upd.env_env_links_tested, (long long)s_upd.env_env_links_rejected,
-                (long long)s_upd.env_env_links_recomputed,
+                (long long)s_upd.env_env_links_rays_clear, (long long)s_upd.env_env_links_recomputed,
                 100.0 * s_upd.env_env_links_recomputed / std::max<int64_t>(1, s_upd.env_env_links_tested));
     std::printf("| link update (AdjustSystem), s | %.3f | 2.64 |\n| whole incremental update, s | %.3f | |\n",
                 median(t_adjust), median(t_update));
     std::printf("| full re-solve of the moved scene, s | %.3f | |\n| update / full re-solve | %.1f %% | 8 %% |\n",
                 median(t_full_after), 100.0 * median(t_update) / median(t_full_after));
     std::printf("| NRMSE incremental vs full re-solve | %.4f | |\n", err);
+    auto phases = [](const char* what, const Stats& st) {
+        std::printf("\n%s (last run): %d iterations, %d refine rounds;", what, st.iterations, st.refine_rounds);
+        for (const auto& p : st.phases) std::printf(" %s %.3f", p.first.c_str(), p.second);
+        std::printf(" s\n");
+    };
+    phases("full solve phases", s_full);
+    phases("update phases", s_upd);
 
+    if (!drag) return 0;
     // Drag: 30 steps of the same total move.
     Solver d(room({}), st);
     d.solve();

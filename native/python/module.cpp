@@ -88,6 +88,10 @@ py::dict stats_dict(const Stats& s) {
     F(capped); F(iteration_capped); F(no_emitters); F(seconds_build); F(seconds_link); F(seconds_solve);
     F(seconds_total); F(warnings); F(occluded_links); F(env_env_links_tested); F(env_env_links_rejected);
     F(obj_env_links_removed); F(links_created); F(history_reactivated); F(seconds_adjust);
+    F(env_env_links_rays_clear);
+    py::dict phases;
+    for (const auto& p : s.phases) phases[py::str(p.first)] = p.second;
+    d["phases"] = phases;
     d["mode"] = s.mode_incremental ? "incremental" : "full";
 #undef F
     return d;

@@ -110,10 +110,11 @@ void Solver::unrefine(int id) {
 
 // 3.4: history links, coarsest first (parents have lower ids), whose error is acceptable
 // again become active; the links below them go.
-void Solver::unrefine_pass() {
+void Solver::unrefine_pass(const std::vector<char>* senders) {
     std::vector<int> cand;
     for (size_t i = 0; i < links_.size(); ++i) {
         const Link& l = links_[i];
+        if (senders && (size_t(l.src) >= senders->size() || !(*senders)[l.src])) continue;
         if (!l.dead && !l.active && !l.occluded && l.first_child >= 0) cand.push_back(int(i));
     }
     for (int id : cand) {
@@ -149,6 +150,40 @@ void Solver::prune_elements() {
         return empty && h_.nodes[id].children.empty();
     };
     for (const Surface& s : h_.surfaces) prune(s.root);
+}
+
+// Per node: radiance and its range below (max - min), 6 floats.
+std::vector<float> Solver::snapshot() const {
+    std::vector<float> v(h_.nodes.size() * 6);
+    for (size_t i = 0; i < h_.nodes.size(); ++i) {
+        const Node& n = h_.nodes[i];
+        for (int k = 0; k < 3; ++k) {
+            v[6 * i + k] = float(n.L[k]);
+            v[6 * i + 3 + k] = float(n.Lmax[k] - n.Lmin[k]);
+        }
+    }
+    return v;
+}
+
+std::vector<char> Solver::changed_senders(const std::vector<float>& snap) const {
+    // A judgement compares errors proportional to the sender's radiance (and its range) with
+    // threshold_: a relative change of a few percent can tip it, a change of a sender too dim
+    // to matter cannot. Nodes made since the snapshot count as changed.
+    const double floor = 0.01 * threshold_, rel = 0.02;
+    std::vector<char> d(h_.nodes.size(), 1);
+    const size_t known = std::min(h_.nodes.size(), snap.size() / 6);
+    parallel_for(known, settings_.threads, [&](size_t i) {
+        const Node& n = h_.nodes[i];
+        bool c = false;
+        for (int k = 0; k < 3 && !c; ++k) {
+            const double L0 = snap[6 * i + k], R0 = snap[6 * i + 3 + k];
+            const double L1 = n.L[k], R1 = n.Lmax[k] - n.Lmin[k];
+            c = (std::fabs(L1 - L0) > rel * L0 && std::max(L0, L1) > floor) ||
+                (std::fabs(R1 - R0) > rel * R0 && std::max(R0, R1) > floor);
+        }
+        d[i] = c;
+    }, 4096);
+    return d;
 }
 
 bool Solver::move_breaks_seal() const {
@@ -200,14 +235,18 @@ void Solver::update(Control* control) {
     control_ = control;
     solved_ = false;  // a cancel leaves the kept solution inconsistent: the caller re-solves
     const auto t0 = Clock::now();
+    lap_t_ = t0;
+    stats_.phases.clear();
     Stats& s = stats_;
     s.env_env_links_tested = s.env_env_links_rejected = s.env_env_links_recomputed = 0;
+    s.env_env_links_rays_clear = 0;
     s.obj_env_links_removed = s.links_created = s.history_reactivated = 0;
     s.iterations = 0;
     s.refine_rounds = 0;
     s.iteration_capped = false;
     const int64_t links_before = int64_t(links_.size());
 
+    const std::vector<float> before = snapshot();
     if (materials_changed_) {
         apply_materials();
         materials_changed_ = false;
@@ -229,6 +268,7 @@ void Solver::update(Control* control) {
             moved[obj] = 1;
         }
         vis_->commit();
+        lap("place");
         for (Aabb& c : clips) {  // ray ends are lifted off surfaces: a hair of margin
             c.lo -= Vec3{1e-5, 1e-5, 1e-5};
             c.hi += Vec3{1e-5, 1e-5, 1e-5};
@@ -279,6 +319,35 @@ void Solver::update(Control* control) {
             if (rejected) { ++s.env_env_links_rejected; continue; }
             recompute.push_back(int(i));
         }
+        lap("classify");
+        // Of the links the outcode test kept, only those with a ray through an old or new box
+        // of a moved object can have changed: a dry run of their rays (no ray cast) tells.
+        {
+            std::vector<char> meets(recompute.size(), 0);
+            parallel_for(recompute.size(), settings_.threads, [&](size_t k) {
+                const Link& l = links_[recompute[k]];
+                const Node& a = h_.nodes[l.src];
+                const Node& b = h_.nodes[l.rcv];
+                // Every ray joins a point of one end's bounding sphere to a point of the
+                // other's, so it stays within max(radius) of the segment between the centres:
+                // a box that this capsule misses meets no ray (cheap first test).
+                const double r = std::max(a.radius, b.radius) + 1e-5;
+                bool capsule = false;
+                for (const Aabb& c : clips) {
+                    Aabb g = c;
+                    g.lo -= Vec3{r, r, r};
+                    g.hi += Vec3{r, r, r};
+                    capsule = capsule || g.meets_segment(a.center, b.center);
+                }
+                meets[k] = capsule && link_rays_meet(h_, l.src, l.rcv, settings_.rays_per_link, link_seed(l.src, l.rcv), clips);
+            }, 64);
+            size_t kept = 0;
+            for (size_t k = 0; k < recompute.size(); ++k)
+                if (meets[k]) recompute[kept++] = recompute[k];
+            s.env_env_links_rays_clear += int64_t(recompute.size() - kept);
+            recompute.resize(kept);
+        }
+        lap("probe");
         // Visibility (and form factor, cheap beside the rays) of the links that may have changed.
         std::vector<Link> fresh(recompute.size());
         parallel_for(recompute.size(), settings_.threads,
@@ -296,6 +365,7 @@ void Solver::update(Control* control) {
             l.must_refine = f.must_refine;
             l.samples = f.samples;
             l.settled = false;
+            l.rejudge = true;
             const bool transports = f.must_refine || f.K > 0;
             if (l.active && !transports) {
                 deactivate(recompute[k]);  // newly fully occluded: a new shadow
@@ -306,6 +376,7 @@ void Solver::update(Control* control) {
                 recheck_history.push_back(recompute[k]);
             }
         }
+        lap("recompute");
         // Env-obj links created anew: the moved clusters against the environment, top-down,
         // cluster pairs first (this also links an object where it had no link before).
         std::set<std::pair<int, int>> pairs;
@@ -334,9 +405,23 @@ void Solver::update(Control* control) {
             }
         }
         link_from(std::move(wave));
-        // A move can open or close any pocket (the floor a box stood on now sees the sky):
-        // every leaf asks its escape rays again.
-        for (Node& n : h_.nodes) n.enclosed = -1;
+        lap("relink");
+        // A move can open or close a pocket (the floor a box stood on now sees the sky).
+        // Every decider of an enclosure answer asks again, but casts again only the escape
+        // rays that pass through a moved object's old or new box (all of them if it moved).
+        std::vector<char> is_decider(h_.nodes.size(), 0);
+        for (const Node& n : h_.nodes)
+            if (!n.is_cluster() && !n.dead && n.enclosed >= 0 && n.decider >= 0) is_decider[n.decider] = 1;
+        std::vector<int> deciders;
+        for (size_t i = 0; i < is_decider.size(); ++i)
+            if (is_decider[i]) deciders.push_back(int(i));
+        parallel_for(deciders.size(), settings_.threads, [&](size_t k) {
+            Node& d = h_.nodes[deciders[k]];
+            if (moved[d.object]) d.enclosed = -1;
+            decide_enclosed(deciders[k], moved[d.object] ? nullptr : &clips);
+        }, 16);
+        for (Node& n : h_.nodes)
+            if (!n.is_cluster() && !n.dead && n.decider >= 0) n.enclosed = h_.nodes[n.decider].enclosed;
         pending_moves_.clear();
     }
     s.links_created = int64_t(links_.size()) - links_before;
@@ -344,29 +429,45 @@ void Solver::update(Control* control) {
     for (int id : recheck_history)
         if (!links_[id].dead && !links_[id].active && judge(links_[id]).side == Side::Keep) unrefine(id);
     s.seconds_adjust = since(t0);
+    lap("history");
 
-    // Warm-started re-solve: the previous radiances are the starting point.
-    const double loose = std::max(settings_.tolerance, 1e-3);
-    const int round_sweeps = std::min(settings_.max_iterations, kRoundSweeps);
+    // Warm-started re-solve: the previous radiances are the starting point. Only links the
+    // update touched, or whose sender's light changed enough to tip the oracle, are judged
+    // again; a full solve's refine rounds judge every link.
+    // Each solve converges fully: the oracle must judge the radiances a full solve ends with
+    // (judging half-converged ones costs fewer sweeps but measurably more error).
     compute_closure();
-    iterate_to(loose, round_sweeps, 0.3, 0.5);
-    unrefine_pass();  // less energy somewhere: un-refine (3.4)
+    lap("closure");
+    iterate_to(settings_.tolerance, settings_.max_iterations, 0.3, 0.6);
+    lap("gather");
+    std::vector<char> moved_light = changed_senders(before);
+    unrefine_pass(&moved_light);  // less light somewhere: un-refine (3.4)
+    lap("unrefine");
+    int64_t judged_from = links_before;  // links made since are new: judge them all
     for (int round = 0; round < settings_.max_refine_rounds; ++round) {
         check_cancel();
         ++s.refine_rounds;
-        if (!refine_round()) break;
+        std::vector<int> ids;
+        for (size_t i = 0; i < links_.size(); ++i) {
+            const Link& l = links_[i];
+            if (l.active && (int64_t(i) >= judged_from || l.rejudge || moved_light[l.src])) ids.push_back(int(i));
+        }
+        for (Link& l : links_) l.rejudge = false;
+        const std::vector<float> snap = snapshot();
+        judged_from = int64_t(links_.size());
+        const bool more = refine_links(ids);
+        lap("refine");
+        if (!more) break;
         compute_closure();
-        iterate_to(loose, round_sweeps, 0.5, 0.8);
-    }
-    // Un-refine once more against the converged radiances (the first pass saw only a few
-    // sweeps of the new lighting), then clean up and converge.
-    iterate_to(settings_.tolerance, settings_.max_iterations, 0.8, 0.9);
-    unrefine_pass();
+        lap("closure");
+        iterate_to(settings_.tolerance, settings_.max_iterations, 0.6, 0.9);
+        lap("gather");
+        moved_light = changed_senders(snap);
+        }
     prune_elements();
-    compute_closure();
-    s.iteration_capped = false;
-    iterate_to(settings_.tolerance, settings_.max_iterations, 0.9, 1.0);
+    lap("prune");
     compute_stats();
+    lap("stats");
     s.mode_incremental = true;
     s.seconds_total = since(t0);
     // Per-phase times of this update (not of the first solve): no build; linking is the

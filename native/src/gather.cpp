@@ -146,38 +146,72 @@ int Solver::iterate_to(double tolerance, int max_iterations, double p0, double p
 // form factors must sum to 1; the analytic kernels with sampled visibility miss that by a
 // little, and at reflectance near 1 the error is amplified 1/(1 - rho) times. Such leaves
 // get their couplings scaled by 1 / sum. Leaves that see open space are left as computed.
+// A leaf decides with its own escape rays the first time it is a leaf in a closure pass;
+// its children inherit the answer (and the decider) when it splits.
 void Solver::compute_closure() {
     if (settings_.closure_rays <= 0) return;
     collect_receivers();
     std::vector<double> fsum(h_.nodes.size(), 0.0);
     sweep(true, &fsum);
-    const double far = 4.0 * h_.scene_diag;
-    const double lift = 1e-5 * h_.scene_diag;  // off its own surface; tnear 0 sees neighbours
-    const int nr = settings_.closure_rays;
-    const uint64_t seed = settings_.seed;
     parallel_for(leaves_.size(), settings_.threads, [&](size_t i) {
         Node& n = h_.nodes[leaves_[i]];
         n.closure = 1.0;
         double f = fsum[leaves_[i]];
-        if (!(f > 0.25 && f < 4.0)) return;  // far off 1 (DRAFT can be): leave it
-        if (n.enclosed >= 0) {  // known (inherited by children, kept across updates)
-            if (n.enclosed) n.closure = 1.0 / f;
+        if (!(f > 0.25 && f < 4.0)) return;  // far off 1 (DRAFT can be): a missing link, not a small error
+        if (n.enclosed < 0) decide_enclosed(leaves_[i], nullptr);
+        if (n.enclosed == 1) n.closure = 1.0 / f;
+    }, 32);
+}
+
+// The escape rays of a node: cosine-distributed from random points of its polygon, lifted
+// off it, reaching beyond the scene. Deterministic per node key.
+void Solver::escape_rays(const Node& n, std::vector<std::pair<Vec3, Vec3>>& rays) const {
+    const double far = 4.0 * h_.scene_diag;
+    const double lift = 1e-5 * h_.scene_diag;  // off its own surface; tnear 0 sees neighbours
+    Rng rng(Hierarchy::mix(settings_.seed, n.key));
+    Vec3 t = std::fabs(n.normal.x) > 0.5 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
+    Vec3 u = normalize(cross(n.normal, t)), v = cross(n.normal, u);
+    rays.clear();
+    for (int r = 0; r < settings_.closure_rays; ++r) {
+        double r1 = rng.next(), r2 = rng.next();
+        double phi = 2 * kPi * r1, sr = std::sqrt(r2);
+        Vec3 d = u * (std::cos(phi) * sr) + v * (std::sin(phi) * sr) + n.normal * std::sqrt(1 - r2);
+        Vec3 o = n.poly.sample(rng.next(), rng.next()) + n.normal * lift;
+        rays.emplace_back(o, o + d * far);
+    }
+}
+
+// Decides (or, after a move, re-decides) whether a node's escape rays find open space. With
+// `moved_boxes`, the node was decided before and did not move itself: only rays through a
+// moved object's old or new box can have changed outcome.
+void Solver::decide_enclosed(int id, const std::vector<Aabb>* moved_boxes) {
+    Node& n = h_.nodes[id];
+    std::vector<std::pair<Vec3, Vec3>> rays;
+    escape_rays(n, rays);
+    auto meets = [&](int r) {
+        for (const Aabb& b : *moved_boxes)
+            if (b.meets_segment(rays[r].first, rays[r].second)) return true;
+        return false;
+    };
+    if (moved_boxes && n.enclosed == 1) {
+        for (int r = 0; r < int(rays.size()); ++r)
+            if (meets(r) && !vis_->occluded(rays[r].first, rays[r].second, 0.0)) {
+                n.enclosed = 0;
+                n.escape_ray = int8_t(r);
+                return;
+            }
+        return;  // every ray still blocked
+    }
+    if (moved_boxes && n.enclosed == 0 && n.escape_ray >= 0 && !meets(n.escape_ray)) return;  // witness still clear
+    n.decider = id;
+    for (int r = 0; r < int(rays.size()); ++r)
+        if (!vis_->occluded(rays[r].first, rays[r].second, 0.0)) {
+            n.enclosed = 0;
+            n.escape_ray = int8_t(r);
             return;
         }
-        n.enclosed = 0;
-        Rng rng(Hierarchy::mix(seed, n.key));
-        Vec3 t = std::fabs(n.normal.x) > 0.5 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
-        Vec3 u = normalize(cross(n.normal, t)), v = cross(n.normal, u);
-        for (int r = 0; r < nr; ++r) {
-            double r1 = rng.next(), r2 = rng.next();
-            double phi = 2 * kPi * r1, sr = std::sqrt(r2);
-            Vec3 d = u * (std::cos(phi) * sr) + v * (std::sin(phi) * sr) + n.normal * std::sqrt(1 - r2);
-            Vec3 o = n.poly.sample(rng.next(), rng.next()) + n.normal * lift;
-            if (!vis_->occluded(o, o + d * far, 0.0)) return;  // sees open space
-        }
-        n.enclosed = 1;
-        n.closure = 1.0 / f;
-    }, 32);
+    n.enclosed = 1;
+    n.escape_ray = -1;
 }
 
 }  // namespace radiosity

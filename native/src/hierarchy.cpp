@@ -286,6 +286,7 @@ void Hierarchy::subdivide(int id) {
         e.Lmin = e.Lmax = p.L;
         e.closure = p.closure;
         e.enclosed = p.enclosed;
+        e.decider = p.decider;
         e.sealed = p.sealed;
         e.key = mix(p.key, uint64_t(k + 1));
     }

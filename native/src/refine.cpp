@@ -17,11 +17,14 @@ bool Solver::can_split(int id) const {
     return n.area * 0.25 >= min_area_;
 }
 
+// Jitter seeded by the two ends' stable keys: the same pair gets the same rays whether it
+// is linked by a full solve or by an incremental update.
+uint64_t Solver::link_seed(int src, int rcv) const {
+    return Hierarchy::mix(Hierarchy::mix(settings_.seed, h_.nodes[src].key), h_.nodes[rcv].key);
+}
+
 Link Solver::evaluate(int src, int rcv) const {
-    // Jitter seeded by the two ends' stable keys: the same pair gets the same rays whether
-    // it is linked by a full solve or by an incremental update.
-    uint64_t seed = Hierarchy::mix(Hierarchy::mix(settings_.seed, h_.nodes[src].key), h_.nodes[rcv].key);
-    return evaluate_link(h_, *vis_, src, rcv, settings_.rays_per_link, seed);
+    return evaluate_link(h_, *vis_, src, rcv, settings_.rays_per_link, link_seed(src, rcv));
 }
 
 int Solver::add_link(Link l) {
@@ -222,6 +225,13 @@ bool Solver::refine_round() {
     std::vector<int> active;
     for (size_t i = 0; i < links_.size(); ++i)
         if (links_[i].active) active.push_back(int(i));
+    return refine_links(active);
+}
+
+bool Solver::refine_links(const std::vector<int>& ids) {
+    std::vector<int> active;
+    for (int id : ids)
+        if (links_[id].active) active.push_back(id);
     std::vector<Judgement> js(active.size());
     parallel_for(active.size(), settings_.threads, [&](size_t i) { js[i] = judge(links_[active[i]]); }, 256);
     std::vector<Candidate> next;

@@ -34,6 +34,7 @@ void Solver::solve(Control* control) {
     solved_ = false;
     const auto t0 = Clock::now();
     stats_ = Stats{};
+    lap_t_ = t0;
     links_.clear();
 
     h_.build(scene_, settings_.use_clustering);
@@ -44,15 +45,22 @@ void Solver::solve(Control* control) {
     for (int k = 0; k < 3; ++k)
         mag = std::max({mag, std::fabs(h_.scene_box.lo[k]), std::fabs(h_.scene_box.hi[k])});
     vis_->set_epsilon(std::max(1e-6 * h_.scene_diag, 4e-7 * mag));
+    std::vector<std::vector<int>> tri_prim(scene_.objects().size());
     for (size_t o = 0; o < scene_.objects().size(); ++o) {
         std::vector<Vec3> tv;
-        for (const Primitive& p : h_.prims) {
+        for (size_t pi = 0; pi < h_.prims.size(); ++pi) {
+            const Primitive& p = h_.prims[pi];
             if (p.object != int(o)) continue;
             tv.insert(tv.end(), {p.poly.v[0], p.poly.v[1], p.poly.v[2]});
-            if (p.poly.n == 4) tv.insert(tv.end(), {p.poly.v[0], p.poly.v[2], p.poly.v[3]});
+            tri_prim[o].push_back(int(pi));
+            if (p.poly.n == 4) {
+                tv.insert(tv.end(), {p.poly.v[0], p.poly.v[2], p.poly.v[3]});
+                tri_prim[o].push_back(int(pi));
+            }
         }
         vis_->add_object(int(o), tv);
     }
+    tri_prim_ = std::move(tri_prim);
     stats_.element_nodes = int64_t(h_.surfaces.size());
     min_area_ = settings_.min_area_fraction * h_.scene_diag * h_.scene_diag;
 
@@ -70,6 +78,7 @@ void Solver::solve(Control* control) {
     compute_sealed();
     compute_reference();
     stats_.seconds_build = since(t0);
+    lap("build");
     set_progress(0.05);
 
     pending_moves_.clear();
@@ -80,6 +89,7 @@ void Solver::solve(Control* control) {
     } else {
         const auto t1 = Clock::now();
         link_from({{h_.root, h_.root, -1}});
+        lap("link");
         set_progress(0.2);
         // Refine against the evolving solution (BF refinement): light arriving from
         // reflectors becomes known only after a solve.
@@ -91,35 +101,48 @@ void Solver::solve(Control* control) {
         for (int round = 0; round < settings_.max_refine_rounds; ++round) {
             check_cancel();
             compute_closure();
+            lap("closure");
             iterate_to(loose, round_sweeps, 0.2 + 0.6 * round / settings_.max_refine_rounds,
                        0.2 + 0.6 * (round + 0.5) / settings_.max_refine_rounds);
+            lap("gather");
             ++stats_.refine_rounds;
-            if (!refine_round()) break;
+            const bool more = refine_round();
+            lap("refine");
+            if (!more) break;
         }
         stats_.seconds_link = since(t1);
         const auto t2 = Clock::now();
         compute_closure();
+        lap("closure");
         stats_.iteration_capped = false;
         iterate_to(settings_.tolerance, settings_.max_iterations, 0.8, 1.0);
+        lap("gather");
         stats_.seconds_solve = since(t2);
     }
     if (stats_.element_nodes >= settings_.max_elements) stats_.capped = true;
     compute_stats();
+    lap("stats");
     stats_.seconds_total = since(t0);
     set_progress(1.0);
     solved_ = true;
     control_ = nullptr;
 }
 
-// A surface is sealed when every escape ray hits its own object and the pocket those hits
-// span (shrunk a hair, so objects merely touching it do not count) holds no other object:
-// the inside faces of a closed box. Such faces cost no link to the rest of the scene.
+// A surface is sealed when every escape ray hits its own object, the pocket those hits
+// span (shrunk a hair, so objects merely touching it do not count) holds no other object, and
+// every surface side its rays hit is sealed too: the inside faces of a closed box. That last
+// rule matters: 16 rays from a room's corner can all hit the nearby walls and span a pocket
+// that misses the lamp, but the walls they hit see the rest of the room. Such faces cost no
+// link to the rest of the scene.
 void Solver::compute_sealed() {
     sealed_box_.assign(h_.surfaces.size(), Aabb{});
     const double far = 4.0 * h_.scene_diag, lift = 1e-5 * h_.scene_diag, shrink = 1e-6 * h_.scene_diag;
     const int nr = 16;
+    std::vector<std::vector<int>> hits(h_.surfaces.size());  // surface sides hit (-1: none)
+    std::vector<char> cand(h_.surfaces.size(), 0);
     parallel_for(h_.surfaces.size(), settings_.threads, [&](size_t s) {
         Node& n = h_.nodes[h_.surfaces[s].root];
+        n.sealed = false;
         Rng rng(Hierarchy::mix(settings_.seed ^ 0x5EA1ED, n.key));
         Vec3 t = std::fabs(n.normal.x) > 0.5 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
         Vec3 u = normalize(cross(n.normal, t)), v = cross(n.normal, u);
@@ -129,31 +152,54 @@ void Solver::compute_sealed() {
             Vec3 d = u * (std::cos(phi) * sr) + v * (std::sin(phi) * sr) + n.normal * std::sqrt(1 - r2);
             Vec3 o = n.poly.sample(rng.next(), rng.next()) + n.normal * lift;
             Vec3 hit;
-            if (vis_->hit_object(o, o + d * far, 0.0, &hit) != n.object) return;
+            int tri = -1;
+            if (vis_->hit_object(o, o + d * far, 0.0, &hit, &tri) != n.object) return;
             pocket.grow(hit);
+            // The side the ray arrived at: the front when it travels against the normal.
+            const auto& tp = tri_prim_[n.object];
+            const Primitive& hp = h_.prims[tp[std::min<size_t>(size_t(std::max(tri, 0)), tp.size() - 1)]];
+            const int side = dot(d, h_.nodes[h_.surfaces[hp.front].root].normal) < 0 ? hp.front : hp.back;
+            hits[s].push_back(side);
         }
         pocket.lo += Vec3{shrink, shrink, shrink};
         pocket.hi -= Vec3{shrink, shrink, shrink};
         // Any surface of another object inside the pocket? Walk the cluster tree by boxes.
-        auto overlaps = [&pocket](const Aabb& b) {
-            for (int a = 0; a < 3; ++a)
-                if (b.lo[a] > pocket.hi[a] || b.hi[a] < pocket.lo[a]) return false;
-            return true;
-        };
         std::vector<int> stack{h_.root};
         while (!stack.empty()) {
             const Node& m = h_.nodes[stack.back()];
             stack.pop_back();
-            if (!overlaps(m.box)) continue;
+            if (!pocket.overlaps(m.box)) continue;
             if (!m.is_cluster()) {
                 if (m.object != n.object) return;
                 continue;
             }
             for (int c : m.children) stack.push_back(c);
         }
-        n.sealed = true;
+        cand[s] = 1;
         sealed_box_[s] = pocket;
     }, 32);
+    // Sealed only if everything its rays hit is sealed: drop candidates until that holds.
+    for (bool changed = true; changed;) {
+        changed = false;
+        for (size_t s = 0; s < cand.size(); ++s) {
+            if (!cand[s]) continue;
+            for (int hs : hits[s])
+                if (hs < 0 || !cand[hs]) { cand[s] = 0; changed = true; break; }
+        }
+    }
+    for (size_t s = 0; s < cand.size(); ++s) {
+        h_.nodes[h_.surfaces[s].root].sealed = cand[s] != 0;
+        if (!cand[s]) sealed_box_[s] = Aabb{};
+    }
+}
+
+void Solver::lap(const char* phase) {
+    const auto now = Clock::now();
+    const double dt = std::chrono::duration<double>(now - lap_t_).count();
+    lap_t_ = now;
+    for (auto& p : stats_.phases)
+        if (p.first == phase) { p.second += dt; return; }
+    stats_.phases.emplace_back(phase, dt);
 }
 
 void Solver::compute_reference() {

@@ -39,7 +39,20 @@ Rgb sender_radiance(const Hierarchy& h, const Link& l) {
 
 namespace {
 
-Link element_link(const Hierarchy& h, const Visibility& vis, const Node& P, const Node& Q, int rays, Rng& rng) {
+// Stands in for Visibility in a dry run: every segment is reported clear (the jitter of a
+// link does not depend on ray outcomes, so the dry run tests exactly the real segments).
+struct SegmentProbe {
+    static constexpr bool kDryRun = true;
+    const std::vector<Aabb>& boxes;
+    mutable bool met = false;
+    bool occluded(const Vec3& a, const Vec3& b) const {
+        for (size_t i = 0; i < boxes.size() && !met; ++i) met = boxes[i].meets_segment(a, b);
+        return false;
+    }
+};
+
+template <class Vis>
+Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node& Q, int rays, uint64_t seed) {
     Link l;
     const double eps = 1e-7 * h.scene_diag;
     if ((P.sealed || Q.sealed) && P.object != Q.object) return l;  // a closed pocket: nothing gets in
@@ -50,9 +63,12 @@ Link element_link(const Hierarchy& h, const Visibility& vis, const Node& P, cons
     double kmin = 1e300, kmax = -1e300;
     bool any_blocked = false, any_clear = false;
     for (int j = 0; j < cub.n; ++j) {
-        double F = point_polygon_form_factor(cub.p[j], Q.normal, P.poly, P.normal);
+        // A dry run needs only the segments (all of them, conservatively), not the kernel.
+        double F = Vis::kDryRun ? 1.0 : point_polygon_form_factor(cub.p[j], Q.normal, P.poly, P.normal);
         double v = 1.0;
         if (F > 0) {
+            // Each point its own jitter stream, so a dry run draws the same rays.
+            Rng rng(Hierarchy::mix(seed, uint64_t(j + 1)));
             int clear = 0;
             Vec3 y = cub.p[j] + Q.normal * lift;
             for (int r = 0; r < per_point; ++r) {
@@ -71,6 +87,7 @@ Link element_link(const Hierarchy& h, const Visibility& vis, const Node& P, cons
         kmin = std::min(kmin, k);
         kmax = std::max(kmax, k);
     }
+    if (Vis::kDryRun) return l;
     l.partial = any_blocked && any_clear;
     l.vis = l.K_unoccluded > 0 ? l.K / l.K_unoccluded : 0.0;
     // The kernel at the corners too: symmetric cubature points can see equal values where
@@ -130,7 +147,8 @@ private:
     std::vector<double> cdf_;
 };
 
-Link cluster_link(const Hierarchy& h, const Visibility& vis, const Node& P, const Node& Q, int rays, Rng& rng,
+template <class Vis>
+Link cluster_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node& Q, int rays, Rng& rng,
                   int src, int rcv) {
     Link l;
     l.cluster = true;
@@ -188,15 +206,14 @@ Link cluster_link(const Hierarchy& h, const Visibility& vis, const Node& P, cons
     return l;
 }
 
-}  // namespace
-
-Link evaluate_link(const Hierarchy& h, const Visibility& vis, int src, int rcv, int rays, uint64_t seed) {
+template <class Vis>
+Link evaluate_with(const Hierarchy& h, const Vis& vis, int src, int rcv, int rays, uint64_t seed) {
     const Node& P = h.nodes[src];
     const Node& Q = h.nodes[rcv];
     Rng rng(seed);
     Link l;
     if (!P.is_cluster() && !Q.is_cluster()) {
-        l = element_link(h, vis, P, Q, rays, rng);
+        l = element_link(h, vis, P, Q, rays, seed);
         Vec3 d = Q.center - P.center;
         l.dist = length(d);
         l.dir = l.dist > 0 ? d / l.dist : P.normal;
@@ -206,6 +223,18 @@ Link evaluate_link(const Hierarchy& h, const Visibility& vis, int src, int rcv, 
     l.src = src;
     l.rcv = rcv;
     return l;
+}
+
+}  // namespace
+
+Link evaluate_link(const Hierarchy& h, const Visibility& vis, int src, int rcv, int rays, uint64_t seed) {
+    return evaluate_with(h, vis, src, rcv, rays, seed);
+}
+
+bool link_rays_meet(const Hierarchy& h, int src, int rcv, int rays, uint64_t seed, const std::vector<Aabb>& boxes) {
+    SegmentProbe probe{boxes};
+    evaluate_with(h, probe, src, rcv, rays, seed);
+    return probe.met;
 }
 
 }  // namespace radiosity

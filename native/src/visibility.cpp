@@ -103,7 +103,7 @@ bool Visibility::occluded(const Vec3& a, const Vec3& b, double near) const {
     return ray.tfar < 0;  // Embree sets tfar = -inf on a hit
 }
 
-int Visibility::hit_object(const Vec3& a, const Vec3& b, double near, Vec3* hit) const {
+int Visibility::hit_object(const Vec3& a, const Vec3& b, double near, Vec3* hit, int* triangle) const {
     rays_.fetch_add(1, std::memory_order_relaxed);
     Vec3 d = b - a;
     double len = length(d);
@@ -125,6 +125,7 @@ int Visibility::hit_object(const Vec3& a, const Vec3& b, double near, Vec3* hit)
     rtcIntersect1(top_, &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return -1;
     if (hit) *hit = a + d * (double(rh.ray.tfar) / len);
+    if (triangle) *triangle = int(rh.hit.primID);
     unsigned g = rh.hit.instID[0];
     return g < geom_object_.size() ? geom_object_[g] : -1;
 }

@@ -46,6 +46,11 @@ struct Node {
     std::array<double, kBins> W{};   // clusters: sum over surfaces of A * max(0, +-n_axis)
     double closure = 1.0;            // leaves: form-factor closure correction (see gather.cpp)
     int8_t enclosed = -1;            // leaves: no escape ray found open space (1), did (0), unknown (-1)
+    // The node whose escape rays decided `enclosed` (itself, or the ancestor it inherited the
+    // answer from) and the index of the ray that found open space (-1: none did). After a
+    // move only the rays that pass through a moved object's old or new box are cast again.
+    int decider = -1;
+    int8_t escape_ray = -1;
     bool dead = false;               // un-refined away (the slot is not reused)
     // Elements: the surface faces into a pocket of its own object that holds nothing else
     // (the inside of a closed box): it exchanges light with its own object only.

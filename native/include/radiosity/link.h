@@ -29,6 +29,7 @@ struct Link {
     bool must_refine = false;  // bounding spheres overlap: the point model is invalid
     bool occluded = false; // fully occluded: kept (not gathered) so a move can reopen it
     bool dead = false;     // removed by a dynamic update or an un-refinement
+    bool rejudge = false;  // re-evaluated by an update: the oracle must look at it again
     int first_child = -1;  // history tree: the links that refined this one
     int next_sibling = -1;
     Rgb value;             // cluster receivers: K * L_src of the current iteration

@@ -3,6 +3,7 @@
 // push-pull, and per-corner output.
 #pragma once
 #include <atomic>
+#include <chrono>
 #include <map>
 #include <memory>
 #include <stdexcept>
@@ -73,24 +74,34 @@ private:
     Judgement judge(const Link& l) const;
     void apply(int link_id, const Judgement& j, std::vector<Candidate>& next);
     bool can_split(int node) const;
+    uint64_t link_seed(int src, int rcv) const;
     int add_link(Link l);
     void deactivate(int link_id);
     void activate(int link_id);
     void kill(int link_id);  // a link and its history subtree, for good
     bool refine_round();
+    bool refine_links(const std::vector<int>& ids);  // one round over these links only
     // gather.cpp
     double sweep(bool unit, std::vector<double>* fsum);
     int iterate_to(double tolerance, int max_iterations, double progress_from, double progress_to);
     void push_down(int node, Rgb acc, bool unit, std::vector<double>* fsum, double& delta);
     void pull_up_clusters();
     void compute_closure();
+    void escape_rays(const Node& n, std::vector<std::pair<Vec3, Vec3>>& rays) const;
+    void decide_enclosed(int id, const std::vector<Aabb>* moved_boxes);
     void collect_receivers();
     // adjust.cpp
     struct Pose { double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}; Vec3 t; };
     void set_material(int object, const std::vector<Rgb>& values, bool emission);
     void apply_materials();
     void unrefine(int link_id);
-    void unrefine_pass();
+    // History links reactivated where acceptable; only those whose sender is marked in
+    // `senders` (all when null).
+    void unrefine_pass(const std::vector<char>* senders = nullptr);
+    // Nodes whose radiance (or its range below them) moved enough since `snap` to change an
+    // oracle judgement of a link they send through.
+    std::vector<char> changed_senders(const std::vector<float>& snap) const;
+    std::vector<float> snapshot() const;
     void prune_elements();
     // solver.cpp
     void compute_reference();
@@ -99,6 +110,8 @@ private:
     void check_cancel() const;
     void set_progress(double f) const;
     void compute_stats();
+    // Adds the time since the previous lap to the named phase of stats_.phases.
+    void lap(const char* phase);
 
     SceneDesc scene_;
     Settings settings_;
@@ -114,7 +127,9 @@ private:
     std::map<int, Pose> pending_moves_;
     std::vector<Pose> poses_;      // per object, current placement (internal frame)
     bool materials_changed_ = false;
+    std::chrono::steady_clock::time_point lap_t_;
     std::vector<Aabb> sealed_box_;  // per surface: the pocket a sealed surface faces
+    std::vector<std::vector<int>> tri_prim_;  // per object: Embree triangle -> primitive
 };
 
 }  // namespace radiosity

@@ -2,6 +2,7 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace radiosity {
@@ -25,6 +26,7 @@ struct Stats {
     int64_t env_env_links_recomputed = 0;  // visibility re-evaluated after a move (3.3)
     int64_t env_env_links_tested = 0;      // env-env links the outcode test looked at
     int64_t env_env_links_rejected = 0;    // ... and trivially rejected
+    int64_t env_env_links_rays_clear = 0;  // ... not rejected, but no ray of theirs meets a moved box
     int64_t obj_env_links_removed = 0;     // active links of moved objects dropped before re-linking
     int64_t links_created = 0;             // links made by the update (incl. occluded/history)
     int64_t history_reactivated = 0;       // history links brought back (un-refinement, 3.4)
@@ -42,6 +44,9 @@ struct Stats {
     bool no_emitters = false;
     double seconds_build = 0, seconds_link = 0, seconds_solve = 0, seconds_total = 0;
     std::vector<std::string> warnings;
+    // Wall time of each phase of the last solve or update, in order (for profiling and the
+    // benchmarks; names are stable: "build", "link", "closure", "gather", "refine", ...).
+    std::vector<std::pair<std::string, double>> phases;
 };
 
 }  // namespace radiosity

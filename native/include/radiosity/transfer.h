@@ -3,6 +3,7 @@
 // fraction from Embree rays between jittered points of sender and receiver.
 #pragma once
 #include <cstdint>
+#include <vector>
 
 #include "radiosity/hierarchy.h"
 #include "radiosity/link.h"
@@ -13,6 +14,12 @@ namespace radiosity {
 // Fills K, K_unoccluded, dK, vis, dir, dist, cluster, partial, must_refine of a link
 // src -> rcv. `rays` is the visibility ray budget; `seed` makes the jitter reproducible.
 Link evaluate_link(const Hierarchy& h, const Visibility& vis, int src, int rcv, int rays, uint64_t seed);
+
+// A dry run of evaluate_link with the same seed: casts no ray, only asks whether any of the
+// segments evaluate_link would test passes through one of `boxes`. When none does, a move
+// confined to those boxes cannot have changed the link's visibility (paper 3.3, finer than
+// the outcode test: per ray instead of per link end).
+bool link_rays_meet(const Hierarchy& h, int src, int rcv, int rays, uint64_t seed, const std::vector<Aabb>& boxes);
 
 // Unoccluded element-to-element coupling of a receiver polygon (not necessarily a node yet)
 // from an element sender: the cubature average of the point-to-polygon form factor.

@@ -66,6 +66,28 @@ struct Aabb {
     Vec3 center() const { return (lo + hi) * 0.5; }
     Vec3 extent() const { return hi - lo; }
     double diagonal() const { return empty() ? 0.0 : length(hi - lo); }
+    bool overlaps(const Aabb& b) const {
+        for (int a = 0; a < 3; ++a)
+            if (b.lo[a] > hi[a] || b.hi[a] < lo[a]) return false;
+        return true;
+    }
+    // Does the segment a-b pass through the box (slab test)?
+    bool meets_segment(const Vec3& a, const Vec3& b) const {
+        double t0 = 0, t1 = 1;
+        for (int k = 0; k < 3; ++k) {
+            const double d = b[k] - a[k];
+            if (d == 0) {
+                if (a[k] < lo[k] || a[k] > hi[k]) return false;
+                continue;
+            }
+            double u = (lo[k] - a[k]) / d, v = (hi[k] - a[k]) / d;
+            if (u > v) std::swap(u, v);
+            t0 = std::max(t0, u);
+            t1 = std::min(t1, v);
+            if (t0 > t1) return false;
+        }
+        return true;
+    }
 };
 
 constexpr double kPi = 3.14159265358979323846;

@@ -14,6 +14,7 @@ namespace radiosity {
 
 class Visibility {
 public:
+    static constexpr bool kDryRun = false;  // see SegmentProbe in transfer.cpp
     Visibility();
     ~Visibility();
     Visibility(const Visibility&) = delete;
@@ -34,8 +35,9 @@ public:
     // Same with an explicit near offset: for rays whose origin is already lifted off its
     // surface and that must see geometry right next to it (escape rays).
     bool occluded(const Vec3& a, const Vec3& b, double near) const;
-    // The object first hit along a -> b (beyond `near`), -1 if nothing; writes the hit point.
-    int hit_object(const Vec3& a, const Vec3& b, double near, Vec3* hit) const;
+    // The object first hit along a -> b (beyond `near`), -1 if nothing; writes the hit point
+    // and the index of the hit triangle within its object (in add_object's order).
+    int hit_object(const Vec3& a, const Vec3& b, double near, Vec3* hit, int* triangle = nullptr) const;
     uint64_t rays() const { return rays_.load(std::memory_order_relaxed); }
 
 private:

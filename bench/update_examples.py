@@ -1,0 +1,81 @@
+"""Incremental update vs full re-solve on the example scenes, through the native module only
+(no Blender): scenes exported by bench/export_scene.py. Prints per scene: full solve time of
+the moved scene, update time, ratio, NRMSE between them, the update's phases and link counts.
+
+    python3 bench/update_examples.py [--preset MEDIUM] [--runs 3] SCENE.npz ...
+"""
+import argparse
+import glob
+import os
+import sys
+import time
+
+import numpy as np
+
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+sys.path.insert(0, os.environ.get("RADIOSITY_NATIVE_DIR", os.path.join(ROOT, "build", "native")))
+import radiosity_native as rn  # noqa: E402
+
+
+def build_scene(z, moved=False):
+    sc = rn.Scene()
+    for c in z["clusters"]:
+        name, parent = str(c).split("\t")
+        sc.add_cluster(name, int(parent))
+    deltas = dict(zip(z["move_ids"].tolist(), z["move_deltas"])) if moved else {}
+    for i, o in enumerate(z["objects"]):
+        name, cl = str(o).split("\t")
+        v = z[f"o{i}_vertices"]
+        if i in deltas:
+            m = deltas[i]
+            v = v @ m[:3, :3].T + m[:3, 3]
+        sc.add_object(name, int(cl), np.ascontiguousarray(v), z[f"o{i}_loop_starts"], z[f"o{i}_loop_totals"],
+                      z[f"o{i}_corner_verts"], z[f"o{i}_reflectance"], z[f"o{i}_emission"])
+    return sc
+
+
+def corners(s, n):
+    return np.concatenate([s.corner_radiance(i).ravel() for i in range(n)])
+
+
+def nrmse(a, b):
+    return float(np.sqrt(np.mean((a - b) ** 2)) / np.sqrt(np.mean(b ** 2)))
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--preset", default="MEDIUM")
+    ap.add_argument("--runs", type=int, default=1)
+    ap.add_argument("scenes", nargs="*")
+    a = ap.parse_args()
+    paths = a.scenes or sorted(glob.glob("/tmp/*_room.npz"))
+    for p in paths:
+        z = np.load(p)
+        n = len(z["objects"])
+        rows = []
+        for _ in range(a.runs):
+            s = rn.Solver(build_scene(z), rn.Settings.preset(a.preset))
+            s.solve()
+            for i, m in zip(z["move_ids"].tolist(), z["move_deltas"]):
+                s.move_object(int(i), np.ascontiguousarray(m))
+            t0 = time.perf_counter()
+            s.update()
+            tu = time.perf_counter() - t0
+            su = s.stats()
+            f = rn.Solver(build_scene(z, moved=True), rn.Settings.preset(a.preset))
+            t0 = time.perf_counter()
+            f.solve()
+            tf = time.perf_counter() - t0
+            rows.append((tu, tf, nrmse(corners(s, n), corners(f, n)), su, f.stats()))
+        rows.sort(key=lambda r: r[0] / r[1])
+        tu, tf, e, su, sf = rows[len(rows) // 2]
+        print(f"{os.path.basename(p)} {a.preset}: full {tf:.3f} s, update {tu:.3f} s, ratio {100 * tu / tf:.1f} %, "
+              f"NRMSE {100 * e:.2f} %; links {sf['links']} full / {su['links']} upd, elements {sf['elements']} / {su['elements']}")
+        print("   env-env tested/rejected/rays-clear/recomputed", su["env_env_links_tested"], su["env_env_links_rejected"],
+              su["env_env_links_rays_clear"], su["env_env_links_recomputed"], "| iterations", su["iterations"], "rounds",
+              su["refine_rounds"])
+        print("   update phases:", " ".join(f"{k} {v:.3f}" for k, v in su["phases"].items()))
+        print("   full phases:  ", " ".join(f"{k} {v:.3f}" for k, v in sf["phases"].items()), "| iterations", sf["iterations"])
+
+
+main()

@@ -212,6 +212,15 @@ void Solver::update(Control* control) {
         apply_materials();
         materials_changed_ = false;
     }
+    if (L_ref_ <= 0 || stats_.no_emitters) {
+        // Dark now: a zero reference makes the oracle's threshold 0, and the update refined
+        // every link to the caps (gigabytes, minutes). Dark before: solve() made no links,
+        // so there is nothing to update. solve() handles both.
+        for (auto& [obj, pose] : pending_moves_) poses_[obj] = pose;
+        pending_moves_.clear();
+        solve(control);
+        return;
+    }
 
     std::vector<int> recheck_history;
     if (!pending_moves_.empty()) {

@@ -69,6 +69,9 @@ void Solver::set_material(int object, const std::vector<Rgb>& values, bool emiss
         if (!finite(v)) throw InputError("object '" + o.name + "': polygon " + std::to_string(f) + " has a non-finite value");
         for (int k = 0; k < 3; ++k) {
             if (v[k] < 0) throw InputError("object '" + o.name + "': polygon " + std::to_string(f) + " has a negative value");
+            if (emission && v[k] > kMaxEmission)
+                throw InputError("object '" + o.name + "': polygon " + std::to_string(f) +
+                                 " has emission above 1e30 (the output would overflow)");
             if (!emission && v[k] >= 1)
                 throw InputError("object '" + o.name + "': polygon " + std::to_string(f) + " has reflectance >= 1");
         }

@@ -8,7 +8,8 @@ export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -q
 $SUDO apt-get install -y -q --no-install-recommends \
   cmake g++ make libembree-dev libgtest-dev googletest python3-dev python3-numpy python3-pip \
-  blender xvfb
+  blender xvfb \
+  clang libclang-rt-dev  # scripts/fuzz.sh: clang and its libFuzzer/sanitizer runtimes
 PY=${PYTHON:-python3}
 # pybind11 >= 2.12 supports numpy 1.x (Debian's Blender) and 2.x (bpy wheels) at run time.
 $PY -m pip install -q "pybind11>=2.12" "pytest>=7" numpy

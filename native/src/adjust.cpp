@@ -69,6 +69,9 @@ void Solver::set_material(int object, const std::vector<Rgb>& values, bool emiss
         if (!finite(v)) throw InputError("object '" + o.name + "': polygon " + std::to_string(f) + " has a non-finite value");
         for (int k = 0; k < 3; ++k) {
             if (v[k] < 0) throw InputError("object '" + o.name + "': polygon " + std::to_string(f) + " has a negative value");
+            if (emission && v[k] > kMaxEmission)
+                throw InputError("object '" + o.name + "': polygon " + std::to_string(f) +
+                                 " has emission above 1e30 (the output would overflow)");
             if (!emission && v[k] >= 1)
                 throw InputError("object '" + o.name + "': polygon " + std::to_string(f) + " has reflectance >= 1");
         }
@@ -250,6 +253,15 @@ void Solver::update(Control* control) {
     if (materials_changed_) {
         apply_materials();
         materials_changed_ = false;
+    }
+    if (L_ref_ <= 0 || stats_.no_emitters) {
+        // Dark now: a zero reference makes the oracle's threshold 0, and the update refined
+        // every link to the caps (gigabytes, minutes). Dark before: solve() made no links,
+        // so there is nothing to update. solve() handles both.
+        for (auto& [obj, pose] : pending_moves_) poses_[obj] = pose;
+        pending_moves_.clear();
+        solve(control);
+        return;
     }
 
     std::vector<int> recheck_history;

@@ -171,8 +171,11 @@ void Hierarchy::build(const SceneDesc& scene, bool use_clustering) {
     *this = Hierarchy{};
     const auto& objs = scene.objects();
     Aabb world;
+    // Only vertices that polygons use: a stray loose vertex far away (common in real meshes)
+    // would otherwise set the frame, and the scene, shrunk to a speck of it, loses precision
+    // (1e6 away: the room 7x too dark) or snaps to nothing (1e12 away: every polygon skipped).
     for (const auto& o : objs)
-        for (const auto& v : o.vertices) world.grow(v);
+        for (int32_t c : o.corner_verts) world.grow(o.vertices[c]);
     if (!world.empty() && world.diagonal() > 0) {
         origin = world.center();
         unit = world.diagonal();

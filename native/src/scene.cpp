@@ -47,8 +47,10 @@ int SceneDesc::add_object(ObjectDesc o) {
                 fail(o, poly_str(f) + " has reflectance " + std::to_string(rho[k]) +
                             " outside [0,1) (energy would not converge)");
         if (!finite(e)) fail(o, poly_str(f) + " has a non-finite emission");
-        for (int k = 0; k < 3; ++k)
+        for (int k = 0; k < 3; ++k) {
             if (e[k] < 0) fail(o, poly_str(f) + " has negative emission");
+            if (e[k] > kMaxEmission) fail(o, poly_str(f) + " has emission above 1e30 (the output would overflow)");
+        }
     }
     objects_.push_back(std::move(o));
     return int(objects_.size()) - 1;

@@ -147,6 +147,36 @@ private:
     std::vector<double> cdf_;
 };
 
+// Whether every surface below P and Q lies in one plane (either side of it). Stops at the
+// first surface off the plane, so mixed clusters cost little.
+bool coplanar(const Hierarchy& h, const Node& P, const Node& Q) {
+    const double tol = 1e-9 * h.scene_diag;  // far above the 2^-36 snapping of the input
+    Vec3 n0;
+    double d0 = 0;
+    bool have = false;
+    auto on_plane = [&](const Node& e) {
+        if (!have) {
+            n0 = e.normal;
+            d0 = dot(n0, e.poly.v[0]);
+            have = length2(n0) > 0;
+            if (!have) return false;
+        }
+        if (std::fabs(std::fabs(dot(e.normal, n0)) - 1.0) > 1e-9) return false;
+        for (int k = 0; k < e.poly.n; ++k)
+            if (std::fabs(dot(n0, e.poly.v[k]) - d0) > tol) return false;
+        return true;
+    };
+    for (const Node* c : {&P, &Q}) {
+        if (!c->is_cluster()) {
+            if (!on_plane(*c)) return false;
+            continue;
+        }
+        for (int i = c->surf_begin; i < c->surf_end; ++i)
+            if (!on_plane(h.nodes[h.surfaces[h.surface_order[i]].root])) return false;
+    }
+    return have;
+}
+
 template <class Vis>
 Link cluster_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node& Q, int rays, Rng& rng,
                   int src, int rcv) {
@@ -156,6 +186,11 @@ Link cluster_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
     double r = length(d);
     l.dist = r;
     if (r <= P.radius + Q.radius || r <= 1e-9 * h.scene_diag) {
+        // Surfaces in one plane exchange no light (the element kernel is 0 for them), so
+        // there is nothing to refine toward. Without this, a fan-split n-gon (every piece
+        // touches the apex, so every pair of its sub-clusters overlaps) or a finely
+        // triangulated floor refined into all element pairs: O(n^2) links evaluated.
+        if (coplanar(h, P, Q)) return l;
         // The point model is meaningless for overlapping bounding spheres: refine first.
         l.must_refine = true;
         l.dir = r > 0 ? d / r : Vec3{0, 0, 1};

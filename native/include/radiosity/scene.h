@@ -15,6 +15,10 @@ struct InputError : std::invalid_argument {
     using std::invalid_argument::invalid_argument;
 };
 
+// Largest accepted emission: the output is float32 (max 3.4e38) and reflection can amplify
+// emission up to 1 / (1 - 0.999) = 1000 times; larger values would come out as inf.
+constexpr double kMaxEmission = 1e30;
+
 struct ClusterDesc {
     std::string name;
     int parent = -1;  // -1: the root

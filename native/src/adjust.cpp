@@ -104,6 +104,29 @@ void Solver::apply_materials() {
     compute_reference();
 }
 
+void Solver::refresh(int id, const Link& f) {
+    Link& l = links_[id];
+    l.K = f.K;
+    l.K_unoccluded = f.K_unoccluded;
+    l.dK = f.dK;
+    l.vis = f.vis;
+    l.partial = f.partial;
+    l.must_refine = f.must_refine;
+    l.samples = f.samples;
+    l.settled = false;
+    l.stale = false;
+}
+
+void Solver::freshen(const std::vector<int>& ids) {
+    std::vector<int> todo;
+    for (int id : ids)
+        if (links_[id].stale && !links_[id].dead) todo.push_back(id);
+    std::vector<Link> fresh(todo.size());
+    parallel_for(todo.size(), settings_.threads, [&](size_t k) { fresh[k] = evaluate(links_[todo[k]].src, links_[todo[k]].rcv); }, 16);
+    for (size_t k = 0; k < todo.size(); ++k) refresh(todo[k], fresh[k]);
+    stats_.env_env_links_recomputed += int64_t(todo.size());
+}
+
 void Solver::unrefine(int id) {
     for (int c = links_[id].first_child; c >= 0; c = links_[c].next_sibling) kill(c);
     links_[id].first_child = -1;
@@ -120,6 +143,7 @@ void Solver::unrefine_pass(const std::vector<char>* senders) {
         if (senders && (size_t(l.src) >= senders->size() || !(*senders)[l.src])) continue;
         if (!l.dead && !l.active && !l.occluded && l.first_child >= 0) cand.push_back(int(i));
     }
+    freshen(cand);
     for (int id : cand) {
         if (links_[id].dead || links_[id].active) continue;  // an ancestor came back first
         if (judge(links_[id]).side == Side::Keep) unrefine(id);
@@ -360,6 +384,17 @@ void Solver::update(Control* control) {
             recompute.resize(kept);
         }
         lap("probe");
+        // History links are not gathered: they are only re-evaluated when the oracle asks for
+        // them (un-refinement), most never are.
+        {
+            size_t kept = 0;
+            for (int id : recompute) {
+                Link& l = links_[id];
+                if (!l.active && !l.occluded) l.stale = true;
+                else recompute[kept++] = id;
+            }
+            recompute.resize(kept);
+        }
         // Visibility (and form factor, cheap beside the rays) of the links that may have changed.
         std::vector<Link> fresh(recompute.size());
         parallel_for(recompute.size(), settings_.threads,
@@ -369,14 +404,8 @@ void Solver::update(Control* control) {
             if (l.dead) continue;
             const Link& f = fresh[k];
             ++s.env_env_links_recomputed;
-            l.K = f.K;
-            l.K_unoccluded = f.K_unoccluded;
-            l.dK = f.dK;
-            l.vis = f.vis;
-            l.partial = f.partial;
-            l.must_refine = f.must_refine;
-            l.samples = f.samples;
-            l.settled = false;
+            const bool changed = f.K != l.K || f.partial != l.partial;
+            refresh(recompute[k], f);
             l.rejudge = true;
             const bool transports = f.must_refine || f.K > 0;
             if (l.active && !transports) {
@@ -384,10 +413,14 @@ void Solver::update(Control* control) {
                 l.occluded = true;
             } else if (l.occluded && transports) {
                 activate(recompute[k]);    // the view opened: an old shadow goes
-            } else if (!l.active && !l.occluded) {
-                recheck_history.push_back(recompute[k]);
             }
+            // Its history may coarsen back (an old shadow gone): the refined-from links up
+            // the chain are asked again, coarsest first (paper 3.4).
+            if (changed)
+                for (int p = l.parent; p >= 0; p = links_[p].parent) recheck_history.push_back(p);
         }
+        std::sort(recheck_history.begin(), recheck_history.end());
+        recheck_history.erase(std::unique(recheck_history.begin(), recheck_history.end()), recheck_history.end());
         lap("recompute");
         // Env-obj links created anew: the moved clusters against the environment, top-down,
         // cluster pairs first (this also links an object where it had no link before).
@@ -438,8 +471,10 @@ void Solver::update(Control* control) {
     }
     s.links_created = int64_t(links_.size()) - links_before;
     // History links whose view changed: coarsen back where the old shadow is gone.
-    for (int id : recheck_history)
-        if (!links_[id].dead && !links_[id].active && judge(links_[id]).side == Side::Keep) unrefine(id);
+    freshen(recheck_history);
+    for (int id : recheck_history)  // ascending: a parent before the links it refined into
+        if (!links_[id].dead && !links_[id].active && !links_[id].occluded && judge(links_[id]).side == Side::Keep)
+            unrefine(id);
     s.seconds_adjust = since(t0);
     lap("history");
 

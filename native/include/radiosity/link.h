@@ -30,6 +30,9 @@ struct Link {
     bool occluded = false; // fully occluded: kept (not gathered) so a move can reopen it
     bool dead = false;     // removed by a dynamic update or an un-refinement
     bool rejudge = false;  // re-evaluated by an update: the oracle must look at it again
+    // A history link whose rays a move crossed, not re-evaluated yet (lazily, when the
+    // oracle needs it): its K, vis, dK are out of date.
+    bool stale = false;
     int first_child = -1;  // history tree: the links that refined this one
     int next_sibling = -1;
     Rgb value;             // cluster receivers: K * L_src of the current iteration

@@ -95,6 +95,10 @@ private:
     void set_material(int object, const std::vector<Rgb>& values, bool emission);
     void apply_materials();
     void unrefine(int link_id);
+    // Takes a fresh evaluation's coupling, visibility and samples into a kept link.
+    void refresh(int link_id, const Link& fresh);
+    // Re-evaluates the stale links among `ids` (in parallel).
+    void freshen(const std::vector<int>& ids);
     // History links reactivated where acceptable; only those whose sender is marked in
     // `senders` (all when null).
     void unrefine_pass(const std::vector<char>* senders = nullptr);

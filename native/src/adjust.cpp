@@ -128,6 +128,7 @@ void Solver::prune_elements() {
     std::vector<int> refs(h_.nodes.size(), 0);
     for (const Link& l : links_)
         if (!l.dead) ++refs[l.src], ++refs[l.rcv];
+    light_keep(refs);  // lights.cpp
     std::function<bool(int)> prune = [&](int id) -> bool {  // true: the subtree has no reference
         Node& n = h_.nodes[id];
         bool empty = refs[id] == 0;

@@ -23,6 +23,10 @@ double corner_angle(const Poly& p, int k) {
 }  // namespace
 
 std::vector<float> Solver::corner_radiance(int object) const {
+    return corner_values(object, [this](int id) { return h_.nodes[id].L; });
+}
+
+std::vector<float> Solver::corner_values(int object, const std::function<Rgb(int)>& leaf_value) const {
     if (object < 0 || object >= int(scene_.objects().size()))
         throw std::out_of_range("unknown object " + std::to_string(object));
     const ObjectDesc& o = scene_.objects()[object];
@@ -38,7 +42,7 @@ std::vector<float> Solver::corner_radiance(int object) const {
         for (int k = 0; k < p.poly.n; ++k) {
             int c = p.corner[k];
             double w = std::max(corner_angle(p.poly, k), 1e-6);
-            val[c] += h_.nodes[corner_leaf(h_, h_.surfaces[p.front].root, k)].L * w;
+            val[c] += leaf_value(corner_leaf(h_, h_.surfaces[p.front].root, k)) * w;
             wsum[c] += w;
         }
     }

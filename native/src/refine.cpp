@@ -219,6 +219,7 @@ void Solver::link_from(std::vector<Candidate> wave) {
 }
 
 bool Solver::refine_round() {
+    const bool lights_split = light_refine();  // lights.cpp: where direct light varies
     std::vector<int> active;
     for (size_t i = 0; i < links_.size(); ++i)
         if (links_[i].active) active.push_back(int(i));
@@ -232,7 +233,7 @@ bool Solver::refine_round() {
         apply(active[i], js[i], next);
     }
     link_from(std::move(next));
-    return changed;
+    return changed || lights_split;
 }
 
 }  // namespace radiosity

@@ -35,6 +35,7 @@ void Solver::solve(Control* control) {
     const auto t0 = Clock::now();
     stats_ = Stats{};
     links_.clear();
+    lights_ = LightState{};  // lights.cpp: the hierarchy is rebuilt
 
     h_.build(scene_, settings_.use_clustering);
     vis_ = std::make_unique<Visibility>();
@@ -51,6 +52,7 @@ void Solver::solve(Control* control) {
             tv.insert(tv.end(), {p.poly.v[0], p.poly.v[1], p.poly.v[2]});
             if (p.poly.n == 4) tv.insert(tv.end(), {p.poly.v[0], p.poly.v[2], p.poly.v[3]});
         }
+        if (!scene_.objects()[o].occluder) tv.clear();  // lights.h: area lights cast no shadow
         vis_->add_object(int(o), tv);
     }
     stats_.element_nodes = int64_t(h_.surfaces.size());
@@ -79,6 +81,7 @@ void Solver::solve(Control* control) {
         stats_.warnings.push_back("the scene has no emitter: every radiance is 0");
     } else {
         const auto t1 = Clock::now();
+        light_initial();  // lights.cpp: lit surfaces get their first-bounce radiance before linking
         link_from({{h_.root, h_.root, -1}});
         set_progress(0.2);
         // Refine against the evolving solution (BF refinement): light arriving from
@@ -167,6 +170,7 @@ void Solver::compute_reference() {
         a += e.area;
     }
     double rho_mean = a > 0 ? std::min(ar / a, 0.95) : 0.0;
+    ae += light_power(a) * std::max(rho_mean, 0.1);  // lights.cpp: Blender lights and world
     L_ref_ = a > 0 ? ae / a / (1.0 - rho_mean) : 0.0;
     threshold_ = settings_.error_threshold * L_ref_;
 }
@@ -212,6 +216,7 @@ void Solver::compute_stats() {
             stack.pop_back();
             const Node& n = h_.nodes[id];
             r |= !n.in_links.empty() || !n.out_links.empty();
+            r |= n.children.empty() && light_direct(id).max() > 0;  // lights.cpp: lit by a lamp
             if (n.children.empty()) ++leaves;
             for (int c : n.children) stack.push_back(c);
         }

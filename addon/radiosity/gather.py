@@ -212,10 +212,10 @@ def _gather_light(obj, cluster, si, warnings):
         rad = core_lights.area_radiance(light.energy, color, area, version, factor)
         si.objects.append(scene_data.ObjectInput(
             name=name, cluster=cluster, vertices=verts, loop_starts=starts, loop_totals=totals,
-            corner_verts=cverts, reflectance=np.zeros((1, 3), np.float32),
-            emission=np.asarray([rad], np.float32), target=None, matrix=mat,
-            local_vertices=core_lights.area_polygon_local(light.shape, light.size, sy),
-            two_sided=np.zeros(1, np.uint8), occluder=False))
+            corner_verts=cverts, reflectance=np.zeros((len(starts), 3), np.float32),
+            emission=np.tile(np.asarray(rad, np.float32), (len(starts), 1)), target=None,
+            matrix=mat, local_vertices=core_lights.transform(verts, np.linalg.inv(mat)),
+            two_sided=np.zeros(len(starts), np.uint8), occluder=False))
         return
     pos = tuple(mat[:3, 3])
     if light.type == "POINT":

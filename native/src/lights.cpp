@@ -99,8 +99,9 @@ struct Sampled {
 
 // Monte Carlo estimate of irradiance / pi over polygon `poly` (normal n) from one light, with
 // visibility; m stratified samples.
+template <class Contact>
 Sampled estimate(const ILight& l, const Poly& poly, const Vec3& n, int m, Rng& rng, const Visibility& vis,
-                 double lift, double far) {
+                 double lift, double far, const Contact& contact) {
     double s1 = 0, s2 = 0, s_unocc = 0;
     int seen = 0, hidden = 0;
     Vec3 su, sv;  // sun cap frame
@@ -111,6 +112,7 @@ Sampled estimate(const ILight& l, const Poly& poly, const Vec3& n, int m, Rng& r
         const Vec3 p = poly.sample((i + rng.next()) / m, rng.next());
         const Vec3 o = p + n * lift;
         const double a = rng.next(), b = rng.next();
+        const bool touching = contact(p);
         double f = 0, u = 0;  // scalar factor of l.I, with and without visibility
         switch (l.type) {
             case LightDesc::Type::Sky: {
@@ -118,7 +120,7 @@ Sampled estimate(const ILight& l, const Poly& poly, const Vec3& n, int m, Rng& r
                 double phi = 2 * kPi * a, sr = std::sqrt(b);
                 Vec3 d = nu * (std::cos(phi) * sr) + nv * (std::sin(phi) * sr) + n * std::sqrt(1 - b);
                 u = 1.0;
-                if (!vis.occluded(o, o + d * far, 0.0)) f = 1.0;
+                if (!touching && !vis.occluded(o, o + d * far, 0.0)) f = 1.0;
                 break;
             }
             case LightDesc::Type::Sun: {
@@ -128,7 +130,7 @@ Sampled estimate(const ILight& l, const Poly& poly, const Vec3& n, int m, Rng& r
                 double c = dot(n, d);
                 if (c <= 0) break;
                 u = c / kPi;
-                if (!vis.occluded(o, o + d * far, 0.0)) f = u;
+                if (!touching && !vis.occluded(o, o + d * far, 0.0)) f = u;
                 break;
             }
             default: {
@@ -151,7 +153,7 @@ Sampled estimate(const ILight& l, const Poly& poly, const Vec3& n, int m, Rng& r
                 double mask = spot_mask(l, w);
                 if (mask <= 0) break;
                 u = cp * cq * mask / (d2 * kPi);
-                if (!vis.occluded(o, q)) f = u;
+                if (!touching && !vis.occluded(o, q)) f = u;
                 break;
             }
         }
@@ -215,6 +217,7 @@ void Solver::light_prepare() {
     if (poses != lights_.poses) {
         std::fill(lights_.have.begin(), lights_.have.end(), 0);
         lights_.recheck = !lights_.poses.empty();
+        lights_.contacts.clear();
         lights_.poses = poses;
     }
     const size_t nn = h_.nodes.size();
@@ -228,8 +231,59 @@ void Solver::light_prepare() {
     light_compute(todo);
 }
 
+void Solver::light_contacts() {
+    // Surfaces of other objects lying in the same plane and facing the other way: where they
+    // overlap, the two touch (a box standing on a floor). Rays from there start between the
+    // two and would escape through the other one; Cycles finds such points unlit, and so
+    // does a real contact. Found by walking the cluster tree by boxes.
+    lights_.contacts.assign(h_.surfaces.size(), {});
+    const double tol = 1e-7 * h_.scene_diag;
+    parallel_for(h_.surfaces.size(), settings_.threads, [&](size_t si) {
+        const Node& n = h_.nodes[h_.surfaces[si].root];
+        Aabb b = n.box;
+        b.lo -= Vec3{tol, tol, tol};
+        b.hi += Vec3{tol, tol, tol};
+        auto overlaps = [&b](const Aabb& o) {
+            for (int a = 0; a < 3; ++a)
+                if (o.lo[a] > b.hi[a] || o.hi[a] < b.lo[a]) return false;
+            return true;
+        };
+        std::vector<int> stack{h_.root};
+        while (!stack.empty()) {
+            const int id = stack.back();
+            stack.pop_back();
+            const Node& m = h_.nodes[id];
+            if (!overlaps(m.box)) continue;
+            if (m.is_cluster()) {
+                for (int c : m.children) stack.push_back(c);
+                continue;
+            }
+            if (m.object == n.object || dot(m.normal, n.normal) > -1 + 1e-9) continue;
+            if (std::fabs(dot(m.poly.v[0] - n.poly.v[0], n.normal)) > tol) continue;
+            if (!scene_.objects()[m.object].occluder) continue;
+            lights_.contacts[si].push_back(m.surface);
+        }
+    }, 32);
+}
+
+bool Solver::light_in_contact(int surface, const Vec3& p) const {
+    if (size_t(surface) >= lights_.contacts.size()) return false;
+    const double tol = 1e-9 * h_.scene_diag;
+    for (int t : lights_.contacts[surface]) {
+        const Node& m = h_.nodes[h_.surfaces[t].root];
+        bool inside = true;
+        for (int k = 0; k < m.poly.n && inside; ++k) {
+            const Vec3 e = m.poly.v[(k + 1) % m.poly.n] - m.poly.v[k];
+            inside = dot(cross(e, p - m.poly.v[k]), m.normal) >= -tol * length(e);
+        }
+        if (inside) return true;
+    }
+    return false;
+}
+
 void Solver::light_compute(const std::vector<int>& ids) {
     if (ids.empty()) return;
+    if (lights_.contacts.size() != h_.surfaces.size()) light_contacts();
     const std::vector<ILight> ls = internal_lights(scene_, h_);
     const double far = 4.0 * h_.scene_diag, lift = 1e-5 * h_.scene_diag;
     // Per child: half the link rays (an element costs two links), twice that for the sky,
@@ -249,7 +303,8 @@ void Solver::light_compute(const std::vector<int>& ids) {
             for (const ILight& l : ls) {
                 Rng rng(Hierarchy::mix(Hierarchy::mix(settings_.seed ^ l.salt, n.key), uint64_t(k)));
                 const bool sky = l.type == LightDesc::Type::Sky;
-                const Sampled r = estimate(l, c, n.normal, sky ? 2 * m : m, rng, *vis_, lift, far);
+                const Sampled r = estimate(l, c, n.normal, sky ? 2 * m : m, rng, *vis_, lift, far,
+                                           [&](const Vec3& p) { return light_in_contact(n.surface, p); });
                 e += r.mean;
                 if (sky) var += r.var;
                 // A shadow edge of a small light crosses this child (the HR visibility error):

@@ -86,7 +86,8 @@ Solver::Judgement Solver::judge(const Link& l) const {
     } else {
         // Oriented point model: its relative error grows with (size / distance); a partly
         // occluded cluster link cannot place its shadow.
-        double geo = std::min(1.0, 2.0 * (P.radius + Q.radius) / l.dist);
+        const double gap = std::max(l.dist - P.radius - Q.radius, 1e-3 * l.dist);
+        double geo = std::min(8.0, std::max(std::min(1.0, 2.0 * (P.radius + Q.radius) / l.dist), (l.dist / gap) * (l.dist / gap) - 1.0));
         double visterm = l.partial ? 2.0 * std::min(l.vis, 1.0 - l.vis) + 0.25 : 0.0;
         err_rcv = rho * Lp * l.K_unoccluded * (geo + visterm);
         err_src = rho * l.K * dLp;

@@ -23,7 +23,7 @@ import math
 import numpy as np
 
 POINT, SPOT, SUN, SKY = "POINT", "SPOT", "SUN", "SKY"
-DISK_SEGMENTS = 32
+DISK_SEGMENTS = 8
 
 
 @dataclass
@@ -78,7 +78,7 @@ def area_polygon_local(shape, size_x, size_y, segments=DISK_SEGMENTS):
     it lights), so the polygon's front normal is local -Z.
 
     Disks and ellipses become a `segments`-gon whose area equals the ellipse's (radii scaled by
-    sqrt(2 pi / (n sin(2 pi / n))), 0.6 % at 32), so the emitted power matches Cycles."""
+    sqrt(2 pi / (n sin(2 pi / n))), 5.5 % at 8), so the emitted power matches Cycles."""
     hx, hy = 0.5 * size_x, 0.5 * size_y
     if shape in ("DISK", "ELLIPSE"):
         n = int(segments)
@@ -95,20 +95,30 @@ def transform(points, matrix):
 
 def area_light_mesh(shape, size_x, size_y, matrix, segments=DISK_SEGMENTS):
     """(world vertices (V,3), loop_starts, loop_totals, corner_verts, world area) of one
-    area light as a single polygon facing the light's -Z."""
+    area light facing the light's -Z: one quad for squares and rectangles; disks and ellipses
+    as an equal-area octagon in three quads. Few large pieces matter: the solver's oracle judges
+    each emitter piece's link on its own, so a light cut into thirty slivers refines what it
+    lights far less (measured: a 32-gon fan gave 6.6 % NRMSE on the lit floor, the octagon
+    ~2-3 %); the octagon's outline differs from the disk only in the penumbrae."""
     local = area_polygon_local(shape, size_x, size_y, segments)
-    world = transform(local, matrix)
-    n = len(world)
-    corner_verts = np.arange(n, dtype=np.int32)
-    # A mirroring matrix reverses the winding: keep the front toward the transformed -Z.
+    n = len(local)
+    verts = local
+    if n == 4:
+        polys = [[0, 1, 2, 3]]
+    else:
+        # The octagon as two trapezoids around a rectangle (3 quads, the largest pieces).
+        polys = [[0, 1, 2, 3], [0, 3, 4, 7], [4, 5, 6, 7]]
+    world = transform(verts, matrix)
     m = np.asarray(matrix, float)
     if np.linalg.det(m[:3, :3]) < 0:
-        corner_verts = corner_verts[::-1].copy()
+        polys = [p[::-1] for p in polys]    # a mirroring matrix reverses the winding
+    totals = np.array([len(p) for p in polys], np.int32)
+    starts = np.concatenate([[0], np.cumsum(totals)[:-1]]).astype(np.int32)
+    corner_verts = np.array([i for p in polys for i in p], np.int32)
     # World area (object scale included, as Cycles' axisu/axisv lengths).
     sx = np.linalg.norm(m[:3, 0]) * size_x
     sy = np.linalg.norm(m[:3, 1]) * size_y
-    return (world, np.array([0], np.int32), np.array([n], np.int32), corner_verts,
-            area_of(shape, sx, sy))
+    return world, starts, totals, corner_verts, area_of(shape, sx, sy)
 
 
 def direction_of(matrix):

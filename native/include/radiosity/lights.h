@@ -43,6 +43,7 @@ struct LightState {
     std::vector<uint8_t> have;     // per node: direct/spread computed for the current lights
     std::vector<uint8_t> split;    // per node: subdivided because its direct light varies
     std::vector<std::array<double, 12>> poses;  // object placements the cache was made with
+    std::vector<std::vector<int>> contacts;  // per surface: touching surfaces of other objects
     bool recheck = false;          // lights or placements changed: try merging light splits
 };
 

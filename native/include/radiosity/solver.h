@@ -110,6 +110,8 @@ private:
     bool light_refine();                         // split leaves whose direct light varies
     bool light_coarsen();                        // merge light splits no longer needed
     void light_initial();                        // before the first linking: split and light
+    void light_contacts();                       // coplanar touching surfaces (a box on a floor)
+    bool light_in_contact(int surface, const Vec3& p) const;
     void light_keep(std::vector<int>& refs);     // pruning keeps light-split children
     double light_power(double total_area) const; // for the reference radiance
     Rgb light_direct(int node) const;

@@ -13,7 +13,7 @@ import rt_common as rt
 case = rt.arg("--case")
 data = rt.arg("--data")
 rt.setup()
-objs = light_scenes.build(case)
+objs = light_scenes.build(case, box_collection=bool(rt.arg("--box-collection")))
 bpy.context.scene.radiosity.preset = rt.arg("--preset", "HIGH")
 ok, err, reports = rt.bake()
 out = {"ok": ok, "err": err, "reports": reports, "stats": rt.last_stats(), "fake": rt.native_is_fake(),
@@ -37,3 +37,10 @@ if ok and out["have_ref"]:
                                          "ref_mean": ref[start:start + n].mean(axis=0).tolist()}
             start += n
 rt.result(**out)
+if ok and out.get("shape_ok") and rt.arg("--per-face"):
+    n_floor = len(objs[0].data.loops)
+    b, r = ours[n_floor:], ref[n_floor:]
+    names = ["-x", "+x", "-y", "+y", "-z", "+z"]
+    print("PERFACE", {names[f]: (round(float(b[f*64:(f+1)*64].mean()), 4), round(float(r[f*64:(f+1)*64].mean()), 4)) for f in range(6)})
+if ok and out.get("shape_ok") and rt.arg("--dump"):
+    np.save(rt.arg("--dump"), np.stack([ours, ref]))

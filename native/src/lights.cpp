@@ -281,6 +281,15 @@ bool Solver::light_in_contact(int surface, const Vec3& p) const {
     return false;
 }
 
+bool Solver::light_corner_in_contact(const Primitive& p, int k) const {
+    // Cycles shades each corner inside its own face: at the foot of a box standing on the
+    // floor, the floor corners under the box are unlit and those beside it lit. Corners in
+    // contact are therefore not averaged with the others (output.cpp).
+    if (lights_.contacts.empty() || p.front < 0) return false;
+    const Vec3 inside = p.poly.v[k] + (p.poly.centroid() - p.poly.v[k]) * 1e-4;
+    return light_in_contact(p.front, inside);
+}
+
 void Solver::light_compute(const std::vector<int>& ids) {
     if (ids.empty()) return;
     if (lights_.contacts.size() != h_.surfaces.size()) light_contacts();
@@ -303,7 +312,7 @@ void Solver::light_compute(const std::vector<int>& ids) {
             for (const ILight& l : ls) {
                 Rng rng(Hierarchy::mix(Hierarchy::mix(settings_.seed ^ l.salt, n.key), uint64_t(k)));
                 const bool sky = l.type == LightDesc::Type::Sky;
-                const Sampled r = estimate(l, c, n.normal, sky ? 2 * m : m, rng, *vis_, lift, far,
+                const Sampled r = estimate(l, c, n.normal, sky ? 4 * m : m, rng, *vis_, lift, far,
                                            [&](const Vec3& p) { return light_in_contact(n.surface, p); });
                 e += r.mean;
                 if (sky) var += r.var;

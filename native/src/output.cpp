@@ -34,6 +34,7 @@ std::vector<float> Solver::corner_values(int object, const std::function<Rgb(int
     std::vector<Rgb> val(nc);
     std::vector<double> wsum(nc, 0.0);
     std::vector<Vec3> face_n(o.polygon_count());
+    std::vector<char> touching(nc, 0);
     // Value of each corner on its own face (fan-split faces: angle-weighted over pieces).
     for (const Primitive& p : h_.prims) {
         if (p.object != object || p.front < 0) continue;
@@ -41,6 +42,7 @@ std::vector<float> Solver::corner_values(int object, const std::function<Rgb(int
         face_n[p.face] = root.normal;
         for (int k = 0; k < p.poly.n; ++k) {
             int c = p.corner[k];
+            touching[c] = light_corner_in_contact(p, k);  // lights.cpp
             double w = std::max(corner_angle(p.poly, k), 1e-6);
             val[c] += leaf_value(corner_leaf(h_, h_.surfaces[p.front].root, k)) * w;
             wsum[c] += w;
@@ -70,6 +72,7 @@ std::vector<float> Solver::corner_values(int object, const std::function<Rgb(int
             if (wsum[c2] <= 0) continue;
             // Zero-area faces have no normal: they take the value of their neighbours.
             if (length2(nf) > 0 && dot(nf, face_n[face_of[c2]]) < cos_crease) continue;
+            if (touching[c] != touching[c2]) continue;  // lights.cpp: a contact line is an edge
             acc += val[c2] * wsum[c2];
             w += wsum[c2];
         }

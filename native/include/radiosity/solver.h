@@ -112,6 +112,7 @@ private:
     void light_initial();                        // before the first linking: split and light
     void light_contacts();                       // coplanar touching surfaces (a box on a floor)
     bool light_in_contact(int surface, const Vec3& p) const;
+    bool light_corner_in_contact(const Primitive& p, int k) const;
     void light_keep(std::vector<int>& refs);     // pruning keeps light-split children
     double light_power(double total_area) const; // for the reference radiance
     Rgb light_direct(int node) const;

@@ -42,5 +42,10 @@ ok, err3, _ = rt.bake(full=True)
 oks.append(ok)
 full = rt.last_stats()
 full_cols = colours()
-rt.result(ok=oks, err=[err, err2, err3], fake=rt.native_is_fake(), first=first, inc=inc, full=full,
+n_floor = len(objs[0].data.loops)
+per_object = {"Floor": nrmse(inc_cols[:n_floor], full_cols[:n_floor]),
+              "Box": nrmse(inc_cols[n_floor:], full_cols[n_floor:])}
+if rt.arg("--dump"):
+    np.save(rt.arg("--dump"), np.stack([inc_cols, full_cols]))
+rt.result(per_object=per_object, ok=oks, err=[err, err2, err3], fake=rt.native_is_fake(), first=first, inc=inc, full=full,
           nrmse=nrmse(inc_cols, full_cols), changed=nrmse(before, full_cols))

@@ -56,6 +56,7 @@ class BakeRun:
         self.matrices = {}
         self.no_emitter = False
         self.written = 0
+        self.adaptive = []      # names of the adaptive-mesh objects written
         self.result = None
 
     def prepare(self):
@@ -65,6 +66,8 @@ class BakeRun:
         native = load_native()
         si, self.matrices, warnings = gather.gather(self.scene, self.view_layer, self.depsgraph)
         self.warnings.extend(warnings)
+        si.lighting_only = bool(getattr(props, "lighting_only", False))
+        si.adaptive_mesh = bool(getattr(props, "adaptive_mesh", False))
         if not si.objects:
             raise BakeError("nothing to bake: no visible, renderable mesh object with faces "
                             "in the view layer")
@@ -76,7 +79,11 @@ class BakeRun:
             core_job.cache_drop(key)
         try:
             settings = presets.make_settings(native, props.preset, props.error_threshold)
-            skey = presets.settings_key(props.preset, props.error_threshold)
+            # The output options are part of the key: a cached solution made for the other
+            # output has the wrong values (or no leaf meshes).
+            skey = presets.settings_key(props.preset, props.error_threshold) + \
+                (("lighting_only",) if si.lighting_only else ()) + \
+                (("adaptive_mesh",) if si.adaptive_mesh else ())
             self.no_emitter = not si.has_emitter()
             self.job = core_job.SolveJob(native, si, settings, skey, cache_key=key,
                                          use_cache=not self.full)
@@ -115,6 +122,10 @@ class BakeRun:
         st.busy = True          # our writes echo back through depsgraph_update_post
         try:
             self.written = writer.write_all(items, self.props.attribute_name)
+            meshes = self.job.leaf_meshes() if self.job.scene_input.adaptive_mesh else None
+            if meshes is not None:
+                self.adaptive = writer.write_adaptive(self.job.scene_input.objects, meshes,
+                                                      self.props.attribute_name)
         except RuntimeError as exc:
             raise BakeError(str(exc)) from exc
         finally:
@@ -134,6 +145,11 @@ class BakeRun:
             extra.update(self.job.changes)
         if self.live:
             extra["live"] = True
+        if self.adaptive:
+            extra["adaptive_objects"] = list(self.adaptive)
+        if self.job.scene_input.lighting_only:
+            extra["lighting_only"] = True
+        extra["lights"] = len(self.job.scene_input.lights)
         self.result = stats.make_stats(
             mode, time.perf_counter() - self.t0, native_stats,
             self.job.fallback_counts(), extra)

@@ -13,14 +13,18 @@ Rules (see README):
 """
 from dataclasses import dataclass
 
+import bpy
 import numpy as np
 
+from .core import lights as core_lights
 from .core import scene_data
 from .core.corners import reverse_polygon_permutation
 from .core.scene_data import ObjectInput, SceneInput
 from .materials import MaterialTable
 
 GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "FONT", "META"}
+# Custom property marking the add-on's own adaptive-mesh output: never gathered as geometry.
+ADAPTIVE_TAG = "radiosity_adaptive_of"
 
 
 @dataclass
@@ -127,7 +131,12 @@ def gather(scene, view_layer, depsgraph):
         return None     # only in excluded / render-disabled collections: not rendered
 
     for obj in view_layer.objects:
-        if obj.type not in GEOMETRY_TYPES or obj.hide_render:
+        if obj.type == "LIGHT" and not obj.hide_render and obj.visible_get(view_layer=view_layer) \
+                and any(c == scene.collection or c.name_full in coll_parents
+                        for c in obj.users_collection):
+            _gather_light(obj, object_cluster(obj), si, warnings)
+            continue
+        if obj.type not in GEOMETRY_TYPES or obj.hide_render or ADAPTIVE_TAG in obj.keys():
             continue
         if not obj.visible_get(view_layer=view_layer):
             continue
@@ -166,5 +175,91 @@ def gather(scene, view_layer, depsgraph):
             loop_totals=totals, corner_verts=corner_verts, reflectance=rho, emission=emission,
             corner_perm=perm, target=target, matrix=mat, local_vertices=co))
         matrices[obj.name_full] = mat
+    _gather_world(scene, si, warnings)
     warnings.extend(materials.warnings)
     return si, matrices, warnings
+
+
+def _diffuse_factor(obj, light):
+    """The light's diffuse factor (EEVEE's, honoured here; Cycles ignores it), zero when the
+    object's ray visibility excludes diffuse rays (Cycles honours that)."""
+    f = float(getattr(light, "diffuse_factor", 1.0))
+    if not getattr(obj, "visible_diffuse", True):
+        f = 0.0
+    return f
+
+
+def _gather_light(obj, cluster, si, warnings):
+    light = obj.data
+    mat = np.array(obj.matrix_world, dtype=np.float64)
+    factor = _diffuse_factor(obj, light)
+    color = tuple(light.color)
+    version = tuple(bpy.app.version)
+    cyc = getattr(light, "cycles", None)
+    if cyc is not None and getattr(cyc, "is_portal", False):
+        return      # a portal guides sampling; it emits nothing
+    if cyc is not None and not getattr(cyc, "cast_shadow", True):
+        warnings.append(f"light '{obj.name}': 'Cast Shadow' off is not supported; it casts shadows")
+    name = obj.name
+    if light.type == "AREA":
+        sy = light.size_y if light.shape in ("RECTANGLE", "ELLIPSE") else light.size
+        verts, starts, totals, cverts, area = core_lights.area_light_mesh(
+            light.shape, light.size, sy, mat)
+        spread = float(getattr(light, "spread", np.pi))
+        if spread < np.pi - 1e-4:
+            warnings.append(f"light '{name}': spread {np.degrees(spread):.0f} deg is not supported; "
+                            f"it emits as a Lambertian surface (180 deg)")
+        rad = core_lights.area_radiance(light.energy, color, area, version, factor)
+        si.objects.append(scene_data.ObjectInput(
+            name=name, cluster=cluster, vertices=verts, loop_starts=starts, loop_totals=totals,
+            corner_verts=cverts, reflectance=np.zeros((len(starts), 3), np.float32),
+            emission=np.tile(np.asarray(rad, np.float32), (len(starts), 1)), target=None,
+            matrix=mat, local_vertices=core_lights.transform(verts, np.linalg.inv(mat)),
+            two_sided=np.zeros(len(starts), np.uint8), occluder=False))
+        return
+    pos = tuple(mat[:3, 3])
+    if light.type == "POINT":
+        si.lights.append(core_lights.LightInput(
+            name, core_lights.POINT, core_lights.point_intensity(light.energy, color, factor),
+            position=pos, radius=float(light.shadow_soft_size)))
+    elif light.type == "SPOT":
+        si.lights.append(core_lights.LightInput(
+            name, core_lights.SPOT, core_lights.point_intensity(light.energy, color, factor),
+            position=pos, direction=core_lights.direction_of(mat),
+            radius=float(light.shadow_soft_size), spot_size=float(light.spot_size),
+            spot_blend=float(light.spot_blend),
+            spot_cos_falloff=core_lights.spot_cos_falloff(version)))
+    elif light.type == "SUN":
+        si.lights.append(core_lights.LightInput(
+            name, core_lights.SUN, core_lights.sun_irradiance(light.energy, color, factor),
+            direction=core_lights.direction_of(mat), angle=float(light.angle)))
+
+
+def _gather_world(scene, si, warnings):
+    """A constant world colour becomes a uniform sky; other node trees their Background's
+    own colour (the default when a texture drives it) with a warning."""
+    world = scene.world
+    if world is None:
+        return
+    color, strength = tuple(world.color), 1.0
+    nt = world.node_tree if getattr(world, "use_nodes", True) else None
+    if nt is not None:
+        out = next((n for n in nt.nodes if n.bl_idname == "ShaderNodeOutputWorld"
+                    and getattr(n, "is_active_output", True)), None)
+        surf = out.inputs.get("Surface") if out is not None else None
+        if surf is None or not surf.is_linked:
+            return          # nothing plugged in: Cycles renders black
+        node = surf.links[0].from_node
+        if node.bl_idname != "ShaderNodeBackground":
+            warnings.append(f"world '{world.name}': the surface is not a plain Background node; "
+                            f"using the world colour {tuple(round(c, 3) for c in color)}")
+        else:
+            c_in, s_in = node.inputs["Color"], node.inputs["Strength"]
+            color = tuple(c_in.default_value)[:3]
+            strength = float(s_in.default_value)
+            if c_in.is_linked or s_in.is_linked:
+                warnings.append(f"world '{world.name}': a node tree drives the background; "
+                                f"using its unlinked colour x strength as a uniform sky")
+    rad = tuple(float(strength) * np.asarray(color[:3], float))
+    if max(rad) > 0:
+        si.lights.append(core_lights.LightInput(world.name, core_lights.SKY, rad))

@@ -32,6 +32,16 @@ class RadiositySceneSettings(bpy.types.PropertyGroup):
                     "smaller is finer and slower")
     attribute_name: StringProperty(name="Attribute", default="Radiosity",
                                    description="Colour attribute that receives the bake")
+    lighting_only: BoolProperty(
+        name="Lighting Only", default=False,
+        description="Bake the light arriving at each surface (irradiance / pi: what a white "
+                    "diffuse surface would reflect) instead of its outgoing radiance; the "
+                    "surface's own colour and emission are left out")
+    adaptive_mesh: BoolProperty(
+        name="Adaptive Mesh", default=False,
+        description="Also build, per baked object, a new mesh object from the solver's "
+                    "elements (finer where shadows need it) carrying the colours; the original "
+                    "is not modified")
     live: BoolProperty(name="Live", default=False, update=_live_update,
                        description="Re-bake automatically when baked objects are moved")
     # Read-only: a getter without a setter. The value lives in an ID property so that it is

@@ -33,8 +33,36 @@ class Settings:
 class Cancelled(Exception):
     """Raised by wait() after cancel(): the job stopped and left no finished solution."""
 
+class LightType:
+    """Blender lights that are not surfaces, and the world (native/include/radiosity/lights.h)."""
+    POINT: "LightType"
+    SPOT: "LightType"
+    SUN: "LightType"
+    SKY: "LightType"
+
+class Light:
+    """One light in Cycles' units after the add-on's conversion (addon/radiosity/core/lights.py):
+    POINT/SPOT intensity = radiant intensity W/sr per colour (irradiance I cos / d^2);
+    SUN intensity = irradiance W/m^2 on a surface facing it; SKY intensity = world radiance."""
+    name: str
+    type: LightType
+    position: tuple        # world space (POINT, SPOT)
+    direction: tuple       # SPOT axis / SUN travel direction (normalised on add)
+    radius: float          # POINT, SPOT: emitting disk radius (soft shadows)
+    angle: float           # SUN: angular diameter (radians)
+    spot_size: float       # SPOT: full cone angle (radians)
+    spot_blend: float      # SPOT: [0, 1]
+    spot_cos_falloff: bool # SPOT: also x cos to the axis (Cycles before Blender 4.0)
+    intensity: tuple       # RGB >= 0
+    def __init__(self) -> None: ...
+    def validate(self) -> None: ...   # ValueError naming the light
+
 class Scene:
     def __init__(self) -> None: ...
+    def add_light(self, light: Light) -> int:
+        """Direct light at every element with shadow rays, then bouncing. ValueError on bad input."""
+    @property
+    def light_count(self) -> int: ...
     def add_cluster(self, name: str, parent: int = -1) -> int:
         """A cluster (Blender collection). parent=-1: the root. Returns its id."""
     def add_object(self, name: str, cluster: int,
@@ -44,7 +72,8 @@ class Scene:
                    corner_verts: np.ndarray,  # int32 (C,)  Blender loop.vertex_index
                    reflectance: np.ndarray,   # float32 (F,3) in [0,1)
                    emission: np.ndarray,      # float32 (F,3) radiance >= 0
-                   two_sided: Optional[np.ndarray] = None  # bool (F,), default all True
+                   two_sided: Optional[np.ndarray] = None,  # bool (F,), default all True
+                   occluder: bool = True       # False: casts no shadow (area lights, as in Cycles)
                    ) -> int:
         """A rigid object. cluster=-1: a surface set by itself (object directly in the scene).
         Raises ValueError naming the object and polygon on NaN/inf, bad indices, rho outside [0,1),
@@ -76,6 +105,14 @@ class Solver:
     # Results (after a finished solve).
     def corner_radiance(self, object_id: int) -> np.ndarray:  # float32 (C,3), per Blender corner
         ...
+    def corner_irradiance(self, object_id: int) -> np.ndarray:
+        """float32 (C,3): irradiance / pi arriving at the front side per corner ("lighting only":
+        what a white diffuse surface would reflect; own emission and reflectance left out)."""
+    def leaf_mesh(self, object_id: int, lighting_only: bool = False) -> dict:
+        """The object's front-side leaf elements as a T-vertex free mesh: 'vertices' float64 (V,3)
+        world, 'loop_totals' int32 (F,), 'corner_verts' int32 (C,), 'values' float32 (F,3) radiance
+        (or irradiance / pi), 'source_face' int32 (F,) the input polygon each subdivides."""
+    def set_light(self, index: int, light: Light) -> None: ...   # then update(): incremental
     def radiance_at(self, object_id: int, face: int, point: tuple) -> tuple: ...  # front-side radiance of the leaf at a world point
     def stats(self) -> dict: ...  # counts and seconds (native/include/radiosity/stats.h) plus 'mode': 'full' | 'incremental'
     # Dynamic environments (AdjustSystem). Record changes, then update() / start_update().

@@ -12,6 +12,8 @@ def draw_settings(layout, context):
     sub.enabled = props.preset == "CUSTOM"
     sub.prop(props, "error_threshold")
     col.prop(props, "attribute_name")
+    col.prop(props, "lighting_only")
+    col.prop(props, "adaptive_mesh")
     col.prop(props, "live")
     row = layout.row(align=True)
     row.operator("radiosity.bake", text="Bake", icon="RENDER_STILL").full = False

@@ -61,3 +61,66 @@ def write_all(items, attribute_name):
     for me, rgba in resolved:
         write_mesh(me, attribute_name, rgba)
     return len(resolved)
+
+
+ADAPTIVE_COLLECTION = "Radiosity Adaptive"
+
+
+def adaptive_name(object_name):
+    return f"{object_name}.radiosity"
+
+
+def _adaptive_collection(scene):
+    coll = bpy.data.collections.get(ADAPTIVE_COLLECTION)
+    if coll is None:
+        coll = bpy.data.collections.new(ADAPTIVE_COLLECTION)
+    if coll.name not in scene.collection.children:
+        scene.collection.children.link(coll)
+    return coll
+
+
+def write_adaptive(objects, leaf_meshes, attribute_name, scene=None):
+    """One new mesh object per baked object from its leaf elements (native leaf_mesh dicts),
+    placed like the original (which is not touched), in the 'Radiosity Adaptive' collection,
+    colours per corner (each element's value on all its corners). Re-baking replaces it.
+    Returns the objects' names."""
+    import numpy as np
+    from .gather import ADAPTIVE_TAG
+    scene = scene or bpy.context.scene
+    coll = _adaptive_collection(scene)
+    names = []
+    for obj_input, lm in zip(objects, leaf_meshes):
+        if lm is None or obj_input.target is None:
+            continue
+        m = np.asarray(obj_input.matrix if obj_input.matrix is not None else np.eye(4), float)
+        verts = np.asarray(lm["vertices"], float)
+        local = (verts - m[:3, 3]) @ np.linalg.inv(m[:3, :3]).T
+        totals = np.asarray(lm["loop_totals"], np.int64)
+        cv = np.asarray(lm["corner_verts"], np.int64)
+        starts = np.concatenate([[0], np.cumsum(totals)[:-1]]) if len(totals) else totals
+        faces = [cv[s:s + t].tolist() for s, t in zip(starts, totals)]
+        name = adaptive_name(obj_input.name)
+        me = bpy.data.meshes.new(name)
+        me.from_pydata(local.tolist(), [], faces)
+        me.update()
+        vals = np.asarray(lm["values"], np.float32)
+        rgba = np.ones((len(cv), 4), np.float32)
+        rgba[:, :3] = np.repeat(vals, totals, axis=0)
+        write_mesh(me, attribute_name, rgba.ravel())
+        # Which input polygon each element subdivides (for scripts and the tests).
+        src = me.attributes.new("radiosity_source_face", "INT", "FACE")
+        src.data.foreach_set("value", np.asarray(lm["source_face"], np.int32))
+        ob = bpy.data.objects.get(name)
+        if ob is not None and ADAPTIVE_TAG in ob.keys():
+            old = ob.data
+            ob.data = me
+            if old.users == 0:
+                bpy.data.meshes.remove(old)
+        else:
+            ob = bpy.data.objects.new(name, me)
+            coll.objects.link(ob)
+        ob[ADAPTIVE_TAG] = obj_input.name
+        import mathutils
+        ob.matrix_world = mathutils.Matrix([list(map(float, r)) for r in m])
+        names.append(ob.name)
+    return names

@@ -33,9 +33,11 @@ std::vector<Rgb> rgb_rows(const Arr<double>& a, const char* what, size_t rows) {
 
 int add_object(SceneDesc& s, const std::string& name, int cluster, const Arr<double>& verts,
                const Arr<int32_t>& loop_starts, const Arr<int32_t>& loop_totals, const Arr<int32_t>& corner_verts,
-               const Arr<double>& reflectance, const Arr<double>& emission, const py::object& two_sided) {
+               const Arr<double>& reflectance, const Arr<double>& emission, const py::object& two_sided,
+               bool occluder) {
     ObjectDesc o;
     o.name = name;
+    o.occluder = occluder;
     o.cluster = cluster;
     if (verts.ndim() != 2 || verts.shape(1) != 3) throw py::value_error("object '" + name + "': vertices must be (V,3)");
     auto v = verts.unchecked<2>();
@@ -122,12 +124,41 @@ PYBIND11_MODULE(radiosity_native, m) {
         .def_readwrite("seed", &Settings::seed)
         .def("validate", &Settings::validate);
 
+    // Blender lights and world (native/include/radiosity/lights.h).
+    py::enum_<LightDesc::Type>(m, "LightType")
+        .value("POINT", LightDesc::Type::Point)
+        .value("SPOT", LightDesc::Type::Spot)
+        .value("SUN", LightDesc::Type::Sun)
+        .value("SKY", LightDesc::Type::Sky);
+    auto vec3 = [](Vec3 LightDesc::*f) {
+        return std::make_pair([f](const LightDesc& l) { const Vec3& v = l.*f; return std::array<double, 3>{v.x, v.y, v.z}; },
+                              [f](LightDesc& l, std::array<double, 3> v) { l.*f = {v[0], v[1], v[2]}; });
+    };
+    auto pos = vec3(&LightDesc::position), dir = vec3(&LightDesc::direction);
+    py::class_<LightDesc>(m, "Light")
+        .def(py::init<>())
+        .def_readwrite("name", &LightDesc::name)
+        .def_readwrite("type", &LightDesc::type)
+        .def_property("position", pos.first, pos.second)
+        .def_property("direction", dir.first, dir.second)
+        .def_readwrite("radius", &LightDesc::radius)
+        .def_readwrite("angle", &LightDesc::angle)
+        .def_readwrite("spot_size", &LightDesc::spot_size)
+        .def_readwrite("spot_blend", &LightDesc::spot_blend)
+        .def_readwrite("spot_cos_falloff", &LightDesc::spot_cos_falloff)
+        .def_property("intensity",
+                      [](const LightDesc& l) { return std::array<double, 3>{l.intensity.r, l.intensity.g, l.intensity.b}; },
+                      [](LightDesc& l, std::array<double, 3> v) { l.intensity = {v[0], v[1], v[2]}; })
+        .def("validate", &LightDesc::validate);
+
     py::class_<SceneDesc>(m, "Scene")
         .def(py::init<>())
         .def("add_cluster", &SceneDesc::add_cluster, py::arg("name"), py::arg("parent") = -1)
         .def("add_object", &add_object, py::arg("name"), py::arg("cluster"), py::arg("vertices"),
              py::arg("loop_starts"), py::arg("loop_totals"), py::arg("corner_verts"), py::arg("reflectance"),
-             py::arg("emission"), py::arg("two_sided") = py::none())
+             py::arg("emission"), py::arg("two_sided") = py::none(), py::arg("occluder") = true)
+        .def("add_light", &SceneDesc::add_light, py::arg("light"))
+        .def_property_readonly("light_count", [](const SceneDesc& s) { return s.lights().size(); })
         .def_property_readonly("object_count", [](const SceneDesc& s) { return s.objects().size(); })
         .def_property_readonly("polygon_count", &SceneDesc::polygon_count);
 
@@ -155,6 +186,10 @@ PYBIND11_MODULE(radiosity_native, m) {
             s.idle();
             s.solver->set_reflectance(object, rgb_list(v));
         }, py::arg("object_id"), py::arg("reflectance"))
+        .def("set_light", [](PySolver& s, int index, const LightDesc& l) {
+            s.idle();
+            s.solver->set_light(index, l);
+        }, py::arg("index"), py::arg("light"))
         .def("update", [](PySolver& s) {
             s.idle();
             py::gil_scoped_release release;
@@ -178,6 +213,30 @@ PYBIND11_MODULE(radiosity_native, m) {
             std::copy(v.begin(), v.end(), out.mutable_data());
             return out;
         }, py::arg("object_id"))
+        .def("corner_irradiance", [](const PySolver& s, int object) {
+            s.solved();
+            std::vector<float> v = s.solver->corner_irradiance(object);
+            py::array_t<float> out({py::ssize_t(v.size() / 3), py::ssize_t(3)});
+            std::copy(v.begin(), v.end(), out.mutable_data());
+            return out;
+        }, py::arg("object_id"))
+        .def("leaf_mesh", [](const PySolver& s, int object, bool lighting_only) {
+            s.solved();
+            LeafMesh lm = s.solver->leaf_mesh(object, lighting_only);
+            py::array_t<double> verts({py::ssize_t(lm.vertices.size()), py::ssize_t(3)});
+            double* v = verts.mutable_data();
+            for (const Vec3& p : lm.vertices) *v++ = p.x, *v++ = p.y, *v++ = p.z;
+            py::array_t<float> vals({py::ssize_t(lm.values.size()), py::ssize_t(3)});
+            float* c = vals.mutable_data();
+            for (const Rgb& x : lm.values) *c++ = float(x.r), *c++ = float(x.g), *c++ = float(x.b);
+            py::dict d;
+            d["vertices"] = verts;
+            d["loop_totals"] = py::array_t<int32_t>(py::ssize_t(lm.loop_totals.size()), lm.loop_totals.data());
+            d["corner_verts"] = py::array_t<int32_t>(py::ssize_t(lm.corner_verts.size()), lm.corner_verts.data());
+            d["values"] = vals;
+            d["source_face"] = py::array_t<int32_t>(py::ssize_t(lm.source_face.size()), lm.source_face.data());
+            return d;
+        }, py::arg("object_id"), py::arg("lighting_only") = false)
         .def("radiance_at", [](const PySolver& s, int object, int face, std::array<double, 3> p) {
             s.solved();
             Rgb c = s.solver->radiance_at(object, face, {p[0], p[1], p[2]});

@@ -156,6 +156,7 @@ void Solver::prune_elements() {
     std::vector<int> refs(h_.nodes.size(), 0);
     for (const Link& l : links_)
         if (!l.dead) ++refs[l.src], ++refs[l.rcv];
+    light_keep(refs);  // lights.cpp
     std::function<bool(int)> prune = [&](int id) -> bool {  // true: the subtree has no reference
         Node& n = h_.nodes[id];
         bool empty = refs[id] == 0;
@@ -502,7 +503,8 @@ void Solver::update(Control* control) {
         for (Link& l : links_) l.rejudge = false;
         const std::vector<float> snap = snapshot();
         judged_from = int64_t(links_.size());
-        const bool more = refine_links(ids);
+        const bool lit = light_refine();  // lights.cpp: where direct light varies
+        const bool more = refine_links(ids) || lit;
         lap("refine");
         if (!more) break;
         compute_closure();

@@ -19,6 +19,7 @@ void Solver::collect_receivers() {
         if (!n.in_links.empty()) receivers_.push_back(int(i));
         if (!n.is_cluster() && n.is_leaf()) leaves_.push_back(int(i));
     }
+    light_prepare();  // lights.cpp: direct light of new leaves
 }
 
 void Solver::push_down(int id, Rgb acc, bool unit, std::vector<double>* fsum, double& delta) {
@@ -29,7 +30,7 @@ void Solver::push_down(int id, Rgb acc, bool unit, std::vector<double>* fsum, do
             (*fsum)[id] = acc.mean();
             return;
         }
-        Rgb Lnew = n.emission + n.rho * acc * n.closure;
+        Rgb Lnew = n.emission + n.rho * (acc * n.closure + light_direct(id));  // lights.cpp
         delta = std::max(delta, std::fabs((Lnew - n.L).max()));
         delta = std::max(delta, std::fabs((n.L - Lnew).max()));
         n.L = Lnew;

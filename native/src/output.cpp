@@ -23,6 +23,10 @@ double corner_angle(const Poly& p, int k) {
 }  // namespace
 
 std::vector<float> Solver::corner_radiance(int object) const {
+    return corner_values(object, [this](int id) { return h_.nodes[id].L; });
+}
+
+std::vector<float> Solver::corner_values(int object, const std::function<Rgb(int)>& leaf_value) const {
     if (object < 0 || object >= int(scene_.objects().size()))
         throw std::out_of_range("unknown object " + std::to_string(object));
     const ObjectDesc& o = scene_.objects()[object];
@@ -30,6 +34,7 @@ std::vector<float> Solver::corner_radiance(int object) const {
     std::vector<Rgb> val(nc);
     std::vector<double> wsum(nc, 0.0);
     std::vector<Vec3> face_n(o.polygon_count());
+    std::vector<char> touching(nc, 0);
     // Value of each corner on its own face (fan-split faces: angle-weighted over pieces).
     for (const Primitive& p : h_.prims) {
         if (p.object != object || p.front < 0) continue;
@@ -37,8 +42,9 @@ std::vector<float> Solver::corner_radiance(int object) const {
         face_n[p.face] = root.normal;
         for (int k = 0; k < p.poly.n; ++k) {
             int c = p.corner[k];
+            touching[c] = light_corner_in_contact(p, k);  // lights.cpp
             double w = std::max(corner_angle(p.poly, k), 1e-6);
-            val[c] += h_.nodes[corner_leaf(h_, h_.surfaces[p.front].root, k)].L * w;
+            val[c] += leaf_value(corner_leaf(h_, h_.surfaces[p.front].root, k)) * w;
             wsum[c] += w;
         }
     }
@@ -66,6 +72,7 @@ std::vector<float> Solver::corner_radiance(int object) const {
             if (wsum[c2] <= 0) continue;
             // Zero-area faces have no normal: they take the value of their neighbours.
             if (length2(nf) > 0 && dot(nf, face_n[face_of[c2]]) < cos_crease) continue;
+            if (touching[c] != touching[c2]) continue;  // lights.cpp: a contact line is an edge
             acc += val[c2] * wsum[c2];
             w += wsum[c2];
         }

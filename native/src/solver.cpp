@@ -36,6 +36,7 @@ void Solver::solve(Control* control) {
     stats_ = Stats{};
     lap_t_ = t0;
     links_.clear();
+    lights_ = LightState{};  // lights.cpp: the hierarchy is rebuilt
 
     h_.build(scene_, settings_.use_clustering);
     vis_ = std::make_unique<Visibility>();
@@ -58,6 +59,7 @@ void Solver::solve(Control* control) {
                 tri_prim[o].push_back(int(pi));
             }
         }
+        if (!scene_.objects()[o].occluder) tv.clear();  // lights.h: area lights cast no shadow
         vis_->add_object(int(o), tv);
     }
     tri_prim_ = std::move(tri_prim);
@@ -88,6 +90,7 @@ void Solver::solve(Control* control) {
         stats_.warnings.push_back("the scene has no emitter: every radiance is 0");
     } else {
         const auto t1 = Clock::now();
+        light_initial();  // lights.cpp: lit surfaces get their first-bounce radiance before linking
         link_from({{h_.root, h_.root, -1}});
         lap("link");
         set_progress(0.2);
@@ -213,6 +216,7 @@ void Solver::compute_reference() {
         a += e.area;
     }
     double rho_mean = a > 0 ? std::min(ar / a, 0.95) : 0.0;
+    ae += light_power(a) * std::max(rho_mean, 0.1);  // lights.cpp: Blender lights and world
     L_ref_ = a > 0 ? ae / a / (1.0 - rho_mean) : 0.0;
     threshold_ = settings_.error_threshold * L_ref_;
 }
@@ -258,6 +262,7 @@ void Solver::compute_stats() {
             stack.pop_back();
             const Node& n = h_.nodes[id];
             r |= !n.in_links.empty() || !n.out_links.empty();
+            r |= n.children.empty() && light_direct(id).max() > 0;  // lights.cpp: lit by a lamp
             if (n.children.empty()) ++leaves;
             for (int c : n.children) stack.push_back(c);
         }

@@ -32,7 +32,8 @@ def test_move_is_incremental_and_matches_full(native):
     _job(native, scenes_np.room()).prepare().run()
     inc = _job(native, scenes_np.room((0.9, 0.5))).prepare()
     assert inc.mode == "incremental" and inc.full_reason is None
-    assert inc.changes == {"moved": 1, "emission_changed": 0, "reflectance_changed": 0}
+    assert inc.changes == {"moved": 1, "emission_changed": 0, "reflectance_changed": 0,
+                           "lights_changed": 0}
     inc.run()
     st = inc.native_stats()
     assert st["mode"] == "incremental" and "env_env_links_recomputed" in st

@@ -38,6 +38,8 @@ class CachedSolution:
     reflectance: dict = field(default_factory=dict)      # name -> (F,3) last solved
     emission: dict = field(default_factory=dict)
     names: list = field(default_factory=list)            # object order of `radiance`
+    lights: list = field(default_factory=list)           # LightInput.key() per native light, last solved
+    leaf_meshes: list = None                             # per object: leaf_mesh dict or None
     in_use: bool = False     # an incremental job owns the solver right now
 
 
@@ -153,7 +155,15 @@ class SolveJob:
                 emissions.append((oid, np.ascontiguousarray(o.emission, dtype=np.float64)))
             if not np.array_equal(o.reflectance, hit.reflectance[o.name]):
                 reflectances.append((oid, np.ascontiguousarray(o.reflectance, dtype=np.float64)))
-        if not (moves or emissions or reflectances) and names == hit.names:
+        # Point/spot/sun lights and the world: the same lights (by name and kind, in order) are
+        # updated in place; any other change of the light list needs a full solve.
+        new_keys = [li.key() for li in self.scene_input.lights]
+        if [k[:2] for k in new_keys] != [k[:2] for k in hit.lights]:
+            return "lights added, removed or changed type since the last bake"
+        light_changes = [i for i, (a, b) in enumerate(zip(new_keys, hit.lights)) if a != b]
+        if light_changes and not hasattr(hit.solver, "set_light"):
+            return "the native module cannot change lights"
+        if not (moves or emissions or reflectances or light_changes) and names == hit.names:
             # Only something that does not affect the solve differs (e.g. which meshes can be
             # written): the kept radiance is still the answer.
             hit.fingerprint = self.fingerprint
@@ -168,13 +178,19 @@ class SolveJob:
                 hit.solver.set_emission(oid, e)
             for oid, r in reflectances:
                 hit.solver.set_reflectance(oid, r)
+            if light_changes:
+                from . import lights as core_lights
+                for i in light_changes:
+                    hit.solver.set_light(i, core_lights.to_native(self.native,
+                                                                  self.scene_input.lights[i]))
         except ValueError as exc:
             cache_drop(self.cache_key)
             return f"the solver refused the change ({exc})"
         hit.in_use = True
         self.incremental = hit
         self.changes = {"moved": len(moves), "emission_changed": len(emissions),
-                        "reflectance_changed": len(reflectances)}
+                        "reflectance_changed": len(reflectances),
+                        "lights_changed": len(light_changes)}
         self.scene, self.solver = hit.scene, hit.solver
         self.object_ids = [hit.object_ids[n] for n in names]
         return None
@@ -270,8 +286,14 @@ class SolveJob:
         # Copy the results out right away so a cache entry never depends on later solver state.
         try:
             self._radiance = []
+            self._leaf_meshes = [] if self.scene_input.adaptive_mesh else None
+            lighting = self.scene_input.lighting_only
             for obj, oid in zip(self.scene_input.objects, self.object_ids):
-                rad = self.solver.corner_radiance(oid)
+                rad = (self.solver.corner_irradiance(oid) if lighting
+                       else self.solver.corner_radiance(oid))
+                if self._leaf_meshes is not None:
+                    self._leaf_meshes.append(
+                        self.solver.leaf_mesh(oid, lighting) if obj.target is not None else None)
                 rad = rad.astype("float32", copy=True)
                 if obj.corner_perm is not None:
                     # Solver order -> Blender order (the permutation is its own inverse).
@@ -292,6 +314,7 @@ class SolveJob:
                 return      # dropped meanwhile (clear, undo): do not resurrect it
             entry = hit
             entry.radiance = self._radiance
+            entry.leaf_meshes = self._leaf_meshes
             entry.native_stats = native_stats
             entry.fingerprint = self.fingerprint
         else:
@@ -303,10 +326,12 @@ class SolveJob:
                 settings_key=self.settings_key,
                 object_ids={o.name: oid for o, oid in zip(si.objects, self.object_ids)},
                 shapes=dict(self.shapes),
-                build_matrices={o.name: scene_data.object_matrix(o) for o in si.objects})
+                build_matrices={o.name: scene_data.object_matrix(o) for o in si.objects},
+                leaf_meshes=self._leaf_meshes)
         entry.clusters, entry.objects, entry.input_surfaces = \
             len(si.clusters), len(si.objects), si.polygon_count
         entry.names = [o.name for o in si.objects]
+        entry.lights = [li.key() for li in si.lights]
         entry.matrices = {o.name: scene_data.object_matrix(o) for o in si.objects}
         entry.reflectance = {o.name: np.array(o.reflectance, copy=True) for o in si.objects}
         entry.emission = {o.name: np.array(o.emission, copy=True) for o in si.objects}
@@ -329,6 +354,12 @@ class SolveJob:
             if obj.target is not None:
                 out.append((obj, radiance_to_rgba(rad, obj.corner_count)))
         return out
+
+    def leaf_meshes(self):
+        """Per object the native leaf_mesh dict (adaptive-mesh output), or None."""
+        if self.cached is not None:
+            return self.cached.leaf_meshes
+        return getattr(self, "_leaf_meshes", None)
 
     def native_stats(self):
         if self.cached is not None:

@@ -41,6 +41,10 @@ class ObjectInput:
     # rigid move from a shape change. None: vertices are taken as they are (identity).
     matrix: object = None
     local_vertices: object = None
+    # Per polygon one- or two-sided (None: all two-sided) and whether it casts shadows: an
+    # area light is one-sided and, as in Cycles, transparent to other light.
+    two_sided: object = None
+    occluder: bool = True
 
     @property
     def corner_count(self):
@@ -55,6 +59,9 @@ class ObjectInput:
 class SceneInput:
     clusters: list = field(default_factory=list)
     objects: list = field(default_factory=list)
+    lights: list = field(default_factory=list)     # core.lights.LightInput (point/spot/sun/sky)
+    lighting_only: bool = False    # output irradiance / pi instead of radiance (see README)
+    adaptive_mesh: bool = False    # also return the leaf elements as meshes
 
     def add_cluster(self, name, parent=-1):
         self.clusters.append(ClusterInput(name, parent))
@@ -65,7 +72,8 @@ class SceneInput:
         return sum(o.polygon_count for o in self.objects)
 
     def has_emitter(self):
-        return any(bool((o.emission > 0.0).any()) for o in self.objects)
+        return (any(bool((o.emission > 0.0).any()) for o in self.objects)
+                or any(max(li.intensity) > 0.0 for li in self.lights))
 
 
 def clamp_reflectance(rgb):
@@ -135,13 +143,17 @@ def fingerprint(scene_input, settings_key):
     for c in scene_input.clusters:
         h.update(f"C|{c.name}|{c.parent}".encode())
     for o in scene_input.objects:
-        h.update(f"O|{o.name}|{o.cluster}|{o.target is not None}".encode())
+        h.update(f"O|{o.name}|{o.cluster}|{o.target is not None}|{o.occluder}".encode())
+        if o.two_sided is not None:
+            h.update(np.ascontiguousarray(o.two_sided, dtype=np.uint8).tobytes())
         for arr, dtype in ((o.vertices, np.float64), (o.loop_starts, np.int32),
                            (o.loop_totals, np.int32), (o.corner_verts, np.int32),
                            (o.reflectance, np.float32), (o.emission, np.float32)):
             a = np.ascontiguousarray(arr, dtype=dtype)
             h.update(str(a.shape).encode())
             h.update(a.tobytes())
+    for li in scene_input.lights:
+        h.update(repr(li.key()).encode())
     return h.hexdigest()
 
 
@@ -163,7 +175,9 @@ def shape_digest(obj, cluster_path):
     Materials and the placement are not part of it (the incremental path updates those).
     """
     h = hashlib.blake2b(digest_size=20)
-    h.update(f"{obj.name}|{cluster_path}|{obj.corner_perm is not None}".encode())
+    h.update(f"{obj.name}|{cluster_path}|{obj.corner_perm is not None}|{obj.occluder}".encode())
+    if obj.two_sided is not None:
+        h.update(np.ascontiguousarray(obj.two_sided, dtype=np.uint8).tobytes())
     local = obj.vertices if obj.local_vertices is None else obj.local_vertices
     for arr, dtype in ((local, np.float64), (obj.loop_starts, np.int32),
                        (obj.loop_totals, np.int32), (obj.corner_verts, np.int32)):
@@ -210,6 +224,11 @@ def build_native_scene(native, scene_input):
     object_ids = []
     for o in scene_input.objects:
         cluster = cluster_ids[o.cluster] if o.cluster >= 0 else -1
+        extra = {}      # only when not the default: older modules / the stand-in lack them
+        if o.two_sided is not None:
+            extra["two_sided"] = np.ascontiguousarray(o.two_sided, dtype=np.uint8)
+        if not o.occluder:
+            extra["occluder"] = False
         object_ids.append(scene.add_object(
             o.name, cluster,
             np.ascontiguousarray(o.vertices, dtype=np.float64),
@@ -218,5 +237,10 @@ def build_native_scene(native, scene_input):
             np.ascontiguousarray(solver_corner_order(o), dtype=np.int32),
             np.ascontiguousarray(o.reflectance, dtype=np.float32),
             np.ascontiguousarray(o.emission, dtype=np.float32),
+            **extra,
         ))
+    if scene_input.lights:
+        from . import lights as core_lights
+        for li in scene_input.lights:
+            scene.add_light(core_lights.to_native(native, li))
     return scene, cluster_ids, object_ids

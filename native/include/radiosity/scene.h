@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "radiosity/lights.h"
 #include "radiosity/vec.h"
 
 namespace radiosity {
@@ -31,6 +32,8 @@ struct ObjectDesc {
     std::vector<int32_t> loop_starts, loop_totals, corner_verts;  // Blender's polygon layout
     std::vector<Rgb> reflectance, emission;     // per polygon
     std::vector<uint8_t> two_sided;             // per polygon
+    // false: casts no shadow (rays pass through it), like a Blender area light in Cycles.
+    bool occluder = true;
     size_t polygon_count() const { return loop_starts.size(); }
     size_t corner_count() const { return corner_verts.size(); }
 };
@@ -45,8 +48,13 @@ public:
     const std::vector<ObjectDesc>& objects() const { return objects_; }
     std::vector<ObjectDesc>& objects_mut() { return objects_; }
     size_t polygon_count() const;
+    // Blender point/spot/sun lights and the world (lights.h); validates, throws InputError.
+    int add_light(LightDesc light);
+    const std::vector<LightDesc>& lights() const { return lights_; }
+    std::vector<LightDesc>& lights_mut() { return lights_; }
 
 private:
+    std::vector<LightDesc> lights_;
     std::vector<ClusterDesc> clusters_;
     std::vector<ObjectDesc> objects_;
 };

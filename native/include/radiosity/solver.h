@@ -4,12 +4,14 @@
 #pragma once
 #include <atomic>
 #include <chrono>
+#include <functional>
 #include <map>
 #include <memory>
 #include <stdexcept>
 #include <vector>
 
 #include "radiosity/hierarchy.h"
+#include "radiosity/lights.h"
 #include "radiosity/link.h"
 #include "radiosity/scene.h"
 #include "radiosity/settings.h"
@@ -63,6 +65,16 @@ public:
     const SceneDesc& scene() const { return scene_; }
     double reference_radiance() const { return L_ref_; }
 
+    // --- Lights and world (lights.cpp, leaf_mesh.cpp).
+    // Replaces light `index` of the scene; the next update() recomputes the direct light.
+    void set_light(int index, const LightDesc& light);
+    // Irradiance / pi arriving at the front side at every corner (lighting only: what a white
+    // surface would reflect; the surface's own emission and reflectance left out).
+    std::vector<float> corner_irradiance(int object) const;
+    // The object's front-side leaf elements as a T-vertex free mesh, with radiance (or
+    // irradiance / pi when lighting_only) per polygon.
+    LeafMesh leaf_mesh(int object, bool lighting_only) const;
+
 private:
     static constexpr int kRoundSweeps = 40;  // gathering sweeps between refinement rounds
     enum class Side { Keep, Src, Rcv, Settle };
@@ -107,6 +119,22 @@ private:
     std::vector<char> changed_senders(const std::vector<float>& snap) const;
     std::vector<float> snapshot() const;
     void prune_elements();
+    // lights.cpp
+    void light_prepare();                        // direct term of every leaf lacking it
+    void light_compute(const std::vector<int>& ids);
+    bool light_refine();                         // split leaves whose direct light varies
+    bool light_coarsen();                        // merge light splits no longer needed
+    void light_initial();                        // before the first linking: split and light
+    void light_contacts();                       // coplanar touching surfaces (a box on a floor)
+    bool light_in_contact(int surface, const Vec3& p) const;
+    bool light_corner_in_contact(const Primitive& p, int k) const;
+    void light_keep(std::vector<int>& refs);     // pruning keeps light-split children
+    double light_power(double total_area) const; // for the reference radiance
+    Rgb light_direct(int node) const;
+    Rgb leaf_irradiance(int leaf) const;
+    LightState lights_;
+    // output.cpp: per-corner values of any per-leaf quantity
+    std::vector<float> corner_values(int object, const std::function<Rgb(int)>& leaf_value) const;
     // solver.cpp
     void compute_reference();
     void compute_sealed();

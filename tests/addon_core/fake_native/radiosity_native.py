@@ -37,10 +37,35 @@ class Settings:
         return s
 
 
+class LightType:
+    POINT, SPOT, SUN, SKY = "POINT", "SPOT", "SUN", "SKY"
+
+
+class Light:
+    """Plumbing only: the stand-in ignores lights when solving."""
+    def __init__(self):
+        self.name, self.type = "", LightType.POINT
+        self.position, self.direction, self.intensity = (0.0, 0.0, 0.0), (0.0, 0.0, -1.0), (0.0, 0.0, 0.0)
+        self.radius = self.angle = self.spot_blend = 0.0
+        self.spot_size = np.pi
+        self.spot_cos_falloff = False
+
+
 class Scene:
     def __init__(self):
         self.clusters = []
         self.objects = []
+        self.lights = []
+
+    def add_light(self, light):
+        if min(light.intensity) < 0:
+            raise ValueError(f"light '{light.name}': negative intensity")
+        self.lights.append(light)
+        return len(self.lights) - 1
+
+    @property
+    def light_count(self):
+        return len(self.lights)
 
     def add_cluster(self, name, parent=-1):
         if parent != -1 and not 0 <= parent < len(self.clusters):
@@ -49,7 +74,7 @@ class Scene:
         return len(self.clusters) - 1
 
     def add_object(self, name, cluster, vertices, loop_starts, loop_totals, corner_verts,
-                   reflectance, emission, two_sided=None):
+                   reflectance, emission, two_sided=None, occluder=True):
         v = np.array(vertices, dtype=np.float64)
         ls = np.array(loop_starts, dtype=np.int64)
         lt = np.array(loop_totals, dtype=np.int64)
@@ -111,6 +136,20 @@ class Solver:
         self._base = [o["v"].copy() for o in scene.objects]
 
     # -- dynamic API: record the change, update() re-solves from scratch (mode "incremental") --
+    def set_light(self, index, light):
+        self.scene.lights[index] = light
+
+    def corner_irradiance(self, object_id):
+        return self.corner_radiance(object_id)
+
+    def leaf_mesh(self, object_id, lighting_only=False):
+        """The input polygons themselves (the stand-in has no element hierarchy)."""
+        o = self.scene.objects[object_id]
+        rad = self.corner_radiance(object_id)
+        return {"vertices": o["v"].copy(), "loop_totals": o["lt"].astype(np.int32),
+                "corner_verts": o["cv"].astype(np.int32), "values": rad[o["ls"]].astype(np.float32),
+                "source_face": np.arange(len(o["ls"]), dtype=np.int32)}
+
     def move_object(self, object_id, matrix):
         m = np.asarray(matrix, dtype=np.float64)
         if m.shape != (4, 4) or not np.isfinite(m).all():

@@ -1,0 +1,60 @@
+// Blender lights that are not surfaces (point, spot, sun) and a uniform world (sky): their
+// direct light is computed at the leaf elements with shadow rays and enters the radiosity
+// system as reflected radiance rho * E / pi, so it bounces through the links from there.
+// Area lights are not here: the add-on hands them in as emitting one-sided polygons.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "radiosity/vec.h"
+
+namespace radiosity {
+
+// Units are Cycles' after the add-on's conversion (measured, see addon/radiosity/core/lights.py):
+//   Point, Spot: `intensity` = radiant intensity (W/sr per colour): unoccluded irradiance
+//                I cos(theta) / d^2 (Blender: power W x colour / 4 pi).
+//   Sun:         `intensity` = irradiance on a surface facing the sun (Blender: strength W/m^2).
+//   Sky:         `intensity` = radiance of the uniform world (Blender: Background colour x strength).
+struct LightDesc {
+    enum class Type : int { Point = 0, Spot = 1, Sun = 2, Sky = 3 };
+    std::string name;
+    Type type = Type::Point;
+    Vec3 position;              // Point, Spot (world space)
+    Vec3 direction{0, 0, -1};   // Spot: cone axis; Sun: the direction the light travels (unit)
+    double radius = 0;          // Point, Spot: radius of the emitting disk (soft shadows)
+    double angle = 0;           // Sun: angular diameter of the sun disk (radians)
+    double spot_size = kPi;     // Spot: full cone angle (radians, (0, pi])
+    double spot_blend = 0;      // Spot: smooth fraction of the cone edge, [0, 1]
+    // Spot: intensity also falls with the cosine to the axis (Cycles before Blender 4.0).
+    bool spot_cos_falloff = false;
+    Rgb intensity;
+
+    // Throws InputError naming the light.
+    void validate() const;
+};
+
+// Per-node direct-light cache kept by the solver (lights.cpp). Values are irradiance / pi
+// (the unit of Node::G), so a leaf's outgoing radiance gains rho * direct.
+struct LightState {
+    std::vector<Rgb> direct;       // per node: area mean of the direct term over the element
+    std::vector<float> spread;     // per node: max - min over its four children's estimates
+    std::vector<uint8_t> have;     // per node: direct/spread computed for the current lights
+    std::vector<uint8_t> split;    // per node: subdivided because its direct light varies
+    std::vector<std::array<double, 12>> poses;  // object placements the cache was made with
+    std::vector<std::vector<int>> contacts;  // per surface: touching surfaces of other objects
+    bool recheck = false;          // lights or placements changed: try merging light splits
+};
+
+// A mesh of leaf elements (adaptive-mesh output): world-space vertices, Blender's polygon
+// layout, one value per polygon. T-vertex free: a vertex of a finer neighbour that lies on a
+// coarser element's edge is inserted into that element's boundary (an n-gon).
+struct LeafMesh {
+    std::vector<Vec3> vertices;
+    std::vector<int32_t> loop_totals, corner_verts;
+    std::vector<Rgb> values;       // per polygon
+    std::vector<int32_t> source_face;  // per polygon: the input polygon it subdivides
+};
+
+}  // namespace radiosity

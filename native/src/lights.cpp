@@ -1,0 +1,468 @@
+// Direct light of Blender point, spot and sun lights and of a uniform world at the leaf
+// elements (see lights.h). Each leaf keeps the area mean of its four children's estimates as
+// its direct term and their spread as the refinement criterion, so a leaf split for its direct
+// light already knows what its children will see.
+#include "radiosity/lights.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "radiosity/parallel.h"
+#include "radiosity/solver.h"
+
+namespace radiosity {
+
+void LightDesc::validate() const {
+    auto bad = [this](const std::string& what) { throw InputError("light '" + name + "': " + what); };
+    if (int(type) < 0 || int(type) > 3) bad("unknown type");
+    if (!finite(position) || !finite(direction)) bad("position or direction is not finite");
+    if (!finite(intensity)) bad("intensity is not finite");
+    for (int k = 0; k < 3; ++k)
+        if (intensity[k] < 0) bad("negative intensity");
+    if ((type == Type::Spot || type == Type::Sun) && !(length(direction) > 0)) bad("zero direction");
+    if (!(std::isfinite(radius) && radius >= 0)) bad("radius must be >= 0");
+    if (!(std::isfinite(angle) && angle >= 0 && angle <= kPi)) bad("sun angle must be in [0, pi]");
+    if (!(std::isfinite(spot_size) && spot_size > 0 && spot_size <= kPi)) bad("spot size must be in (0, pi]");
+    if (!(std::isfinite(spot_blend) && spot_blend >= 0 && spot_blend <= 1)) bad("spot blend must be in [0, 1]");
+}
+
+int SceneDesc::add_light(LightDesc l) {
+    l.validate();
+    l.direction = normalize(l.direction);
+    lights_.push_back(std::move(l));
+    return int(lights_.size()) - 1;
+}
+
+namespace {
+
+// A light in the solver's internal frame (geometry divided by `unit`): intensities of point
+// and spot lights are scaled by 1/unit^2 so that I / d_internal^2 is the world irradiance.
+struct ILight {
+    LightDesc::Type type;
+    Vec3 pos, dir;
+    double radius = 0, cos_half = -1, smooth = 0, sun_cos = 1;
+    bool cos_falloff = false;
+    Rgb I;
+    uint64_t salt = 0;
+};
+
+std::vector<ILight> internal_lights(const SceneDesc& scene, const Hierarchy& h) {
+    std::vector<ILight> out;
+    uint64_t k = 0;
+    for (const LightDesc& d : scene.lights()) {
+        ++k;
+        if (d.intensity.max() <= 0) continue;
+        ILight l;
+        l.type = d.type;
+        l.pos = (d.position - h.origin) / h.unit;
+        l.dir = normalize(d.direction);
+        l.radius = d.radius / h.unit;
+        l.I = d.type == LightDesc::Type::Point || d.type == LightDesc::Type::Spot ? d.intensity / (h.unit * h.unit)
+                                                                                   : d.intensity;
+        l.cos_half = d.type == LightDesc::Type::Spot ? std::cos(0.5 * d.spot_size) : -1.0;
+        // Cycles' spot edge: smoothstep over the outer `blend` part of (1 - cos_half).
+        l.smooth = (1.0 - l.cos_half) * d.spot_blend;
+        l.cos_falloff = d.spot_cos_falloff;
+        l.sun_cos = std::cos(0.5 * d.angle);
+        l.salt = Hierarchy::mix(0x11947u, k);
+        out.push_back(l);
+    }
+    return out;
+}
+
+double spot_mask(const ILight& l, const Vec3& from_light) {
+    if (l.type != LightDesc::Type::Spot) return 1.0;
+    double z = dot(from_light, l.dir);
+    if (z <= l.cos_half) return 0.0;
+    double m = 1.0;
+    double t = z - l.cos_half;
+    if (l.smooth > 0 && t < l.smooth) {
+        double x = t / l.smooth;
+        m = x * x * (3 - 2 * x);
+    }
+    return l.cos_falloff ? m * z : m;
+}
+
+void frame(const Vec3& w, Vec3& u, Vec3& v) {
+    Vec3 t = std::fabs(w.x) > 0.5 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
+    u = normalize(cross(w, t));
+    v = cross(w, u);
+}
+
+// What one child's samples say about a light.
+struct Sampled {
+    Rgb mean;           // irradiance / pi, visibility included
+    double var = 0;     // variance of the mean (max channel)
+    double unocc = 0;   // mean without visibility (max channel)
+    bool partial = false;  // some samples that could see the light did, some did not
+};
+
+// Monte Carlo estimate of irradiance / pi over polygon `poly` (normal n) from one light, with
+// visibility; m stratified samples.
+template <class Contact>
+Sampled estimate(const ILight& l, const Poly& poly, const Vec3& n, int m, Rng& rng, const Visibility& vis,
+                 double lift, double far, const Contact& contact) {
+    double s1 = 0, s2 = 0, s_unocc = 0;
+    int seen = 0, hidden = 0;
+    Vec3 su, sv;  // sun cap frame
+    if (l.type == LightDesc::Type::Sun) frame(-l.dir, su, sv);
+    Vec3 nu, nv;  // hemisphere frame
+    if (l.type == LightDesc::Type::Sky) frame(n, nu, nv);
+    for (int i = 0; i < m; ++i) {
+        const Vec3 p = poly.sample((i + rng.next()) / m, rng.next());
+        const Vec3 o = p + n * lift;
+        const double a = rng.next(), b = rng.next();
+        const bool touching = contact(p);
+        double f = 0, u = 0;  // scalar factor of l.I, with and without visibility
+        switch (l.type) {
+            case LightDesc::Type::Sky: {
+                // Cosine-weighted direction: the estimator of E/pi is L_sky x visibility.
+                double phi = 2 * kPi * a, sr = std::sqrt(b);
+                Vec3 d = nu * (std::cos(phi) * sr) + nv * (std::sin(phi) * sr) + n * std::sqrt(1 - b);
+                u = 1.0;
+                if (!touching && !vis.occluded(o, o + d * far, 0.0)) f = 1.0;
+                break;
+            }
+            case LightDesc::Type::Sun: {
+                // Uniform on the sun's cap of directions (toward the sun).
+                double ct = 1 - a * (1 - l.sun_cos), st = std::sqrt(std::max(0.0, 1 - ct * ct)), phi = 2 * kPi * b;
+                Vec3 d = su * (std::cos(phi) * st) + sv * (std::sin(phi) * st) + (-l.dir) * ct;
+                double c = dot(n, d);
+                if (c <= 0) break;
+                u = c / kPi;
+                if (!touching && !vis.occluded(o, o + d * far, 0.0)) f = u;
+                break;
+            }
+            default: {
+                // A disk of the light's radius facing the receiving point (Cycles' model of a
+                // point light with a radius), radiance I / (pi r^2): uniform samples on it.
+                Vec3 q = l.pos;
+                Vec3 w = normalize(p - l.pos);
+                if (l.radius > 0) {
+                    Vec3 u, v;
+                    frame(w, u, v);
+                    double r = l.radius * std::sqrt(a), phi = 2 * kPi * b;
+                    q = l.pos + u * (r * std::cos(phi)) + v * (r * std::sin(phi));
+                }
+                Vec3 d = q - p;
+                double d2 = length2(d);
+                if (d2 <= 0) break;
+                Vec3 dn = d / std::sqrt(d2);
+                double cp = dot(n, dn), cq = l.radius > 0 ? -dot(w, dn) : 1.0;
+                if (cp <= 0 || cq <= 0) break;
+                double mask = spot_mask(l, w);
+                if (mask <= 0) break;
+                u = cp * cq * mask / (d2 * kPi);
+                if (!touching && !vis.occluded(o, q)) f = u;
+                break;
+            }
+        }
+        s1 += f;
+        s2 += f * f;
+        s_unocc += u;
+        if (u > 0) (f > 0 ? seen : hidden)++;
+    }
+    Sampled r;
+    const double mean = s1 / m, imax = l.I.max();
+    r.mean = l.I * mean;
+    r.var = (m > 1 ? std::max(0.0, s2 / m - mean * mean) / (m - 1) : mean * mean) * imax * imax;
+    r.unocc = s_unocc / m * imax;
+    r.partial = seen > 0 && hidden > 0;
+    return r;
+}
+
+}  // namespace
+
+void Solver::set_light(int index, const LightDesc& l) {
+    if (index < 0 || index >= int(scene_.lights().size()))
+        throw InputError("set_light: unknown light " + std::to_string(index));
+    l.validate();
+    LightDesc d = l;
+    d.direction = normalize(d.direction);
+    scene_.lights_mut()[index] = d;
+    std::fill(lights_.have.begin(), lights_.have.end(), 0);
+    lights_.recheck = true;
+    materials_changed_ = true;  // the update path re-derives the reference radiance and re-solves
+}
+
+double Solver::light_power(double total_area) const {
+    // Flux the lights bring into the scene, in radiance x internal area (the units of the
+    // emitters' sum in compute_reference): a Lambertian emitter of radiance L and area A
+    // radiates pi L A, so each light counts as power / pi.
+    double p = 0;
+    for (const ILight& l : internal_lights(scene_, h_)) {
+        switch (l.type) {
+            case LightDesc::Type::Point: p += 4 * l.I.max(); break;
+            case LightDesc::Type::Spot: p += 2 * (1 - l.cos_half) * l.I.max(); break;
+            case LightDesc::Type::Sun: p += 0.25 * total_area * l.I.max() / kPi; break;  // a convex scene's mean projection
+            case LightDesc::Type::Sky: p += 0.5 * total_area * l.I.max(); break;           // half the sky, unoccluded
+        }
+    }
+    return p;
+}
+
+Rgb Solver::light_direct(int id) const {
+    return size_t(id) < lights_.have.size() && lights_.have[id] ? lights_.direct[id] : Rgb{};
+}
+
+void Solver::light_prepare() {
+    if (scene_.lights().empty()) return;
+    // Placements changed since the cache was made (an update moved objects): every shadow may
+    // have changed.
+    std::vector<std::array<double, 12>> poses(poses_.size());
+    for (size_t o = 0; o < poses_.size(); ++o) {
+        std::copy(poses_[o].R, poses_[o].R + 9, poses[o].begin());
+        poses[o][9] = poses_[o].t.x, poses[o][10] = poses_[o].t.y, poses[o][11] = poses_[o].t.z;
+    }
+    if (poses != lights_.poses) {
+        std::fill(lights_.have.begin(), lights_.have.end(), 0);
+        lights_.recheck = !lights_.poses.empty();
+        lights_.contacts.clear();
+        lights_.poses = poses;
+    }
+    const size_t nn = h_.nodes.size();
+    lights_.direct.resize(nn);
+    lights_.spread.resize(nn, 0.f);
+    lights_.have.resize(nn, 0);
+    lights_.split.resize(nn, 0);
+    std::vector<int> todo;
+    for (int id : leaves_)
+        if (!lights_.have[id]) todo.push_back(id);
+    light_compute(todo);
+}
+
+void Solver::light_contacts() {
+    // Surfaces of other objects lying in the same plane and facing the other way: where they
+    // overlap, the two touch (a box standing on a floor). Rays from there start between the
+    // two and would escape through the other one; Cycles finds such points unlit, and so
+    // does a real contact. Found by walking the cluster tree by boxes.
+    lights_.contacts.assign(h_.surfaces.size(), {});
+    const double tol = 1e-7 * h_.scene_diag;
+    parallel_for(h_.surfaces.size(), settings_.threads, [&](size_t si) {
+        const Node& n = h_.nodes[h_.surfaces[si].root];
+        Aabb b = n.box;
+        b.lo -= Vec3{tol, tol, tol};
+        b.hi += Vec3{tol, tol, tol};
+        auto overlaps = [&b](const Aabb& o) {
+            for (int a = 0; a < 3; ++a)
+                if (o.lo[a] > b.hi[a] || o.hi[a] < b.lo[a]) return false;
+            return true;
+        };
+        std::vector<int> stack{h_.root};
+        while (!stack.empty()) {
+            const int id = stack.back();
+            stack.pop_back();
+            const Node& m = h_.nodes[id];
+            if (!overlaps(m.box)) continue;
+            if (m.is_cluster()) {
+                for (int c : m.children) stack.push_back(c);
+                continue;
+            }
+            if (m.object == n.object || dot(m.normal, n.normal) > -1 + 1e-9) continue;
+            if (std::fabs(dot(m.poly.v[0] - n.poly.v[0], n.normal)) > tol) continue;
+            if (!scene_.objects()[m.object].occluder) continue;
+            lights_.contacts[si].push_back(m.surface);
+        }
+    }, 32);
+}
+
+bool Solver::light_in_contact(int surface, const Vec3& p) const {
+    if (size_t(surface) >= lights_.contacts.size()) return false;
+    const double tol = 1e-9 * h_.scene_diag;
+    for (int t : lights_.contacts[surface]) {
+        const Node& m = h_.nodes[h_.surfaces[t].root];
+        bool inside = true;
+        for (int k = 0; k < m.poly.n && inside; ++k) {
+            const Vec3 e = m.poly.v[(k + 1) % m.poly.n] - m.poly.v[k];
+            inside = dot(cross(e, p - m.poly.v[k]), m.normal) >= -tol * length(e);
+        }
+        if (inside) return true;
+    }
+    return false;
+}
+
+bool Solver::light_corner_in_contact(const Primitive& p, int k) const {
+    // Cycles shades each corner inside its own face: at the foot of a box standing on the
+    // floor, the floor corners under the box are unlit and those beside it lit. Corners in
+    // contact are therefore not averaged with the others (output.cpp).
+    if (lights_.contacts.empty() || p.front < 0) return false;
+    const Vec3 inside = p.poly.v[k] + (p.poly.centroid() - p.poly.v[k]) * 1e-4;
+    return light_in_contact(p.front, inside);
+}
+
+void Solver::light_compute(const std::vector<int>& ids) {
+    if (ids.empty()) return;
+    if (lights_.contacts.size() != h_.surfaces.size()) light_contacts();
+    const std::vector<ILight> ls = internal_lights(scene_, h_);
+    const double far = 4.0 * h_.scene_diag, lift = 1e-5 * h_.scene_diag;
+    // Per child: half the link rays (an element costs two links), twice that for the sky,
+    // whose hemisphere integral is noisier than a small light's. Fewer hid real shadow edges
+    // behind the noise allowance below.
+    const int m = std::max(4, settings_.rays_per_link / 2);
+    parallel_for(ids.size(), settings_.threads, [&](size_t i) {
+        const int id = ids[i];
+        const Node& n = h_.nodes[id];
+        Rgb sum, lo = Rgb::all(1e300), hi = Rgb::all(-1e300);
+        double area = 0, var_max = 0, edge = 0;
+        for (int k = 0; k < 4; ++k) {
+            const Poly c = n.poly.child(k);
+            const double a = c.area();
+            Rgb e;
+            double var = 0;
+            for (const ILight& l : ls) {
+                Rng rng(Hierarchy::mix(Hierarchy::mix(settings_.seed ^ l.salt, n.key), uint64_t(k)));
+                const bool sky = l.type == LightDesc::Type::Sky;
+                const Sampled r = estimate(l, c, n.normal, sky ? 4 * m : m, rng, *vis_, lift, far,
+                                           [&](const Vec3& p) { return light_in_contact(n.surface, p); });
+                e += r.mean;
+                if (sky) var += r.var;
+                // A shadow edge of a small light crosses this child (the HR visibility error):
+                // its light may be anywhere between none and all of the unoccluded value.
+                else if (r.partial) edge = std::max(edge, r.unocc);
+            }
+            sum += e * a;
+            area += a;
+            lo = cmin(lo, e);
+            hi = cmax(hi, e);
+            var_max = std::max(var_max, var);
+        }
+        lights_.direct[id] = area > 0 ? sum / area : Rgb{};
+        // Spread of the children beyond what the sky's noise explains (one sigma of a
+        // difference: the sky's occlusion is smooth, noise alone must not refine it to the
+        // resolution limit), or a small light's shadow edge inside a child.
+        lights_.spread[id] = float(std::max({0.0, (hi - lo).max() - std::sqrt(2.0 * var_max), edge}));
+        lights_.have[id] = 1;
+    }, 8);
+}
+
+void Solver::light_initial() {
+    // The initial linking judges links by their senders' radiance: without this, surfaces lit
+    // only by lamps would look dark to it (their light arrives only with the first sweep) and
+    // the first links would be too coarse, leaving the refinement rounds to catch up.
+    if (scene_.lights().empty()) return;
+    collect_receivers();
+    light_refine();
+    collect_receivers();
+    sweep(false, nullptr);
+}
+
+bool Solver::light_coarsen() {
+    // After a light moved or changed (or objects moved), elements split only for the old
+    // direct light merge back where the new light is smooth, bottom-up, so an incremental
+    // update ends with the elements a full solve would make (3.4's un-refinement, for lights).
+    std::vector<char> referenced(h_.nodes.size(), 0);
+    for (const Link& l : links_)
+        if (!l.dead) referenced[l.src] = referenced[l.rcv] = 1;
+    bool any = false;
+    for (;;) {
+        std::vector<int> cand;
+        for (size_t id = 0; id < lights_.split.size() && id < h_.nodes.size(); ++id) {
+            const Node& n = h_.nodes[id];
+            if (!lights_.split[id] || n.dead || n.children.empty()) continue;
+            bool ok = true;
+            for (int c : n.children) ok &= h_.nodes[c].children.empty() && !referenced[c];
+            if (ok) cand.push_back(int(id));
+        }
+        std::vector<int> todo;
+        for (int id : cand)
+            if (!lights_.have[id]) todo.push_back(id);
+        light_compute(todo);
+        bool changed = false;
+        for (int id : cand) {
+            Node& n = h_.nodes[id];
+            if (n.rho.max() * lights_.spread[id] > threshold_) continue;
+            for (int c : n.children) {
+                h_.nodes[c].dead = true;
+                std::vector<int>().swap(h_.nodes[c].in_links);
+                std::vector<int>().swap(h_.nodes[c].out_links);
+            }
+            stats_.element_nodes -= int64_t(n.children.size());
+            n.children.clear();
+            lights_.split[id] = 0;
+            changed = true;
+        }
+        if (!changed) break;
+        any = true;
+    }
+    if (any) collect_receivers();
+    return any;
+}
+
+bool Solver::light_refine() {
+    if (scene_.lights().empty()) return false;
+    if (lights_.recheck) {
+        lights_.recheck = false;
+        light_coarsen();
+    }
+    // Leaves whose direct light varies across them more than the threshold split; their
+    // children are evaluated at once and split again if needed, so a shadow edge reaches
+    // the resolution limit in one round.
+    std::vector<int> wave;
+    for (int id : leaves_)
+        if (size_t(id) < lights_.have.size() && lights_.have[id]) wave.push_back(id);
+    bool changed = false;
+    while (!wave.empty()) {
+        std::vector<int> kids;
+        for (int id : wave) {
+            const Node& n = h_.nodes[id];
+            if (n.dead || !n.children.empty()) continue;
+            if (n.rho.max() * lights_.spread[id] <= threshold_ || !can_split(id)) continue;
+            h_.subdivide(id);
+            stats_.element_nodes += 4;
+            for (int c : h_.nodes[id].children) kids.push_back(c);
+            changed = true;
+        }
+        const size_t nn = h_.nodes.size();
+        lights_.direct.resize(nn);
+        lights_.spread.resize(nn, 0.f);
+        lights_.have.resize(nn, 0);
+        lights_.split.resize(nn, 0);
+        for (int c : kids) lights_.split[h_.nodes[c].parent] = 1;
+        light_compute(kids);
+        wave.swap(kids);
+    }
+    return changed;
+}
+
+void Solver::light_keep(std::vector<int>& refs) {
+    // Children made for the direct light are referenced by it (pruning must keep them) while
+    // the light still varies across their parent; otherwise the split is forgotten and the
+    // children go like any unreferenced element.
+    std::vector<int> split, todo;
+    for (size_t id = 0; id < lights_.split.size() && id < h_.nodes.size(); ++id)
+        if (lights_.split[id] && !h_.nodes[id].dead && !h_.nodes[id].children.empty()) {
+            split.push_back(int(id));
+            if (!lights_.have[id]) todo.push_back(int(id));
+        }
+    light_compute(todo);
+    for (int id : split) {
+        if (h_.nodes[id].rho.max() * lights_.spread[id] <= threshold_) {
+            lights_.split[id] = 0;
+            continue;
+        }
+        for (int c : h_.nodes[id].children) ++refs[c];
+    }
+}
+
+Rgb Solver::leaf_irradiance(int id) const {
+    // What push_down gathers for this leaf (gather.cpp), without the reflectance: light
+    // arriving through element links on the leaf and its ancestors, and through cluster links
+    // above its surface times its own cosine; closure-corrected; plus the direct term.
+    const Node& n = h_.nodes[id];
+    Rgb acc;
+    for (int a = id; a >= 0 && !h_.nodes[a].is_cluster(); a = h_.nodes[a].parent)
+        if (!h_.nodes[a].in_links.empty()) acc += h_.nodes[a].G;
+    for (int a : h_.ancestors_of_surface(n.surface))
+        for (int li : h_.nodes[a].in_links) {
+            const Link& l = links_[li];
+            double c = -dot(n.normal, l.dir);
+            if (c > 0) acc += l.value * c;
+        }
+    return acc * n.closure + light_direct(id);
+}
+
+std::vector<float> Solver::corner_irradiance(int object) const {
+    return corner_values(object, [this](int id) { return leaf_irradiance(id); });
+}
+
+}  // namespace radiosity

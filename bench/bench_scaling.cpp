@@ -2,8 +2,8 @@
 // rooms from ~1k to ~1M input triangles, and the log-log least-squares exponent of each.
 //
 //   bench_scaling [--quick] [--preset DRAFT|MEDIUM] [--families furniture,subdivided]
-//                 [--sizes 1000,4000,...] [--timeout SECONDS] [--jsonl FILE]
-//   bench_scaling --one FAMILY N PRESET      (one size, in this process; prints a JSON line)
+//                 [--sizes 1000,4000,...] [--timeout SECONDS] [--max-mb 12000] [--jsonl FILE]
+//   bench_scaling --one FAMILY N PRESET [MAX_MB]   (one size, in this process; a JSON line)
 //
 // Families (all: a 400 x 400 x 250 room of inward faces, a 100 x 100 ceiling light of
 // radiance 12 one unit below the ceiling, everything triangulated):
@@ -13,8 +13,9 @@
 //   subdivided - the same room with 4 boxes, every face subdivided uniformly (r x r cells a room
 //                face, r/2 x r/2 a box face), so n grows by subdivision only.
 // Each size runs in a fresh process (this binary again, via /proc/self/exe, under `timeout`),
-// so the peak memory (VmHWM) is that size's alone; a family stops at its first size that times
-// out or fails. --quick: 1k and 4k only (for CI; no timing is judged anywhere).
+// so the peak memory (VmHWM) is that size's alone, with its data segment limited to --max-mb (the
+// machine is shared: a size that needs more fails instead of pushing other work out); a family
+// stops at its first size that times out or fails. --quick: 1k and 4k only (for CI; no timing is judged anywhere).
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -28,6 +29,7 @@
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <new>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -155,7 +157,12 @@ long status_kb(const char* key) {
     return -1;
 }
 
-int run_one(const std::string& family, int64_t n, const std::string& preset) {
+int run_one(const std::string& family, int64_t n, const std::string& preset, long max_mb) {
+    if (max_mb > 0) {  // a shared machine: fail this size (bad_alloc) rather than push others out
+        rlimit lim{};
+        lim.rlim_cur = lim.rlim_max = static_cast<rlim_t>(max_mb) << 20;
+        setrlimit(RLIMIT_DATA, &lim);
+    }
     using clk = std::chrono::steady_clock;
     auto t0 = clk::now();
     SceneDesc scene = family == "furniture" ? furniture(n) : subdivided(n);
@@ -221,16 +228,26 @@ int main(int argc, char** argv) {
     std::vector<std::string> args(argv + 1, argv + argc);
     if (!args.empty() && args[0] == "--one") {
         if (args.size() < 4) {
-            std::fprintf(stderr, "usage: bench_scaling --one FAMILY N PRESET\n");
+            std::fprintf(stderr, "usage: bench_scaling --one FAMILY N PRESET [MAX_MB]\n");
             return 2;
         }
-        return run_one(args[1], std::atoll(args[2].c_str()), args[3]);
+        try {
+            return run_one(args[1], std::atoll(args[2].c_str()), args[3],
+                           args.size() > 4 ? std::atol(args[4].c_str()) : 0);
+        } catch (const std::bad_alloc&) {
+            std::printf("out of memory (the --max-mb limit)\n");
+            return 3;
+        } catch (const std::exception& e) {  // e.g. Embree's device cannot get memory either
+            std::printf("error: %s\n", e.what());
+            return 4;
+        }
     }
     bool quick = false;
     std::string preset = "DRAFT", jsonl;
     std::vector<std::string> families = {"furniture", "subdivided"};
     std::vector<int64_t> sizes = {1000, 4000, 16000, 64000, 256000, 1000000};
     int timeout = 600;
+    long max_mb = 12000;
     for (size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
         auto next = [&]() -> std::string {
@@ -247,6 +264,7 @@ int main(int argc, char** argv) {
             sizes.clear();
             for (auto& v : split(next(), ',')) sizes.push_back(std::atoll(v.c_str()));
         } else if (a == "--timeout") timeout = std::atoi(next().c_str());
+        else if (a == "--max-mb") max_mb = std::atol(next().c_str());
         else if (a == "--jsonl") jsonl = next();
         else {
             std::fprintf(stderr, "unknown argument %s\n", a.c_str());
@@ -259,8 +277,8 @@ int main(int argc, char** argv) {
     if (len <= 0) return 1;
     self[len] = 0;
 
-    std::printf("Scaling: preset %s, %d threads available, each size in a fresh process (timeout %d s)\n\n", preset.c_str(),
-                (int)sysconf(_SC_NPROCESSORS_ONLN), timeout);
+    std::printf("Scaling: preset %s, %d threads available, each size in a fresh process (timeout %d s, data limit %ld MB)\n\n", preset.c_str(),
+                (int)sysconf(_SC_NPROCESSORS_ONLN), timeout, max_mb);
     std::printf("| family | target n | triangles | objects | elements | links | cluster links | rays | bake s (wall) | CPU s | peak MB (VmHWM) | scene-only MB |\n");
     std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     std::fflush(stdout);
@@ -269,7 +287,7 @@ int main(int argc, char** argv) {
     for (const auto& fam : families) {
         for (int64_t n : sizes) {
             const std::string cmd = "timeout " + std::to_string(timeout) + " '" + self + "' --one " + fam + " " +
-                                    std::to_string(n) + " " + preset + " 2>&1";
+                                    std::to_string(n) + " " + preset + " " + std::to_string(max_mb) + " 2>&1";
             FILE* p = popen(cmd.c_str(), "r");
             std::string out, result;
             char buf[8192];
@@ -281,7 +299,8 @@ int main(int argc, char** argv) {
             if (result.empty() || rc != 0) {
                 const int code = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
                 stopped[fam] = "n = " + std::to_string(n) + ": " +
-                               (code == 124 ? "timed out after " + std::to_string(timeout) + " s"
+                               (code == 124   ? "timed out after " + std::to_string(timeout) + " s"
+                                : code == 3 ? "out of memory: over the " + std::to_string(max_mb) + " MB limit (--max-mb)"
                                             : "failed (exit " + std::to_string(code) + "): " +
                                                   out.substr(out.size() > 300 ? out.size() - 300 : 0));
                 std::printf("| %s | %lld | %s | | | | | | | | | |\n", fam.c_str(), (long long)n, stopped[fam].c_str());

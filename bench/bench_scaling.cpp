@@ -272,6 +272,7 @@ int main(int argc, char** argv) {
         }
     }
     if (quick) sizes = {1000, 4000};
+    if (!jsonl.empty()) std::ofstream(jsonl, std::ios::trunc);
     char self[4096];
     const ssize_t len = readlink("/proc/self/exe", self, sizeof(self) - 1);
     if (len <= 0) return 1;
@@ -308,6 +309,7 @@ int main(int argc, char** argv) {
                 break;
             }
             lines.push_back(result);
+            if (!jsonl.empty()) std::ofstream(jsonl, std::ios::app) << result;  // survives a kill
             const std::string& r = result;
             std::printf("| %s | %lld | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f | %.2f | %.2f | %.0f | %.0f |\n",
                         fam.c_str(), (long long)n, field(r, "triangles"), field(r, "objects"), field(r, "elements"),
@@ -340,9 +342,5 @@ int main(int argc, char** argv) {
                     slope(n, t), slope(n, cpu), slope(n, m), slope(n, mx), slope(n, e), slope(n, l), slope(n, ry));
     }
     for (const auto& [fam, why] : stopped) std::printf("\n%s stopped at %s\n", fam.c_str(), why.c_str());
-    if (!jsonl.empty()) {
-        std::ofstream f(jsonl);
-        for (const auto& r : lines) f << r;
-    }
     return 0;
 }

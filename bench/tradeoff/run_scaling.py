@@ -74,9 +74,15 @@ def main():
         cmd += ["--families", a.families]
     before = bt_run.machine()
     t0 = time.perf_counter()
-    out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
+    out = []
+    with subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True, bufsize=1) as proc:
+        for line in proc.stdout:      # streamed: progress shows as each size finishes
+            print(line, end="", flush=True)
+            out.append(line)
+    if proc.returncode != 0:
+        raise SystemExit(f"bench_scaling failed (exit {proc.returncode})")
+    out = "".join(out)
     total = time.perf_counter() - t0
-    print(out)
     rows = [json.loads(l) for l in open(jsonl) if l.strip()]
     if rows:
         plot(rows, os.path.join(out_dir, "scaling.png"))

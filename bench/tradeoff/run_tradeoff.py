@@ -1,7 +1,8 @@
 """Speed/accuracy trade-off of our bake against Cycles on the example scenes: one command.
 
     python3 bench/tradeoff/run_tradeoff.py [--quick] [--scenes cornell_box box_room ...]
-        [--runs 3] [--once-above 40] [--zip build/radiosity.zip] [--report-only]
+        [--runs 3] [--once-above 40] [--ref-spp 4096] [--presets ...] [--eps ...] [--spp ...]
+        [--zip build/radiosity.zip] [--report-only]
 
 For each scene: Debian's Blender runs tradeoff_scene.py (the cached Cycles reference or a new
 one, our bake at each preset and CUSTOM epsilon, Cycles at 16..1024 spp, interleaved); the JSON
@@ -42,6 +43,9 @@ def main():
     p.add_argument("--out-dir")
     p.add_argument("--ref-dir", default=os.path.join(HERE, "refs"))
     p.add_argument("--report-only", action="store_true")
+    p.add_argument("--presets", nargs="*", help="override: our presets")
+    p.add_argument("--eps", nargs="*", type=float, help="override: CUSTOM epsilons")
+    p.add_argument("--spp", nargs="*", type=int, help="override: Cycles sample counts")
     a = p.parse_args()
     scenes = a.scenes or (["cornell_box"] if a.quick else list(SCENES))
     out_dir = a.out_dir or (tempfile.mkdtemp(prefix="tradeoff-quick-") if a.quick
@@ -64,7 +68,12 @@ def main():
                 args += ["--ref-spp", a.ref_spp if cached else 256, "--presets", "DRAFT",
                          "--eps", "--spp", 16, 64]
             else:
-                args += ["--ref-spp", a.ref_spp, "--eps", *EPS.get(s, [0.2, 0.1, 0.02])]
+                eps = a.eps if a.eps is not None else EPS.get(s, [0.2, 0.1, 0.02])
+                args += ["--ref-spp", a.ref_spp, "--eps", *eps]
+                if a.presets is not None:
+                    args += ["--presets", *a.presets]
+                if a.spp is not None:
+                    args += ["--spp", *a.spp]
             args += ["--ref", ref]
             blend = os.path.join(REPO, "example_blends", f"{s}.blend")
             print(f"== {s} ({bt_run.machine()})", flush=True)

@@ -15,6 +15,7 @@ import os
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
 
 
@@ -80,6 +81,8 @@ def plot(d, path):
                        label=f"reference's own noise (est., {d['reference']['samples']} spp)")
         ax.set_xscale("log")
         ax.set_yscale("log")
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        ax.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         ax.set_xlabel("wall seconds (2 cores, median)")
         ax.set_ylabel(name)
         ax.grid(True, which="both", alpha=0.3)

@@ -25,9 +25,11 @@ def label(p):
     return p["preset"] if p["preset"] != "CUSTOM" else f"eps {p['eps']:g}"
 
 
-def cycles_time_at(cyc, err, key):
+def cycles_time_at(cyc, err, key, tkey="seconds"):
     """Cycles seconds at error `err` (log-log interpolation on its curve); (seconds, extrapolated)."""
-    pts = sorted(((c[key], c["seconds"]) for c in cyc), key=lambda t: -t[0])  # error falling
+    if any(c.get(tkey) is None or c[tkey] != c[tkey] for c in cyc):
+        return float("nan"), False
+    pts = sorted(((c[key], c[tkey]) for c in cyc), key=lambda t: -t[0])  # error falling
     le = np.log([e for e, _ in pts])
     lt = np.log([t for _, t in pts])
     x = math.log(err)
@@ -102,23 +104,27 @@ def cpu(p):
 def scene_table(d):
     cyc = [p for p in d["points"] if p["kind"] == "cycles"]
     lines = ["| config | runs | seconds (median) | CPU s | elements | links | rays | rRMSE | NRMSE | "
-             "mean ours/ref | rel. err p50 / p90 | Cycles s at our rRMSE | speed-up (rRMSE) | speed-up (NRMSE) |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "mean ours/ref | rel. err p50 / p90 | Cycles s at our rRMSE | speed-up (rRMSE) | speed-up (NRMSE) | "
+             "speed-up in CPU s (rRMSE) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for p in d["points"]:
         if p["kind"] == "ours":
             st = p["stats"]
             tc, ext = cycles_time_at(cyc, p["rrmse"], "rrmse")
             tn, extn = cycles_time_at(cyc, p["nrmse"], "nrmse")
+            tcpu, extc = cycles_time_at(cyc, p["rrmse"], "rrmse", "cpu_seconds")
+            our_cpu = p.get("cpu_seconds") or float("nan")
             lines.append(
                 f"| {label(p)} | {p['runs']} | {p['seconds']:.2f} | {cpu(p)} | {st['elements']:,} | "
                 f"{st['links']:,} | {st['rays']:,} | {p['rrmse']:.4f} | {p['nrmse']:.4f} | "
                 f"{p['mean_ratio']:.3f} | {p['rel_p50']:.3f} / {p['rel_p90']:.3f} | {tc:.2f}{' (extrap.)' if ext else ''} | "
                 f"{tc / p['seconds']:.2f}×{' (extrap.)' if ext else ''} | "
-                f"{tn / p['seconds']:.2f}×{' (extrap.)' if extn else ''} |")
+                f"{tn / p['seconds']:.2f}×{' (extrap.)' if extn else ''} | "
+                f"{tcpu / our_cpu:.2f}×{' (extrap.)' if extc else ''} |")
         else:
             lines.append(f"| {label(p)} | {p['runs']} | {p['seconds']:.2f} | {cpu(p)} | | | | "
                          f"{p['rrmse']:.4f} | {p['nrmse']:.4f} | {p['mean_ratio']:.3f} | "
-                         f"{p['rel_p50']:.3f} / {p['rel_p90']:.3f} | | | |")
+                         f"{p['rel_p50']:.3f} / {p['rel_p90']:.3f} | | | | |")
     return "\n".join(lines)
 
 
@@ -174,8 +180,8 @@ def main():
           "and the nearest segment was extended (Cycles error ∝ spp^-½, so this is a fair guess). "
           "The reference is itself noisy: its estimated share (Cycles' 1024-spp error × "
           "√(1024/(1024+N_ref))) is given per scene; errors near it cannot be resolved.", ""]
-    summary = ["| scene | preset | seconds | elements | rRMSE | NRMSE | speed-up vs Cycles at equal "
-               "rRMSE |", "|---|---|---|---|---|---|---|"]
+    summary = ["| scene | preset | seconds (wall) | CPU s | elements | rRMSE | NRMSE | speed-up vs "
+               "Cycles at equal rRMSE (wall; CPU) |", "|---|---|---|---|---|---|---|---|"]
     for d in data:
         cyc = [p for p in d["points"] if p["kind"] == "cycles"]
         png = f"tradeoff_{d['scene']}.png"
@@ -199,9 +205,11 @@ def main():
         for p in d["points"]:
             if p["kind"] == "ours" and p["preset"] != "CUSTOM":
                 tc, ext = cycles_time_at(cyc, p["rrmse"], "rrmse")
-                summary.append(f"| {d['scene']} | {p['preset']} | {p['seconds']:.2f} | "
+                tcpu, _ = cycles_time_at(cyc, p["rrmse"], "rrmse", "cpu_seconds")
+                our_cpu = p.get("cpu_seconds") or float("nan")
+                summary.append(f"| {d['scene']} | {p['preset']} | {p['seconds']:.2f} | {cpu(p)} | "
                                f"{p['stats']['elements']:,} | {p['rrmse']:.3f} | "
-                               f"{p['nrmse']:.3f} | {tc / p['seconds']:.2f}×"
+                               f"{p['nrmse']:.3f} | {tc / p['seconds']:.2f}×; {tcpu / our_cpu:.2f}×"
                                f"{' (extrap.)' if ext else ''} |")
     md += ["## Presets: what each costs and what error to expect", "", "\n".join(summary), ""]
     with open(os.path.join(a.out_dir, "tradeoff.md"), "w") as f:

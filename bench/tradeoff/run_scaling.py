@@ -49,6 +49,35 @@ def plot(rows, path):
     plt.close(fig)
 
 
+def slope(xs, ys):
+    import numpy as np
+    if len(xs) < 2:
+        return float("nan")
+    return float(np.polyfit(np.log(xs), np.log(ys), 1)[0])
+
+
+def table(rows):
+    """The same table and fits bench_scaling prints, from rows of several runs."""
+    out = ["| family | triangles | objects | elements | links | cluster links | rays | bake s (wall) "
+           "| CPU s | peak MB (VmHWM) |", "|---|---|---|---|---|---|---|---|---|---|"]
+    fams = sorted(set(r["family"] for r in rows))
+    for fam in fams:
+        for r in sorted((r for r in rows if r["family"] == fam), key=lambda r: r["triangles"]):
+            out.append(f"| {fam} | {r['triangles']:,} | {r['objects']} | {r['elements']:,} | "
+                       f"{r['links']:,} | {r['cluster_links']:,} | {r['rays']:,} | "
+                       f"{r['seconds']:.2f} | {r['cpu_seconds']:.2f} | {r['vmhwm_kb'] / 1024:.0f} |")
+    out += ["", "Log-log least-squares exponents (y ~ n^b, n = input triangles):", "",
+            "| family | sizes | wall time | CPU time | peak memory | elements | links | rays |",
+            "|---|---|---|---|---|---|---|---|"]
+    for fam in fams:
+        rs = [r for r in rows if r["family"] == fam]
+        n = [r["triangles"] for r in rs]
+        f = [slope(n, [r[k] for r in rs]) for k in ("seconds", "cpu_seconds", "vmhwm_kb",
+                                                     "elements", "links", "rays")]
+        out.append(f"| {fam} | {len(rs)} | " + " | ".join(f"{v:.2f}" for v in f) + " |")
+    return "\n".join(out)
+
+
 def main():
     p = argparse.ArgumentParser(prog="run_scaling.py")
     p.add_argument("--quick", action="store_true")
@@ -59,7 +88,25 @@ def main():
     p.add_argument("--families")
     p.add_argument("--exe", default=os.path.join(REPO, "build", "bench", "bench_scaling"))
     p.add_argument("--out-dir")
+    p.add_argument("--from-jsonl", nargs="*",
+                   help="no run: merge the rows of earlier runs' JSONL files (later rows of the "
+                        "same family and size win), refit, rewrite the table and plot")
     a = p.parse_args()
+    if a.from_jsonl:
+        out_dir = a.out_dir or os.path.join(REPO, "bench", "results")
+        merged = {}
+        for path in a.from_jsonl:
+            for l in open(path):
+                if l.strip():
+                    r = json.loads(l)
+                    merged[(r["family"], r["target"])] = r
+        rows = list(merged.values())
+        with open(os.path.join(out_dir, "scaling_data.jsonl"), "w") as f:
+            for r in sorted(rows, key=lambda r: (r["family"], r["triangles"])):
+                f.write(json.dumps(r) + "\n")
+        plot(rows, os.path.join(out_dir, "scaling.png"))
+        print(table(rows))
+        return
     out_dir = a.out_dir or (tempfile.mkdtemp(prefix="scaling-quick-") if a.quick
                             else os.path.join(REPO, "bench", "results"))
     os.makedirs(out_dir, exist_ok=True)

@@ -57,25 +57,28 @@ def ref_noise(d, cyc, key):
 def plot(d, path):
     ours = [p for p in d["points"] if p["kind"] == "ours"]
     cyc = sorted((p for p in d["points"] if p["kind"] == "cycles"), key=lambda p: p["spp"])
+    # CPU seconds when every point has them (load-robust on a shared machine), else wall seconds.
+    tk = "cpu_seconds" if all(p.get("cpu_seconds") == p.get("cpu_seconds") and p.get("cpu_seconds")
+                              for p in d["points"]) else "seconds"
     fig, axes = plt.subplots(1, 2, figsize=(12, 5))
     for ax, key, name in ((axes[0], "rrmse", "rRMSE (per-corner relative)"),
                           (axes[1], "nrmse", "NRMSE")):
         if cyc:
-            ax.plot([c["seconds"] for c in cyc], [c[key] for c in cyc], "o-", color="tab:blue",
-                    label="Cycles (16…1024 spp)")
+            ax.plot([c[tk] for c in cyc], [c[key] for c in cyc], "o-", color="tab:blue",
+                    label=f"Cycles ({cyc[0]['spp']}…{cyc[-1]['spp']} spp)")
             for c in cyc:
-                ax.annotate(f"{c['spp']}", (c["seconds"], c[key]), textcoords="offset points",
+                ax.annotate(f"{c['spp']}", (c[tk], c[key]), textcoords="offset points",
                             xytext=(4, 4), fontsize=8, color="tab:blue")
         custom = sorted((p for p in ours if p["preset"] == "CUSTOM"), key=lambda p: -p["eps"])
         if custom:
-            ax.plot([p["seconds"] for p in custom], [p[key] for p in custom], "s--",
+            ax.plot([p[tk] for p in custom], [p[key] for p in custom], "s--",
                     color="tab:orange", label="ours, CUSTOM ε")
             for p in custom:
-                ax.annotate(f"ε={p['eps']:g}", (p["seconds"], p[key]), textcoords="offset points",
+                ax.annotate(f"ε={p['eps']:g}", (p[tk], p[key]), textcoords="offset points",
                             xytext=(4, -10), fontsize=8, color="tab:orange")
         for p, m in zip([p for p in ours if p["preset"] != "CUSTOM"], "^DP"):
-            ax.plot([p["seconds"]], [p[key]], m, color="tab:red", markersize=9)
-            ax.annotate(p["preset"], (p["seconds"], p[key]), textcoords="offset points",
+            ax.plot([p[tk]], [p[key]], m, color="tab:red", markersize=9)
+            ax.annotate(p["preset"], (p[tk], p[key]), textcoords="offset points",
                         xytext=(6, 2), fontsize=9, color="tab:red", weight="bold")
         noise = ref_noise(d, cyc, key)
         if noise == noise:
@@ -85,7 +88,8 @@ def plot(d, path):
         ax.set_yscale("log")
         ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         ax.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
-        ax.set_xlabel("wall seconds (2 cores, median)")
+        ax.set_xlabel("CPU seconds (process, all threads; median)" if tk == "cpu_seconds"
+                      else "wall seconds (2 cores, median)")
         ax.set_ylabel(name)
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)

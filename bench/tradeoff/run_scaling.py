@@ -59,22 +59,26 @@ def slope(xs, ys):
 def table(rows):
     """The same table and fits bench_scaling prints, from rows of several runs."""
     out = ["| family | triangles | objects | elements | links | cluster links | rays | bake s (wall) "
-           "| CPU s | peak MB (VmHWM) |", "|---|---|---|---|---|---|---|---|---|---|"]
+           "| CPU s | peak MB (VmHWM) | history links | capped |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     fams = sorted(set(r["family"] for r in rows))
     for fam in fams:
         for r in sorted((r for r in rows if r["family"] == fam), key=lambda r: r["triangles"]):
             out.append(f"| {fam} | {r['triangles']:,} | {r['objects']} | {r['elements']:,} | "
                        f"{r['links']:,} | {r['cluster_links']:,} | {r['rays']:,} | "
-                       f"{r['seconds']:.2f} | {r['cpu_seconds']:.2f} | {r['vmhwm_kb'] / 1024:.0f} |")
-    out += ["", "Log-log least-squares exponents (y ~ n^b, n = input triangles):", "",
+                       f"{r['seconds']:.2f} | {r['cpu_seconds']:.2f} | {r['vmhwm_kb'] / 1024:.0f} | "
+                       f"{r['history_links']:,} | {'yes' if r['capped'] else 'no'} |")
+    out += ["", "Log-log least-squares exponents (y ~ n^b, n = input triangles; \"uncapped\": only "
+            "the sizes where no cap stopped refinement — a capped run hit the minimum element "
+            "area or a count cap):", "",
             "| family | sizes | wall time | CPU time | peak memory | elements | links | rays |",
             "|---|---|---|---|---|---|---|---|"]
     for fam in fams:
-        rs = [r for r in rows if r["family"] == fam]
-        n = [r["triangles"] for r in rs]
-        f = [slope(n, [r[k] for r in rs]) for k in ("seconds", "cpu_seconds", "vmhwm_kb",
-                                                     "elements", "links", "rays")]
-        out.append(f"| {fam} | {len(rs)} | " + " | ".join(f"{v:.2f}" for v in f) + " |")
+        for which in ("uncapped", "all"):
+            rs = [r for r in rows if r["family"] == fam and (which == "all" or not r["capped"])]
+            n = [r["triangles"] for r in rs]
+            f = [slope(n, [r[k] for r in rs]) for k in ("seconds", "cpu_seconds", "vmhwm_kb",
+                                                         "elements", "links", "rays")]
+            out.append(f"| {fam} ({which}) | {len(rs)} | " + " | ".join(f"{v:.2f}" for v in f) + " |")
     return "\n".join(out)
 
 

@@ -1,0 +1,75 @@
+"""Launch a bench/tradeoff script in Debian's Blender, headless (used by the run_*.py drivers).
+
+Like tests/blender/conftest.py: private Blender user dirs (installing the add-on never touches
+the developer's Blender config), and PATH without pyenv (a system-Python Blender would otherwise
+pick pyenv's stdlib and lose the system numpy).
+"""
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
+
+
+def path_without_pyenv(path):
+    ours = {os.path.join(p, "bin") for p in (sys.prefix, sys.base_prefix) if p != "/usr"}
+    return os.pathsep.join(d for d in path.split(os.pathsep)
+                           if d and d not in ours and "/.pyenv/" not in d + "/")
+
+
+def blender_exe():
+    exe = shutil.which(os.environ.get("BLENDER", "blender"),
+                       path=path_without_pyenv(os.environ.get("PATH", "")))
+    if exe is None:
+        raise SystemExit("no blender binary on PATH (set $BLENDER)")
+    return exe
+
+
+def run(blend, script, args, log_path=None, timeout=None):
+    """Run SCRIPT in Blender on BLEND; returns the dict of its last `RESULT {json}` line."""
+    user = tempfile.mkdtemp(prefix="radiosity-bench-user-")
+    env = dict(os.environ)
+    for var, sub in (("BLENDER_USER_CONFIG", "config"), ("BLENDER_USER_SCRIPTS", "scripts"),
+                     ("BLENDER_USER_DATAFILES", "datafiles"),
+                     ("BLENDER_USER_EXTENSIONS", "extensions")):
+        env[var] = os.path.join(user, sub)
+    env["PATH"] = path_without_pyenv(env.get("PATH", ""))
+    env["PYTHONPATH"] = HERE + os.pathsep + env.get("PYTHONPATH", "")
+    env["PYTHONDONTWRITEBYTECODE"] = "1"
+    cmd = [blender_exe(), "-b", "--factory-startup", blend, "--python-exit-code", "1",
+           "--python", os.path.join(HERE, script), "--", *map(str, args)]
+    print("$ " + " ".join(cmd), flush=True)
+    t = time.perf_counter()
+    out_lines = []
+    with subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                          env=env, bufsize=1) as proc:
+        for line in proc.stdout:
+            out_lines.append(line)
+            if line.startswith(("[bench", "RESULT", "Error", "Traceback")) or "Error" in line:
+                print("   " + line.rstrip(), flush=True)
+        proc.wait(timeout=timeout)
+    if log_path:
+        with open(log_path, "w") as f:
+            f.writelines(out_lines)
+    shutil.rmtree(user, ignore_errors=True)
+    results = [l[len("RESULT "):] for l in out_lines if l.startswith("RESULT ")]
+    if proc.returncode != 0 or not results:
+        tail = "".join(out_lines[-40:])
+        raise SystemExit(f"Blender run failed (exit {proc.returncode}):\n{tail}")
+    data = json.loads(results[-1])
+    data["_wall"] = time.perf_counter() - t
+    return data
+
+
+def machine():
+    """A line about the machine and its load, for the results files."""
+    try:
+        load = os.getloadavg()
+    except OSError:
+        load = (float("nan"),) * 3
+    return f"{os.cpu_count()} cores, load average {load[0]:.2f}/{load[1]:.2f}/{load[2]:.2f}"

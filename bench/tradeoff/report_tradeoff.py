@@ -1,0 +1,223 @@
+"""Tables and plots of the trade-off runs (plain python3: numpy + matplotlib), from saved JSON.
+
+    python3 bench/tradeoff/report_tradeoff.py --data bench/results/tradeoff_data \
+        --out-dir bench/results --command "..." [--scenes ...]
+
+Speed-up at equal error: Cycles' time at our error, read off Cycles' curve by linear
+interpolation in log(error)-log(time) between its two neighbouring points (beyond its ends, the
+nearest segment's line is extended: marked "extrap."), divided by our time.
+"""
+import argparse
+import json
+import math
+import os
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def label(p):
+    if p["kind"] == "cycles":
+        return f"Cycles {p['spp']} spp"
+    return p["preset"] if p["preset"] != "CUSTOM" else f"eps {p['eps']:g}"
+
+
+def cycles_time_at(cyc, err, key, tkey="seconds"):
+    """Cycles seconds at error `err` (log-log interpolation on its curve); (seconds, extrapolated)."""
+    if any(c.get(tkey) is None or c[tkey] != c[tkey] for c in cyc):
+        return float("nan"), False
+    pts = sorted(((c[key], c[tkey]) for c in cyc), key=lambda t: -t[0])  # error falling
+    le = np.log([e for e, _ in pts])
+    lt = np.log([t for _, t in pts])
+    x = math.log(err)
+    if len(pts) < 2:
+        return float("nan"), True
+    for i in range(len(pts) - 1):
+        if le[i] >= x >= le[i + 1]:
+            f = (x - le[i]) / (le[i + 1] - le[i]) if le[i + 1] != le[i] else 0.0
+            return math.exp(lt[i] + f * (lt[i + 1] - lt[i])), False
+    i = 0 if x > le[0] else len(pts) - 2
+    slope = (lt[i + 1] - lt[i]) / (le[i + 1] - le[i])
+    return math.exp(lt[i] + slope * (x - le[i])), True
+
+
+def ref_noise(d, cyc, key):
+    """Estimated noise of the reference itself: Cycles' error at N spp is sqrt(s^2/N + s^2/Nref),
+    so the reference's part is err_N * sqrt(N / (N + Nref)); taken from the largest N."""
+    if not cyc:
+        return float("nan")
+    best = max(cyc, key=lambda c: c["spp"])
+    n, nref = best["spp"], d["reference"]["samples"]
+    return best[key] * math.sqrt(n / (n + nref))
+
+
+def plot(d, path):
+    ours = [p for p in d["points"] if p["kind"] == "ours"]
+    cyc = sorted((p for p in d["points"] if p["kind"] == "cycles"), key=lambda p: p["spp"])
+    # CPU seconds when every point has them (load-robust on a shared machine), else wall seconds.
+    tk = "cpu_seconds" if all(p.get("cpu_seconds") == p.get("cpu_seconds") and p.get("cpu_seconds")
+                              for p in d["points"]) else "seconds"
+    fig, axes = plt.subplots(1, 2, figsize=(12, 5))
+    for ax, key, name in ((axes[0], "rrmse", "rRMSE (per-corner relative)"),
+                          (axes[1], "nrmse", "NRMSE")):
+        if cyc:
+            ax.plot([c[tk] for c in cyc], [c[key] for c in cyc], "o-", color="tab:blue",
+                    label=f"Cycles ({cyc[0]['spp']}…{cyc[-1]['spp']} spp)")
+            for c in cyc:
+                ax.annotate(f"{c['spp']}", (c[tk], c[key]), textcoords="offset points",
+                            xytext=(4, 4), fontsize=8, color="tab:blue")
+        custom = sorted((p for p in ours if p["preset"] == "CUSTOM"), key=lambda p: -p["eps"])
+        if custom:
+            ax.plot([p[tk] for p in custom], [p[key] for p in custom], "s--",
+                    color="tab:orange", label="ours, CUSTOM ε")
+            for p in custom:
+                ax.annotate(f"ε={p['eps']:g}", (p[tk], p[key]), textcoords="offset points",
+                            xytext=(4, -10), fontsize=8, color="tab:orange")
+        for p, m in zip([p for p in ours if p["preset"] != "CUSTOM"], "^DP"):
+            ax.plot([p[tk]], [p[key]], m, color="tab:red", markersize=9)
+            ax.annotate(p["preset"], (p[tk], p[key]), textcoords="offset points",
+                        xytext=(6, 2), fontsize=9, color="tab:red", weight="bold")
+        noise = ref_noise(d, cyc, key)
+        if noise == noise:
+            ax.axhline(noise, color="gray", ls=":", lw=1,
+                       label=f"reference's own noise (est., {d['reference']['samples']} spp)")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        ax.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        ax.set_xlabel("CPU seconds (process, all threads; median)" if tk == "cpu_seconds"
+                      else "wall seconds (2 cores, median)")
+        ax.set_ylabel(name)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle(f"{d['scene']}: error vs time against a {d['reference']['samples']}-spp Cycles "
+                 f"bake ({d['judged_corners']} corners judged)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+
+
+def cpu(p):
+    c = p.get("cpu_seconds")
+    return "–" if c is None or c != c else f"{c:.1f}"
+
+
+def scene_table(d):
+    cyc = [p for p in d["points"] if p["kind"] == "cycles"]
+    lines = ["| config | runs | seconds (median) | CPU s | elements | links | rays | rRMSE | NRMSE | "
+             "mean ours/ref | rel. err p50 / p90 | Cycles s at our rRMSE | speed-up (rRMSE) | speed-up (NRMSE) | "
+             "speed-up in CPU s (rRMSE) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for p in d["points"]:
+        if p["kind"] == "ours":
+            st = p["stats"]
+            tc, ext = cycles_time_at(cyc, p["rrmse"], "rrmse")
+            tn, extn = cycles_time_at(cyc, p["nrmse"], "nrmse")
+            tcpu, extc = cycles_time_at(cyc, p["rrmse"], "rrmse", "cpu_seconds")
+            our_cpu = p.get("cpu_seconds") or float("nan")
+            lines.append(
+                f"| {label(p)} | {p['runs']} | {p['seconds']:.2f} | {cpu(p)} | {st['elements']:,} | "
+                f"{st['links']:,} | {st['rays']:,} | {p['rrmse']:.4f} | {p['nrmse']:.4f} | "
+                f"{p['mean_ratio']:.3f} | {p['rel_p50']:.3f} / {p['rel_p90']:.3f} | {tc:.2f}{' (extrap.)' if ext else ''} | "
+                f"{tc / p['seconds']:.2f}×{' (extrap.)' if ext else ''} | "
+                f"{tn / p['seconds']:.2f}×{' (extrap.)' if extn else ''} | "
+                f"{tcpu / our_cpu:.2f}×{' (extrap.)' if extc else ''} |")
+        else:
+            lines.append(f"| {label(p)} | {p['runs']} | {p['seconds']:.2f} | {cpu(p)} | | | | "
+                         f"{p['rrmse']:.4f} | {p['nrmse']:.4f} | {p['mean_ratio']:.3f} | "
+                         f"{p['rel_p50']:.3f} / {p['rel_p90']:.3f} | | | | |")
+    return "\n".join(lines)
+
+
+def per_object_table(d):
+    ours = [p for p in d["points"] if p["kind"] == "ours"]
+    names = d["objects"]
+    lines = ["| config | " + " | ".join(names) + " |", "|---|" + "---|" * len(names)]
+    for p in ours + [p for p in d["points"] if p["kind"] == "cycles"]:
+        po = p.get("per_object", {})
+        cells = [f"{po[n]['rrmse']:.3f} ({po[n]['mean_ratio']:.2f})" if n in po else "–"
+                 for n in names]
+        lines.append(f"| {label(p)} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def worst_table(p):
+    lines = ["| object | polygon | corner position | ours RGB | reference RGB | rel. error |",
+             "|---|---|---|---|---|---|"]
+    for w in p["worst"]:
+        lines.append(f"| {w['object']} | {w['polygon']} | {tuple(w['position'])} | "
+                     f"{tuple(w['ours'])} | {tuple(w['ref'])} | {w['rel_err']:.2f} |")
+    return "\n".join(lines)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--data", required=True)
+    ap.add_argument("--out-dir", required=True)
+    ap.add_argument("--command", default="")
+    ap.add_argument("--scenes", nargs="*")
+    a = ap.parse_args()
+    files = sorted(f for f in os.listdir(a.data) if f.endswith(".json"))
+    order = {s: i for i, s in enumerate(a.scenes or [])}
+    data = [json.load(open(os.path.join(a.data, f))) for f in files]
+    data.sort(key=lambda d: order.get(d["scene"], 99))
+    md = ["# Speed vs accuracy: our bake against Cycles on the example scenes (issue 5)", "",
+          "Command (from the repository root, after the build; one headless run, Debian's "
+          "Blender 3.4):", "", f"    {a.command.strip()}", "",
+          "What it does: per scene, a converged Cycles COMBINED bake to corner colours is the "
+          "reference (non-adaptive, denoising off, 64 diffuse/max bounces, clamping 0, seed 1; "
+          "cached in `bench/tradeoff/refs/SCENE_cycles.npz` with its settings and the .blend's "
+          "sha256, so reruns reuse it). Then, round-robin over the repetitions so the shared "
+          "machine's slow phases hit everything alike: our `bpy.ops.radiosity.bake(full=True)` "
+          "at each preset and CUSTOM ε (CUSTOM = MEDIUM with that ε), and Cycles at 16, 64, 256, "
+          "1024 spp (seeds 101, 102, …: never the reference's). Seconds are wall time of the "
+          "operator call (ours: gather, solve, write; Cycles: sync, BVH, bake, write), medians of "
+          "the runs counted in `runs` (a configuration whose first run took more than "
+          "`once_above` s ran once). Errors over all corners except emitters' and those the "
+          "reference has exactly 0 (covered by an object: the floor under a box); rRMSE = "
+          "√mean(((x−r)/max(r, 0.05·mean r))²) (main), NRMSE = RMS(x−r)/RMS(r); Cycles' errors are "
+          "medians over its seeds. \"Speed-up\" is Cycles' time at our error (log–log interpolation "
+          "on its curve) over ours; \"extrap.\" means our error lies outside Cycles' measured range "
+          "and the nearest segment was extended (Cycles error ∝ spp^-½, so this is a fair guess). "
+          "The reference is itself noisy: its estimated share (Cycles' 1024-spp error × "
+          "√(1024/(1024+N_ref))) is given per scene; errors near it cannot be resolved.", ""]
+    summary = ["| scene | preset | seconds (wall) | CPU s | elements | rRMSE | NRMSE | speed-up vs "
+               "Cycles at equal rRMSE (wall; CPU) |", "|---|---|---|---|---|---|---|---|"]
+    for d in data:
+        cyc = [p for p in d["points"] if p["kind"] == "cycles"]
+        png = f"tradeoff_{d['scene']}.png"
+        plot(d, os.path.join(a.out_dir, png))
+        ref = d["reference"]
+        md += [f"## {d['scene']}", "",
+               f"{d['date']}, Blender {d['blender']}. {d['corners']:,} corners: "
+               f"{d['emitter_corners']:,} emitter, {d['covered_corners']:,} covered, "
+               f"{d['judged_corners']:,} judged. Reference: {ref['samples']} spp, "
+               f"{ref['seconds']:.0f} s when made ({ref.get('made', '?')}), cached "
+               f"`{d['scene']}_cycles.npz`. Estimated reference noise: rRMSE "
+               f"{ref_noise(d, cyc, 'rrmse'):.4f}, NRMSE {ref_noise(d, cyc, 'nrmse'):.4f}.", "",
+               f"![{d['scene']}]({png})", "", scene_table(d), "",
+               "Timing of every run (s): " + "; ".join(
+                   f"{label(p)}: {', '.join(f'{s:.2f}' for s in p['seconds_all'])}"
+                   for p in d["points"]), "",
+               "Per object: rRMSE (mean ours/ref):", "", per_object_table(d), ""]
+        finest = min((p for p in d["points"] if p["kind"] == "ours"), key=lambda p: p["rrmse"])
+        md += [f"Worst corners of our most accurate bake ({label(finest)}):", "",
+               worst_table(finest), ""]
+        for p in d["points"]:
+            if p["kind"] == "ours" and p["preset"] != "CUSTOM":
+                tc, ext = cycles_time_at(cyc, p["rrmse"], "rrmse")
+                tcpu, _ = cycles_time_at(cyc, p["rrmse"], "rrmse", "cpu_seconds")
+                our_cpu = p.get("cpu_seconds") or float("nan")
+                summary.append(f"| {d['scene']} | {p['preset']} | {p['seconds']:.2f} | {cpu(p)} | "
+                               f"{p['stats']['elements']:,} | {p['rrmse']:.3f} | "
+                               f"{p['nrmse']:.3f} | {tc / p['seconds']:.2f}×; {tcpu / our_cpu:.2f}×"
+                               f"{' (extrap.)' if ext else ''} |")
+    md += ["## Presets: what each costs and what error to expect", "", "\n".join(summary), ""]
+    with open(os.path.join(a.out_dir, "tradeoff.md"), "w") as f:
+        f.write("\n".join(md) + "\n")
+
+
+main()

@@ -1,0 +1,88 @@
+"""Speed/accuracy trade-off of our bake against Cycles on the example scenes: one command.
+
+    python3 bench/tradeoff/run_tradeoff.py [--quick] [--scenes cornell_box box_room ...]
+        [--runs 3] [--once-above 40] [--ref-spp 4096] [--presets ...] [--eps ...] [--spp ...]
+        [--zip build/radiosity.zip] [--report-only]
+
+For each scene: Debian's Blender runs tradeoff_scene.py (the cached Cycles reference or a new
+one, our bake at each preset and CUSTOM epsilon, Cycles at 16..1024 spp, interleaved); the JSON
+lands in bench/results/tradeoff_data/SCENE.json. Then report_tradeoff.py (plain python3 with
+numpy + matplotlib) writes bench/results/tradeoff.md and bench/results/tradeoff_SCENE.png.
+--report-only redoes the tables and plots from the saved JSON.
+
+--quick (for CI: a smoke run, no timing judged): the Cornell box only, DRAFT and 16/64 spp, one
+run, a 256-spp reference unless the cached 4096+ one exists; everything goes to a temporary
+directory (or --out-dir), never over the committed results or references.
+"""
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, HERE)
+import bt_run  # noqa: E402
+
+SCENES = ("cornell_box", "box_room", "chair_room", "full_room")
+# The finest CUSTOM epsilons cost minutes on the bigger rooms (2 cores); HIGH is eps 0.01 already.
+EPS = {"cornell_box": [0.2, 0.1, 0.02, 0.01], "box_room": [0.2, 0.1, 0.02],
+       "chair_room": [0.2, 0.1, 0.02], "full_room": [0.2, 0.1, 0.02]}
+
+
+def main():
+    p = argparse.ArgumentParser(prog="run_tradeoff.py")
+    p.add_argument("--quick", action="store_true")
+    p.add_argument("--scenes", nargs="*")
+    p.add_argument("--runs", type=int, default=3)
+    p.add_argument("--once-above", type=float, default=40.0)
+    p.add_argument("--ref-spp", type=int, default=4096)
+    p.add_argument("--zip", default=os.path.join(REPO, "build", "radiosity.zip"))
+    p.add_argument("--out-dir")
+    p.add_argument("--ref-dir", default=os.path.join(HERE, "refs"))
+    p.add_argument("--report-only", action="store_true")
+    p.add_argument("--presets", nargs="*", help="override: our presets")
+    p.add_argument("--eps", nargs="*", type=float, help="override: CUSTOM epsilons")
+    p.add_argument("--spp", nargs="*", type=int, help="override: Cycles sample counts")
+    a = p.parse_args()
+    scenes = a.scenes or (["cornell_box"] if a.quick else list(SCENES))
+    out_dir = a.out_dir or (tempfile.mkdtemp(prefix="tradeoff-quick-") if a.quick
+                            else os.path.join(REPO, "bench", "results"))
+    data_dir = os.path.join(out_dir, "tradeoff_data")
+    os.makedirs(data_dir, exist_ok=True)
+    command = "python3 bench/tradeoff/run_tradeoff.py " + " ".join(sys.argv[1:])
+    if not a.report_only:
+        if not os.path.exists(a.zip):
+            raise SystemExit(f"no add-on zip at {a.zip}: build first (see README)")
+        t0 = time.perf_counter()
+        for s in scenes:
+            ref = os.path.join(a.ref_dir, f"{s}_cycles.npz")
+            args = ["--zip", a.zip, "--out", os.path.join(data_dir, f"{s}.json"),
+                    "--runs", 1 if a.quick else a.runs, "--once-above", a.once_above]
+            if a.quick:
+                cached = os.path.exists(ref)
+                if not cached:
+                    ref = os.path.join(out_dir, f"{s}_cycles_quick.npz")
+                args += ["--ref-spp", a.ref_spp if cached else 256, "--presets", "DRAFT",
+                         "--eps", "--spp", 16, 64]
+            else:
+                eps = a.eps if a.eps is not None else EPS.get(s, [0.2, 0.1, 0.02])
+                args += ["--ref-spp", a.ref_spp, "--eps", *eps]
+                if a.presets is not None:
+                    args += ["--presets", *a.presets]
+                if a.spp is not None:
+                    args += ["--spp", *a.spp]
+            args += ["--ref", ref]
+            blend = os.path.join(REPO, "example_blends", f"{s}.blend")
+            print(f"== {s} ({bt_run.machine()})", flush=True)
+            bt_run.run(blend, "tradeoff_scene.py", args,
+                       log_path=os.path.join(data_dir, f"{s}.log"))
+        print(f"all scenes: {time.perf_counter() - t0:.0f} s", flush=True)
+    subprocess.run([sys.executable, os.path.join(HERE, "report_tradeoff.py"), "--data", data_dir,
+                    "--out-dir", out_dir, "--command", command, "--scenes", *scenes], check=True)
+    print(f"results in {out_dir}")
+
+
+main()

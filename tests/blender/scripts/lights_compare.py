@@ -13,7 +13,7 @@ import rt_common as rt
 case = rt.arg("--case")
 data = rt.arg("--data")
 rt.setup()
-objs = light_scenes.build(case, box_collection=bool(rt.arg("--box-collection")))
+objs = light_scenes.build(case, box_collection=rt.arg("--box-in-scene") is None)
 bpy.context.scene.radiosity.preset = rt.arg("--preset", "HIGH")
 ok, err, reports = rt.bake()
 out = {"ok": ok, "err": err, "reports": reports, "stats": rt.last_stats(), "fake": rt.native_is_fake(),

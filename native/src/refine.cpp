@@ -164,13 +164,20 @@ void Solver::apply(int id, const Judgement& j, std::vector<Candidate>& next) {
         ++stats_.avoided_by_progressive;
         return;
     }
-    if (int64_t(links_.size()) >= settings_.max_links) {
+    // The caps are checked here, where links and elements are made, not only when judging
+    // (a whole wave is judged before any of it is applied): links counted with the ones this
+    // wave has queued, so the cap is exceeded by at most one refinement.
+    if (int64_t(links_.size() + next.size()) + 4 > settings_.max_links) {
         stats_.capped = true;
         return;
     }
     const int split = j.side == Side::Src ? links_[id].src : links_[id].rcv;
     Node& n = h_.nodes[split];
     if (!n.is_cluster() && n.children.empty()) {
+        if (stats_.element_nodes + 4 > settings_.max_elements) {
+            stats_.capped = true;
+            return;
+        }
         h_.subdivide(split);
         stats_.element_nodes += 4;
     }

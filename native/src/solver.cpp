@@ -123,6 +123,10 @@ void Solver::solve(Control* control) {
         stats_.seconds_solve = since(t2);
     }
     if (stats_.element_nodes >= settings_.max_elements) stats_.capped = true;
+    if (stats_.capped)
+        stats_.warnings.push_back("refinement stopped at the element or link cap (max_elements " +
+                                  std::to_string(settings_.max_elements) + ", max_links " +
+                                  std::to_string(settings_.max_links) + "): the result is coarser than the threshold asks");
     compute_stats();
     lap("stats");
     stats_.seconds_total = since(t0);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "radiosity/builtin_scenes.h"
+#include "radiosity/compare.h"
 #include "radiosity/solver.h"
 
 using namespace radiosity;
@@ -20,19 +21,6 @@ std::array<double, 16> translation(Vec3 t) { return {1, 0, 0, t.x, 0, 1, 0, t.y,
 double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
     return v[v.size() / 2];
-}
-std::vector<float> corners(const Solver& s) {
-    std::vector<float> out;
-    for (size_t o = 0; o < s.scene().objects().size(); ++o) {
-        auto c = s.corner_radiance(int(o));
-        out.insert(out.end(), c.begin(), c.end());
-    }
-    return out;
-}
-double nrmse(const std::vector<float>& a, const std::vector<float>& b) {
-    double num = 0, den = 0;
-    for (size_t i = 0; i < a.size(); ++i) num += (a[i] - b[i]) * (a[i] - b[i]), den += b[i] * b[i];
-    return std::sqrt(num / den);
 }
 // The built-in box room with Box1 shifted (its move in the paper: (114.4,129.2) -> (150,190)).
 SceneDesc room(Vec3 off) {
@@ -82,7 +70,7 @@ int main(int argc, char** argv) {
         Solver c(room(move), st);
         c.solve();
         t_full_after.push_back(c.stats().seconds_total);
-        err = nrmse(corners(a), corners(c));
+        err = nrmse(a.all_corner_radiance(), c.all_corner_radiance());
     }
     std::printf("box room (built-in, %s, %d runs, medians)\n\n", preset.c_str(), runs);
     std::printf("| | ours | paper (SGI O2) |\n|---|---|---|\n");
@@ -124,6 +112,6 @@ int main(int argc, char** argv) {
     f.solve();
     std::printf("\ndrag of 30 steps: median step %.3f s (full solve %.3f s, ratio %.1f %%), NRMSE after 30 steps vs full %.4f\n",
                 median(steps), f.stats().seconds_total, 100.0 * median(steps) / f.stats().seconds_total,
-                nrmse(corners(d), corners(f)));
+                nrmse(d.all_corner_radiance(), f.all_corner_radiance()));
     return 0;
 }

@@ -22,6 +22,15 @@ double corner_angle(const Poly& p, int k) {
 }
 }  // namespace
 
+std::vector<float> Solver::all_corner_radiance() const {
+    std::vector<float> out;
+    for (size_t o = 0; o < scene_.objects().size(); ++o) {
+        const std::vector<float> c = corner_radiance(int(o));
+        out.insert(out.end(), c.begin(), c.end());
+    }
+    return out;
+}
+
 std::vector<float> Solver::corner_radiance(int object) const {
     return corner_values(object, [this](int id) { return h_.nodes[id].L; });
 }

@@ -25,24 +25,6 @@ SceneDesc room(Vec3 box1_offset = {}, double light = 12.0) {
 
 std::array<double, 16> translation(Vec3 t) { return {1, 0, 0, t.x, 0, 1, 0, t.y, 0, 0, 1, t.z, 0, 0, 0, 1}; }
 
-std::vector<float> all_corners(const Solver& s) {
-    std::vector<float> out;
-    for (size_t o = 0; o < s.scene().objects().size(); ++o) {
-        auto c = s.corner_radiance(int(o));
-        out.insert(out.end(), c.begin(), c.end());
-    }
-    return out;
-}
-
-double nrmse(const std::vector<float>& a, const std::vector<float>& b) {
-    double num = 0, den = 0;
-    for (size_t i = 0; i < a.size(); ++i) {
-        num += (a[i] - b[i]) * (a[i] - b[i]);
-        den += b[i] * b[i];
-    }
-    return std::sqrt(num / den);
-}
-
 Settings settings() {
     Settings st = Settings::preset("MEDIUM");
     st.rays_per_link = 32;
@@ -61,7 +43,7 @@ TEST(Dynamic, MoveEqualsFullSolveOfFinalScene) {
     EXPECT_GT(inc.stats().env_env_links_rejected, 0);
     Solver full(room(move), settings());
     full.solve();
-    double e = nrmse(all_corners(inc), all_corners(full));
+    double e = nrmse(inc.all_corner_radiance(), full.all_corner_radiance());
     std::printf("[ figure ] move: incremental vs full NRMSE %.4f, env-env tested %lld rejected %lld recomputed %lld, "
                 "adjust %.3f s, update %.3f s, full %.3f s\n",
                 e, (long long)inc.stats().env_env_links_tested, (long long)inc.stats().env_env_links_rejected,
@@ -81,7 +63,7 @@ TEST(Dynamic, DragOfThirtyStepsDoesNotDrift) {
         if (k == 1 || k == 30) {
             Solver full(room(step * k), settings());
             full.solve();
-            (k == 1 ? first : last) = nrmse(all_corners(inc), all_corners(full));
+            (k == 1 ? first : last) = nrmse(inc.all_corner_radiance(), full.all_corner_radiance());
         }
     }
     std::printf("[ figure ] drag: NRMSE after 1 step %.4f, after 30 steps %.4f\n", first, last);
@@ -107,7 +89,7 @@ TEST(Dynamic, TwoObjectsAtOnce) {
     scenes::add_box(f, "Box2", c2, {100, 50, 0}, {160, 100, 60}, 2, Rgb{0.2, 0.4, 0.7}, {});
     Solver full(f, settings());
     full.solve();
-    EXPECT_LE(nrmse(all_corners(inc), all_corners(full)), 0.02);
+    EXPECT_LE(nrmse(inc.all_corner_radiance(), full.all_corner_radiance()), 0.02);
 }
 
 TEST(Dynamic, PruningNeverMissesAChangedLink) {
@@ -160,7 +142,7 @@ TEST(Dynamic, DimmingUnrefinesAndBrighteningRefinesBack) {
                 (long long)dim.stats().links);
     EXPECT_NEAR(double(inc.stats().elements), double(dim.stats().elements), 0.15 * dim.stats().elements);
     EXPECT_NEAR(double(inc.stats().links), double(dim.stats().links), 0.1 * dim.stats().links);
-    EXPECT_LE(nrmse(all_corners(inc), all_corners(dim)), 0.005);
+    EXPECT_LE(nrmse(inc.all_corner_radiance(), dim.all_corner_radiance()), 0.005);
     inc.set_emission(1, {Rgb::all(12.0)});
     inc.update();
     EXPECT_NEAR(double(inc.stats().links), double(bright_links), 0.1 * bright_links);
@@ -193,8 +175,8 @@ TEST(Dynamic, BadMovesAreRejectedOrSafe) {
     // Far outside the scene, and inside the other box: results stay finite.
     s.move_object(2, translation({1e6, 0, 0}).data());
     s.update();
-    for (float v : all_corners(s)) ASSERT_TRUE(std::isfinite(v));
+    for (float v : s.all_corner_radiance()) ASSERT_TRUE(std::isfinite(v));
     s.move_object(2, translation({140, 110, 0}).data());  // overlapping Box2
     s.update();
-    for (float v : all_corners(s)) ASSERT_TRUE(std::isfinite(v));
+    for (float v : s.all_corner_radiance()) ASSERT_TRUE(std::isfinite(v));
 }

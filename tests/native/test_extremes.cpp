@@ -34,24 +34,6 @@ ObjectDesc make_object(const std::string& name, int cluster, std::vector<Vec3> v
     return o;
 }
 
-std::vector<float> all_corners(const Solver& s) {
-    std::vector<float> out;
-    for (size_t o = 0; o < s.scene().objects().size(); ++o) {
-        auto c = s.corner_radiance(int(o));
-        out.insert(out.end(), c.begin(), c.end());
-    }
-    return out;
-}
-
-double nrmse(const std::vector<float>& a, const std::vector<float>& b) {
-    double num = 0, den = 0;
-    for (size_t i = 0; i < a.size(); ++i) {
-        num += double(a[i] - b[i]) * (a[i] - b[i]);
-        den += double(b[i]) * b[i];
-    }
-    return den > 0 ? std::sqrt(num / den) : std::sqrt(num);
-}
-
 // The invariants every solved scene must keep, whatever its input: every corner value and
 // every live node radiance finite and non-negative, and no radiance above what a closed
 // scene of the brightest emitter and the largest reflectance could reach, E_max / (1 - rho_max)
@@ -203,7 +185,7 @@ TEST(Extremes, EmissionScalesLinearlyFromMicroToMega) {
         Solver solver(s, Settings::preset("DRAFT"));
         solver.solve();
         expect_sane(solver, "emission x " + std::to_string(k));
-        return all_corners(solver);
+        return solver.all_corner_radiance();
     };
     const auto ref = solve(1.0);
     double peak = 0;
@@ -237,7 +219,7 @@ TEST(Extremes, EmissionBeyondFloatRangeNeverGivesInf) {
         }
         Solver solver(s, Settings::preset("DRAFT"));
         solver.solve();
-        for (float v : all_corners(solver)) EXPECT_TRUE(std::isfinite(v)) << "emission " << e << " gave " << v;
+        for (float v : solver.all_corner_radiance()) EXPECT_TRUE(std::isfinite(v)) << "emission " << e << " gave " << v;
     }
     // The same through set_emission on a solved scene.
     Solver s(lit_room(), Settings::preset("DRAFT"));
@@ -247,7 +229,7 @@ TEST(Extremes, EmissionBeyondFloatRangeNeverGivesInf) {
         s.update();
     } catch (const InputError&) {
     }
-    for (float v : all_corners(s)) EXPECT_TRUE(std::isfinite(v)) << "set_emission 1e39 gave " << v;
+    for (float v : s.all_corner_radiance()) EXPECT_TRUE(std::isfinite(v)) << "set_emission 1e39 gave " << v;
 }
 
 TEST(Extremes, NoEmitterAnywhereGivesZerosAndAWarning) {
@@ -260,7 +242,7 @@ TEST(Extremes, NoEmitterAnywhereGivesZerosAndAWarning) {
     EXPECT_TRUE(s.stats().no_emitters);
     ASSERT_FALSE(s.stats().warnings.empty());
     EXPECT_NE(s.stats().warnings[0].find("emitter"), std::string::npos) << s.stats().warnings[0];
-    for (float v : all_corners(s)) EXPECT_EQ(v, 0.f);
+    for (float v : s.all_corner_radiance()) EXPECT_EQ(v, 0.f);
 }
 
 TEST(Extremes, SwitchingOffEveryLightByUpdateGivesZeros) {
@@ -274,7 +256,7 @@ TEST(Extremes, SwitchingOffEveryLightByUpdateGivesZeros) {
     s.update();
     expect_sane(s, "lights off");
     double peak = 0;
-    for (float v : all_corners(s)) peak = std::max(peak, double(v));
+    for (float v : s.all_corner_radiance()) peak = std::max(peak, double(v));
     EXPECT_EQ(peak, 0.0) << "light left after switching every emitter off";
     EXPECT_LE(s.stats().element_nodes, elements_before) << "switching the light off refined the scene";
     // And back on: the same as a fresh solve.
@@ -282,7 +264,7 @@ TEST(Extremes, SwitchingOffEveryLightByUpdateGivesZeros) {
     s.update();
     Solver fresh(lit_room(), Settings::preset("DRAFT"));
     fresh.solve();
-    EXPECT_LE(nrmse(all_corners(s), all_corners(fresh)), 0.03);
+    EXPECT_LE(nrmse(s.all_corner_radiance(), fresh.all_corner_radiance()), 0.03);
 }
 
 TEST(Extremes, LightSwitchedOnAfterADarkSolve) {
@@ -298,7 +280,7 @@ TEST(Extremes, LightSwitchedOnAfterADarkSolve) {
     expect_sane(s, "switched on");
     Solver fresh(lit_room(), Settings::preset("DRAFT"));
     fresh.solve();
-    EXPECT_LE(nrmse(all_corners(s), all_corners(fresh)), 0.03);
+    EXPECT_LE(nrmse(s.all_corner_radiance(), fresh.all_corner_radiance()), 0.03);
     EXPECT_GT(object_front_radiance(s, 0).g, 0.5 * object_front_radiance(fresh, 0).g) << "the room stayed dark";
 }
 
@@ -311,7 +293,7 @@ TEST(Extremes, SceneScaleAndOffsetDoNotMatter) {
         Solver solver(s, Settings::preset("DRAFT"));
         solver.solve();
         expect_sane(solver, "scale " + std::to_string(k));
-        return all_corners(solver);
+        return solver.all_corner_radiance();
     };
     const auto ref = solve(1.0, {});
     double mean = 0;
@@ -506,7 +488,7 @@ TEST(Extremes, FacesTouchingAtACornerOnly) {
     expect_sane(a, "corner contact");
     Solver b(scene(1e-3), Settings::preset("HIGH"));
     b.solve();
-    EXPECT_LE(nrmse(all_corners(a), all_corners(b)), 0.02);
+    EXPECT_LE(nrmse(a.all_corner_radiance(), b.all_corner_radiance()), 0.02);
 }
 
 TEST(Extremes, TJunctionsGiveContinuousCorners) {
@@ -620,7 +602,7 @@ TEST(Extremes, MoveInsideAnotherObjectAndFarAway) {
     Solver s(scene(start), st);
     s.solve();
     expect_sane(s, "start");
-    const auto before = all_corners(s);
+    const auto before = s.all_corner_radiance();
 
     // Into the closed crate: it sees nothing lit there.
     s.move_object(3, translation(Vec3{0.7, 0.7, 0.3} - start).data());
@@ -637,7 +619,7 @@ TEST(Extremes, MoveInsideAnotherObjectAndFarAway) {
     std::printf("[ figure ] cube inside a closed crate: peak %.4f after the move, %.4f in a full solve (L_ref %.4f)\n",
                 peak, peak_full, s.reference_radiance());
     EXPECT_LE(peak, 1.5 * peak_full + 1e-3 * s.reference_radiance());
-    EXPECT_LE(nrmse(all_corners(s), all_corners(full_in)), 0.03);
+    EXPECT_LE(nrmse(s.all_corner_radiance(), full_in.all_corner_radiance()), 0.03);
 
     // A million metres away: finite, dark, and the room as without it.
     s.move_object(3, translation({1e6, 0, 0}).data());
@@ -655,13 +637,13 @@ TEST(Extremes, MoveInsideAnotherObjectAndFarAway) {
         auto c = s.corner_radiance(o);
         room_now.insert(room_now.end(), c.begin(), c.end());
     }
-    EXPECT_LE(nrmse(room_now, all_corners(ref)), 0.03);
+    EXPECT_LE(nrmse(room_now, ref.all_corner_radiance()), 0.03);
 
     // And back where it started: as before.
     s.move_object(3, translation({0, 0, 0}).data());
     s.update();
     expect_sane(s, "back");
-    EXPECT_LE(nrmse(all_corners(s), before), 0.03);
+    EXPECT_LE(nrmse(s.all_corner_radiance(), before), 0.03);
 }
 
 // DISABLED: fails today -- peak 0.022 on the cube (15 % of L_ref 0.146) in a static solve at
@@ -758,7 +740,7 @@ TEST(Extremes, ZeroMinimumElementArea) {
     EXPECT_FALSE(s.stats().capped) << "the threshold alone should stop refinement";
     Solver d(lit_room(), Settings::preset("DRAFT"));
     d.solve();
-    EXPECT_LE(nrmse(all_corners(s), all_corners(d)), 0.1);
+    EXPECT_LE(nrmse(s.all_corner_radiance(), d.all_corner_radiance()), 0.1);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -793,7 +775,7 @@ TEST(Extremes, NonFiniteInputIsRejectedNamingTheObject) {
     // Through the dynamic API, after a solve: rejected, and the kept solution untouched.
     Solver s(lit_room(), Settings::preset("DRAFT"));
     s.solve();
-    const auto before = all_corners(s);
+    const auto before = s.all_corner_radiance();
     for (double bad : {nan, inf, -inf}) {
         EXPECT_THROW(s.set_emission(1, {Rgb{1, bad, 1}}), InputError);
         for (int i = 0; i < 16; ++i) {
@@ -805,7 +787,7 @@ TEST(Extremes, NonFiniteInputIsRejectedNamingTheObject) {
     EXPECT_THROW(s.set_emission(1, {Rgb{1, -1, 1}}), InputError);
     EXPECT_THROW(s.set_emission(1, {Rgb::all(1), Rgb::all(1)}), InputError);  // wrong count
     s.update();  // nothing pending: a no-op
-    EXPECT_EQ(all_corners(s), before);
+    EXPECT_EQ(s.all_corner_radiance(), before);
 }
 
 TEST(Extremes, NonFiniteSettingsAreRejected) {
@@ -865,7 +847,7 @@ TEST(Extremes, ObjectsWithoutPolygons) {
     // Loose vertices used to set the internal frame: 1e6 away the room came out 7x too dark,
     // 1e12 away every polygon snapped to zero area and was skipped.
     EXPECT_EQ(s.stats().skipped_polygons, 0);
-    EXPECT_LE(nrmse(room, all_corners(ref)), 1e-6) << "loose vertices changed the solution";
+    EXPECT_LE(nrmse(room, ref.all_corner_radiance()), 1e-6) << "loose vertices changed the solution";
     // Moving them is harmless.
     s.move_object(2, translation({1, 2, 3}).data());
     s.move_object(4, translation({1, 2, 3}).data());

@@ -41,12 +41,6 @@ std::vector<std::pair<Vec3, Rgb>> corners(const Solver& s, const std::vector<flo
     return out;
 }
 
-double nrmse(const std::vector<float>& a, const std::vector<float>& b) {
-    double num = 0, den = 0;
-    for (size_t i = 0; i < a.size(); ++i) num += (a[i] - b[i]) * (a[i] - b[i]), den += b[i] * b[i];
-    return std::sqrt(num / den);
-}
-
 }  // namespace
 
 TEST(Lights, PointLightOverAPlaneMatchesTheInverseSquareLaw) {

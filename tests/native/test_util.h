@@ -6,6 +6,7 @@
 
 #include "radiosity/builtin_scenes.h"
 #include "radiosity/geometry.h"
+#include "radiosity/compare.h"
 #include "radiosity/solver.h"
 
 namespace radiosity::testing {

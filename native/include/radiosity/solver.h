@@ -41,6 +41,8 @@ public:
     // Outgoing radiance of the front side at every Blender corner of the object, RGB
     // interleaved (corner_count * 3).
     std::vector<float> corner_radiance(int object) const;
+    // corner_radiance of every object, in object order, concatenated.
+    std::vector<float> all_corner_radiance() const;
     // Radiance of the front side at one point of a polygon, from the leaf containing it.
     Rgb radiance_at(int object, int face, const Vec3& p) const;
 

@@ -205,6 +205,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             if (!finite(r)) finding("non-finite radiance_at", o, r.g);
         } catch (const std::out_of_range&) {
             // Documented: the polygon was skipped (zero area), so there is no such face.
+        } catch (const InputError&) {
+            // Documented: a non-finite query point is rejected.
         }
     }
     return 0;

@@ -11,6 +11,8 @@
 # and turn it into a regression test in tests/native/test_extremes.cpp.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# A fixed seed (RADIOSITY_FUZZ_SEED) keeps CI reproducible; findings become seeds in
+# fuzz/seeds/ (run first every time) and regression tests in tests/native/test_extremes.cpp.
 SECONDS_TOTAL=${RADIOSITY_FUZZ_SECONDS:-60}
 JOBS=${RADIOSITY_FUZZ_JOBS:-$(nproc)}
 CXX_BIN=${RADIOSITY_FUZZ_CXX:-clang++}
@@ -31,4 +33,5 @@ export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 echo "== fuzz: fuzz_scene for ${SECONDS_TOTAL} s"
 ./build-fuzz/fuzz/fuzz_scene build-fuzz/corpus fuzz/seeds \
   -max_total_time="$SECONDS_TOTAL" -timeout=20 -rss_limit_mb=2048 -max_len=2048 \
+  -seed="${RADIOSITY_FUZZ_SEED:-1}" \
   -artifact_prefix=build-fuzz/artifacts/ -print_final_stats=1

@@ -2,6 +2,7 @@
 // evaluated at that point, so shadows finer than the input mesh still shape the corner
 // values), averaged over the faces that share the vertex unless a crease separates them.
 #include <cmath>
+#include <limits>
 
 #include "radiosity/solver.h"
 
@@ -94,6 +95,7 @@ std::vector<float> Solver::corner_values(int object, const std::function<Rgb(int
 }
 
 Rgb Solver::radiance_at(int object, int face, const Vec3& world_point) const {
+    if (!finite(world_point)) throw InputError("radiance_at: the point has a NaN or inf coordinate");
     const Vec3 x = h_.to_internal(world_point);
     // How far x lies outside a polygon (0 inside), in its plane.
     auto outside = [&x](const Poly& p, const Vec3& n) {
@@ -106,19 +108,21 @@ Rgb Solver::radiance_at(int object, int face, const Vec3& world_point) const {
     };
     // The piece of the polygon (n-gons are fanned) that contains x.
     int id = -1;
-    double best = 1e300;
+    double best = std::numeric_limits<double>::infinity();
     for (const Primitive& p : h_.prims) {
         if (p.object != object || p.face != face || p.front < 0) continue;
         int r = h_.surfaces[p.front].root;
         double o = outside(h_.nodes[r].poly, h_.nodes[r].normal);
-        if (o < best) { best = o; id = r; }
+        if (id < 0 || o < best) { best = o; id = r; }
     }
     if (id < 0) throw std::out_of_range("no polygon " + std::to_string(face) + " in object " + std::to_string(object));
     // Descend into the child containing x (children tile their parent); the nearest
     // centroid breaks ties on shared edges and points slightly off the polygon.
     while (!h_.nodes[id].children.empty()) {
-        int next = -1;
-        double bd = 1e300;
+        // Starts at the first child: a point so far away that every distance overflows to
+        // inf (the fuzzer found one) still ends at a leaf.
+        int next = h_.nodes[id].children.front();
+        double bd = std::numeric_limits<double>::infinity();
         for (int c : h_.nodes[id].children) {
             const Node& cn = h_.nodes[c];
             double d = outside(cn.poly, cn.normal) * 1e6 + length2(cn.center - x);

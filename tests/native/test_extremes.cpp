@@ -941,3 +941,18 @@ TEST(Extremes, HundredThousandVertexConcaveNgon) {
     EXPECT_EQ(flipped, 0);
     expect_disc_power(s, v, "concave 100k-gon");
 }
+
+TEST(Extremes, RadianceAtFarOrNonFinitePoints) {
+    // Found by the fuzzer: a query point so far away that every distance overflowed to inf
+    // walked to child -1 (out-of-bounds read). Far points now end at a leaf; NaN is an error.
+    Solver s(lit_room(), Settings::preset("DRAFT"));
+    s.solve();
+    for (size_t o = 0; o < s.scene().objects().size(); ++o) {
+        if (s.scene().objects()[o].polygon_count() == 0) continue;
+        for (double far : {1e300, -1e300, 1e30}) {
+            Rgb r = s.radiance_at(int(o), 0, Vec3{far, -far, far});
+            EXPECT_TRUE(finite(r)) << "object " << o << " at " << far;
+        }
+        EXPECT_THROW(s.radiance_at(int(o), 0, Vec3{std::nan(""), 0, 0}), InputError);
+    }
+}

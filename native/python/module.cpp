@@ -86,7 +86,7 @@ py::dict stats_dict(const Stats& s) {
     F(input_surfaces); F(primitives); F(skipped_polygons); F(objects); F(clusters); F(elements);
     F(element_nodes); F(links); F(cluster_links); F(surface_links); F(history_links); F(obj_env_links);
     F(env_env_links); F(obj_obj_links); F(env_env_links_recomputed); F(rays); F(links_evaluated);
-    F(refined_by_oracle); F(avoided_by_progressive); F(iterations); F(refine_rounds); F(residual);
+    F(refined_by_oracle); F(avoided_by_progressive); F(refined_by_closure); F(iterations); F(refine_rounds); F(residual);
     F(capped); F(iteration_capped); F(no_emitters); F(seconds_build); F(seconds_link); F(seconds_solve);
     F(seconds_total); F(warnings); F(occluded_links); F(env_env_links_tested); F(env_env_links_rejected);
     F(obj_env_links_removed); F(links_created); F(history_reactivated); F(seconds_adjust);

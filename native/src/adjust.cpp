@@ -130,6 +130,7 @@ void Solver::freshen(const std::vector<int>& ids) {
 void Solver::unrefine(int id) {
     for (int c = links_[id].first_child; c >= 0; c = links_[c].next_sibling) kill(c);
     links_[id].first_child = -1;
+    links_[id].closure_split = false;
     activate(id);
     ++stats_.history_reactivated;
 }
@@ -141,7 +142,7 @@ void Solver::unrefine_pass(const std::vector<char>* senders) {
     for (size_t i = 0; i < links_.size(); ++i) {
         const Link& l = links_[i];
         if (senders && (size_t(l.src) >= senders->size() || !(*senders)[l.src])) continue;
-        if (!l.dead && !l.active && !l.occluded && l.first_child >= 0) cand.push_back(int(i));
+        if (!l.dead && !l.active && !l.occluded && !l.closure_split && l.first_child >= 0) cand.push_back(int(i));
     }
     freshen(cand);
     for (int id : cand) {
@@ -474,6 +475,8 @@ void Solver::update(Control* control) {
     // History links whose view changed: coarsen back where the old shadow is gone.
     freshen(recheck_history);
     for (int id : recheck_history)  // ascending: a parent before the links it refined into
+        // A closure split is undone too: the move changed what its receiver sees, and the
+        // next closure pass splits it again if a leaf below still needs it.
         if (!links_[id].dead && !links_[id].active && !links_[id].occluded && judge(links_[id]).side == Side::Keep)
             unrefine(id);
     s.seconds_adjust = since(t0);
@@ -491,6 +494,9 @@ void Solver::update(Control* control) {
     std::vector<char> moved_light = changed_senders(before);
     unrefine_pass(&moved_light);  // less light somewhere: un-refine (3.4)
     lap("unrefine");
+    // The closure factors and the converged radiances belong to the links as they were
+    // before un-refinement and the rounds below: the last solve must see the final links.
+    bool solved_final_links = false;
     int64_t judged_from = links_before;  // links made since are new: judge them all
     for (int round = 0; round < settings_.max_refine_rounds; ++round) {
         check_cancel();
@@ -511,8 +517,16 @@ void Solver::update(Control* control) {
         lap("closure");
         iterate_to(settings_.tolerance, settings_.max_iterations, 0.6, 0.9);
         lap("gather");
+        solved_final_links = round + 1 == settings_.max_refine_rounds;
         moved_light = changed_senders(snap);
-        }
+    }
+    if (!solved_final_links) {
+        // Warm: a handful of sweeps when nothing changed since the last solve.
+        compute_closure();
+        lap("closure");
+        iterate_to(settings_.tolerance, settings_.max_iterations, 0.9, 0.95);
+        lap("gather");
+    }
     prune_elements();
     lap("prune");
     compute_stats();

@@ -151,17 +151,20 @@ int Solver::iterate_to(double tolerance, int max_iterations, double p0, double p
 // its children inherit the answer (and the decider) when it splits.
 void Solver::compute_closure() {
     if (settings_.closure_rays <= 0) return;
-    collect_receivers();
-    std::vector<double> fsum(h_.nodes.size(), 0.0);
-    sweep(true, &fsum);
-    parallel_for(leaves_.size(), settings_.threads, [&](size_t i) {
-        Node& n = h_.nodes[leaves_[i]];
-        n.closure = 1.0;
-        double f = fsum[leaves_[i]];
-        if (!(f > 0.25 && f < 4.0)) return;  // far off 1 (DRAFT can be): a missing link, not a small error
-        if (n.enclosed < 0) decide_enclosed(leaves_[i], nullptr);
-        if (n.enclosed == 1) n.closure = 1.0 / f;
-    }, 32);
+    for (int pass = 0;; ++pass) {
+        collect_receivers();
+        std::vector<double> fsum(h_.nodes.size(), 0.0);
+        sweep(true, &fsum);
+        parallel_for(leaves_.size(), settings_.threads, [&](size_t i) {
+            Node& n = h_.nodes[leaves_[i]];
+            n.closure = 1.0;
+            double f = fsum[leaves_[i]];
+            if (!(f > 0.25 && f < 4.0)) return;  // far off 1 (DRAFT can be): a missing link, not a small error
+            if (n.enclosed < 0) decide_enclosed(leaves_[i], nullptr);
+            if (n.enclosed == 1) n.closure = 1.0 / f;
+        }, 32);
+        if (pass >= settings_.closure_refine_passes || !closure_refine(fsum)) break;
+    }
 }
 
 // The escape rays of a node: cosine-distributed from random points of its polygon, lifted

@@ -73,6 +73,40 @@ Vec3 Poly::sample(double u1, double u2) const {
     return in_tri(v[0], v[2], v[3], (u1 - f) / (1 - f), u2);
 }
 
+FrontPart front_part(const Poly& poly, const Vec3& x, const Vec3& nx) {
+    FrontPart f;
+    for (int i = 0; i < poly.n; ++i) {
+        const Vec3& a = poly.v[i];
+        const Vec3& b = poly.v[(i + 1) % poly.n];
+        double da = dot(a - x, nx), db = dot(b - x, nx);
+        if (da > 0) f.v[f.n++] = a;
+        if ((da > 0) != (db > 0) && da != db) f.v[f.n++] = a + (b - a) * (da / (da - db));
+    }
+    if (f.n < 3) {
+        f.n = 0;
+        return f;
+    }
+    for (int i = 1; i + 1 < f.n; ++i) f.area += tri_area(f.v[0], f.v[i], f.v[i + 1]);
+    if (!(f.area > 0)) f.n = 0;
+    return f;
+}
+
+Vec3 FrontPart::sample(double u1, double u2) const {
+    // A fan from v[0]; u1 picks the triangle by area and is reused within it (stratification
+    // along u1 carries over).
+    double acc = 0;
+    for (int i = 1; i + 1 < n; ++i) {
+        double a = tri_area(v[0], v[i], v[i + 1]);
+        if (u1 * area <= acc + a || i + 2 == n) {
+            double s = a > 0 ? std::min(1.0, std::max(0.0, (u1 * area - acc) / a)) : 0.5;
+            double su = std::sqrt(s);
+            return v[0] * (1 - su) + v[i] * (su * (1 - u2)) + v[i + 1] * (su * u2);
+        }
+        acc += a;
+    }
+    return v[0];
+}
+
 Cubature cubature(const Poly& p) {
     Cubature c;
     if (p.n == 3) {

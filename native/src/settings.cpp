@@ -42,6 +42,9 @@ void Settings::validate() const {
     if (threads < 0) bad("threads must be >= 0");
     if (!(crease_angle_deg >= 0 && crease_angle_deg <= 180)) bad("crease_angle_deg must be in [0, 180]");
     if (closure_rays < 0) bad("closure_rays must be >= 0");
+    if (!(std::isfinite(closure_refine_tolerance) && closure_refine_tolerance >= 0))
+        bad("closure_refine_tolerance must be >= 0");
+    if (closure_refine_passes < 0) bad("closure_refine_passes must be >= 0");
 }
 
 }  // namespace radiosity

@@ -72,10 +72,15 @@ Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
             int clear = 0, counted = 0;
             double wsum = 0, wclear = 0;
             Vec3 y = cub.p[j] + Q.normal * lift;
+            // Rays go only to the part of the sender above the point's tangent plane, the
+            // part F integrates over: drawn over the whole sender, every ray of a point could
+            // land behind it (weight 0), and the point then counted as fully visible -- light
+            // leaked into closed boxes from walls that straddle their planes.
+            const FrontPart front = front_part(P.poly, cub.p[j], Q.normal);
             for (int r = 0; r < per_point; ++r) {
                 // Stratified along one axis: fewer rays for the same variance.
                 double u1 = (r + rng.next()) / per_point, u2 = rng.next();
-                Vec3 x = P.poly.sample(u1, u2) + P.normal * lift;
+                Vec3 x = (front.n ? front.sample(u1, u2) : P.poly.sample(u1, u2)) + P.normal * lift;
                 // Visibility weighted by the point-to-point kernel, as F is: the sender's part
                 // below the receiver's tangent plane (rays through the receiver's own object)
                 // weighs nothing instead of counting as a shadow a second time (a box side

@@ -186,13 +186,16 @@ TEST(Solver, EnergyBalanceInAnOpenScene) {
     solver.solve();
     const Hierarchy& h = solver.hierarchy();
     double emitted = 0, absorbed = 0, escaped = 0;
-    const int rays = 256;
+    const int rays = 2048;  // escape estimate per leaf
     for (size_t i = 0; i < h.nodes.size(); ++i) {
         const Node& n = h.nodes[i];
         if (n.is_cluster() || !n.children.empty() || n.dead) continue;
         const double rho = n.rho.g, E = n.emission.g, L = n.L.g;
         emitted += n.area * E;
-        if (rho > 0) absorbed += n.area * (1 - rho) * (L - E) / rho;
+        // Every leaf absorbs (1 - rho) of what arrives, the black emitter's underside too
+        // (the floor's light that hits it: ~1 % of the emitted power, missed before).
+        absorbed += n.area * (1 - rho) * solver.leaf_irradiance(int(i)).g;
+        (void)E;
         if (L <= 0) continue;
         Rng rng(i);
         Vec3 t = std::fabs(n.normal.x) > 0.5 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
@@ -208,8 +211,8 @@ TEST(Solver, EnergyBalanceInAnOpenScene) {
     }
     std::printf("[ figure ] energy: emitted %.5f absorbed %.5f escaped %.5f, imbalance %.3f %%\n", emitted, absorbed,
                 escaped, 100 * (absorbed + escaped - emitted) / emitted);
-    // Goal (issue 2): 0.5 %. Measured: -2.1 % clustered, -1.3 % unclustered (HIGH) -- light is
-    // lost somewhere in the discretised transport (not found yet). This bound guards against
-    // regressions until it is.
-    EXPECT_NEAR(absorbed + escaped, emitted, 0.03 * emitted);
+    // Issue 2: within 0.5 %. Measured -0.25 % (clustered), +0.42 % unclustered
+    // (RADIOSITY_TEST_NOCLUSTER=1). The escape estimate itself has ~0.1 % noise at 2048
+    // rays per leaf (256 gave -0.44 %).
+    EXPECT_NEAR(absorbed + escaped, emitted, 0.005 * emitted);
 }

@@ -24,6 +24,17 @@ struct Poly {
     Vec3 sample(double u1, double u2) const;
 };
 
+// The part of a polygon in front of a plane (a convex polygon of up to 5 vertices), sampled
+// uniformly: visibility rays toward a point go only where the point's kernel is non-zero.
+struct FrontPart {
+    std::array<Vec3, 5> v{};
+    int n = 0;          // 0 when nothing of the polygon lies in front
+    double area = 0;
+    Vec3 sample(double u1, double u2) const;
+};
+// The part of `poly` where dot(p - x, nx) > 0.
+FrontPart front_part(const Poly& poly, const Vec3& x, const Vec3& nx);
+
 // Receiver cubature: points and weights (summing to 1) over the polygon.
 struct Cubature {
     std::array<Vec3, 4> p{};

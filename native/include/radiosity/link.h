@@ -33,6 +33,10 @@ struct Link {
     // A history link whose rays a move crossed, not re-evaluated yet (lazily, when the
     // oracle needs it): its K, vis, dK are out of date.
     bool stale = false;
+    // Split by closure-driven refinement (refine.cpp), not by the oracle: the split answers
+    // the geometry (a leaf below sees less than this link's receiver), not the light level,
+    // so un-refinement (3.4) keeps it.
+    bool closure_split = false;
     int first_child = -1;  // history tree: the links that refined this one
     int next_sibling = -1;
     Rgb value;             // cluster receivers: K * L_src of the current iteration

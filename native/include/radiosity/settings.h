@@ -19,6 +19,11 @@ struct Settings {
     int threads = 0;                    // 0 = all cores
     double crease_angle_deg = 35.0;
     int closure_rays = 32;              // escape rays per leaf for the closure correction
+    // Closure-driven refinement (refine.cpp): an enclosed leaf whose form factors sum further
+    // than this from 1 has the links at its ancestors split toward it (0 = off), at most
+    // closure_refine_passes times per closure computation.
+    double closure_refine_tolerance = 0.1;
+    int closure_refine_passes = 6;
     uint64_t seed = 1;
 
     // 'DRAFT' | 'MEDIUM' | 'HIGH'; throws std::invalid_argument otherwise.

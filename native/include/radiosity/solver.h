@@ -73,6 +73,9 @@ public:
     // Irradiance / pi arriving at the front side at every corner (lighting only: what a white
     // surface would reflect; the surface's own emission and reflectance left out).
     std::vector<float> corner_irradiance(int object) const;
+    // Irradiance / pi arriving at a leaf element's side, all links and the direct term
+    // (what its reflectance multiplies; also what a black emitter absorbs).
+    Rgb leaf_irradiance(int leaf) const;
     // The object's front-side leaf elements as a T-vertex free mesh, with radiance (or
     // irradiance / pi when lighting_only) per polygon.
     LeafMesh leaf_mesh(int object, bool lighting_only) const;
@@ -101,6 +104,8 @@ private:
     void push_down(int node, Rgb acc, bool unit, std::vector<double>* fsum, double& delta);
     void pull_up_clusters();
     void compute_closure();
+    // Splits links above enclosed leaves whose form factors do not sum to ~1; true if any.
+    bool closure_refine(const std::vector<double>& fsum);
     void escape_rays(const Node& n, std::vector<std::pair<Vec3, Vec3>>& rays) const;
     void decide_enclosed(int id, const std::vector<Aabb>* moved_boxes);
     void collect_receivers();
@@ -133,7 +138,6 @@ private:
     void light_keep(std::vector<int>& refs);     // pruning keeps light-split children
     double light_power(double total_area) const; // for the reference radiance
     Rgb light_direct(int node) const;
-    Rgb leaf_irradiance(int leaf) const;
     LightState lights_;
     // output.cpp: per-corner values of any per-leaf quantity
     std::vector<float> corner_values(int object, const std::function<Rgb(int)>& leaf_value) const;

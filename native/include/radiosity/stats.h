@@ -36,6 +36,7 @@ struct Stats {
     int64_t links_evaluated = 0;
     int64_t refined_by_oracle = 0;
     int64_t avoided_by_progressive = 0;  // refinements the 3.5 criterion avoided
+    int64_t refined_by_closure = 0;      // links split because a leaf's form factors missed 1
     int iterations = 0;
     int refine_rounds = 0;
     double residual = 0;            // estimated remaining relative error at the end

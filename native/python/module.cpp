@@ -87,7 +87,7 @@ py::dict stats_dict(const Stats& s) {
     F(element_nodes); F(links); F(cluster_links); F(surface_links); F(history_links); F(obj_env_links);
     F(env_env_links); F(obj_obj_links); F(env_env_links_recomputed); F(rays); F(links_evaluated);
     F(refined_by_oracle); F(avoided_by_progressive); F(refined_by_closure); F(iterations); F(refine_rounds); F(residual);
-    F(capped); F(iteration_capped); F(no_emitters); F(seconds_build); F(seconds_link); F(seconds_solve);
+    F(capped); F(memory_capped); F(memory_bytes); F(iteration_capped); F(no_emitters); F(seconds_build); F(seconds_link); F(seconds_solve);
     F(seconds_total); F(warnings); F(occluded_links); F(env_env_links_tested); F(env_env_links_rejected);
     F(obj_env_links_removed); F(links_created); F(history_reactivated); F(seconds_adjust);
     F(env_env_links_rays_clear);
@@ -112,6 +112,7 @@ PYBIND11_MODULE(radiosity_native, m) {
         .def_readwrite("min_area_fraction", &Settings::min_area_fraction)
         .def_readwrite("max_elements", &Settings::max_elements)
         .def_readwrite("max_links", &Settings::max_links)
+        .def_readwrite("max_memory_mb", &Settings::max_memory_mb)
         .def_readwrite("use_clustering", &Settings::use_clustering)
         .def_readwrite("progressive_refinement", &Settings::progressive_refinement)
         .def_readwrite("rays_per_link", &Settings::rays_per_link)

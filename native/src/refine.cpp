@@ -155,6 +155,12 @@ Solver::Judgement Solver::judge(const Link& l) const {
     return j;
 }
 
+double Solver::memory_estimate(size_t more_links, size_t more_nodes) const {
+    const double per_node = sizeof(Node) + 4 * sizeof(int);
+    const double per_link = sizeof(Link) + 2 * sizeof(int) + 0.5 * settings_.rays_per_link * sizeof(std::pair<int, float>);
+    return double(h_.nodes.size() + more_nodes) * per_node + double(links_.size() + more_links) * per_link;
+}
+
 void Solver::apply(int id, const Judgement& j, std::vector<Candidate>& next) {
     if (j.side == Side::Keep) return;
     if (j.side == Side::Settle) {
@@ -169,6 +175,10 @@ void Solver::apply(int id, const Judgement& j, std::vector<Candidate>& next) {
     // wave has queued, so the cap is exceeded by at most one refinement.
     if (int64_t(links_.size() + next.size()) + 4 > settings_.max_links) {
         stats_.capped = true;
+        return;
+    }
+    if (memory_estimate(next.size() + 4, 4) > memory_limit_) {  // with the links this wave queued
+        stats_.capped = stats_.memory_capped = true;
         return;
     }
     const int split = j.side == Side::Src ? links_[id].src : links_[id].rcv;

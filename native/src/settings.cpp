@@ -35,6 +35,7 @@ void Settings::validate() const {
     if (!(std::isfinite(min_area_fraction) && min_area_fraction >= 0)) bad("min_area_fraction must be >= 0");
     if (max_elements < 1) bad("max_elements must be >= 1");
     if (max_links < 1) bad("max_links must be >= 1");
+    if (!(std::isfinite(max_memory_mb) && max_memory_mb >= 0)) bad("max_memory_mb must be >= 0 (0 = half the physical memory)");
     if (rays_per_link < 1 || rays_per_link > 4096) bad("rays_per_link must be in [1, 4096]");
     if (max_iterations < 1) bad("max_iterations must be >= 1");
     if (max_refine_rounds < 0) bad("max_refine_rounds must be >= 0");

@@ -1,5 +1,7 @@
 #include "radiosity/solver.h"
 
+#include <unistd.h>
+
 #include <chrono>
 #include <cmath>
 
@@ -19,6 +21,11 @@ int hardware_threads() {
 
 Solver::Solver(SceneDesc scene, Settings settings) : scene_(std::move(scene)), settings_(settings) {
     settings_.validate();
+    memory_limit_ = settings_.max_memory_mb * 1048576.0;
+    if (memory_limit_ <= 0) {
+        const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+        memory_limit_ = pages > 0 && page > 0 ? 0.5 * double(pages) * double(page) : 4.0 * 1073741824.0;
+    }
 }
 
 void Solver::check_cancel() const {
@@ -123,7 +130,11 @@ void Solver::solve(Control* control) {
         stats_.seconds_solve = since(t2);
     }
     if (stats_.element_nodes >= settings_.max_elements) stats_.capped = true;
-    if (stats_.capped)
+    if (stats_.memory_capped)
+        stats_.warnings.push_back("refinement stopped at the memory cap (max_memory_mb " +
+                                  std::to_string(int64_t(memory_limit_ / 1048576.0)) +
+                                  "): the result is coarser than the threshold asks");
+    else if (stats_.capped)
         stats_.warnings.push_back("refinement stopped at the element or link cap (max_elements " +
                                   std::to_string(settings_.max_elements) + ", max_links " +
                                   std::to_string(settings_.max_links) + "): the result is coarser than the threshold asks");
@@ -228,6 +239,7 @@ void Solver::compute_reference() {
 void Solver::compute_stats() {
     Stats& s = stats_;
     s.input_surfaces = int64_t(scene_.polygon_count());
+    s.memory_bytes = int64_t(memory_estimate());
     s.primitives = int64_t(h_.prims.size());
     s.skipped_polygons = int64_t(h_.skipped_polygons);
     s.objects = int64_t(scene_.objects().size());

@@ -688,6 +688,29 @@ TEST(Extremes, HugeThresholdGivesTheCoarsestSolution) {
     EXPECT_FALSE(s.stats().capped);
 }
 
+TEST(Extremes, TinyThresholdStopsAtTheMemoryCap) {
+    // Without element or link caps, a tiny threshold refines until memory runs out; the
+    // memory cap stops it first and says so (max_memory_mb; 0 = half the machine's memory).
+    Settings st;
+    st.error_threshold = 1e-9;
+    st.max_memory_mb = 40;
+    Solver s(scenes::cornell_box(2), st);
+    s.solve();
+    expect_sane(s, "eps 1e-9, memory cap");
+    std::printf("[ figure ] eps 1e-9, max_memory_mb 40: estimate %.1f MiB, element nodes %lld, stored links %zu\n",
+                s.stats().memory_bytes / 1048576.0, (long long)s.stats().element_nodes, s.links().size());
+    EXPECT_TRUE(s.stats().capped);
+    EXPECT_TRUE(s.stats().memory_capped);
+    EXPECT_LE(s.stats().memory_bytes, int64_t(1.05 * 40 * 1048576));
+    EXPECT_GE(s.stats().memory_bytes, int64_t(0.5 * 40 * 1048576));  // it did refine up to it
+    bool said = false;
+    for (const auto& w : s.stats().warnings) said |= w.find("memory cap") != std::string::npos;
+    EXPECT_TRUE(said);
+    Settings bad;
+    bad.max_memory_mb = -1;
+    EXPECT_THROW(Solver(scenes::cornell_box(2), bad), std::invalid_argument);
+}
+
 TEST(Extremes, TinyThresholdStopsAtTheElementCap) {
     // The caps that exist (settings.h): max_elements and max_links, reported by
     // Stats::capped and a warning saying so. There is no memory cap as such.

@@ -10,6 +10,10 @@ struct Settings {
     double min_area_fraction = 1e-5;    // smallest element area / scene-diagonal^2
     int64_t max_elements = 2000000;     // refinement stops at these caps (stats say so)
     int64_t max_links = 10000000;
+    // Refinement also stops when the solver's estimated memory (elements, links with their
+    // history) would pass this many MiB; 0 = half the machine's physical memory. A cap, not
+    // an out-of-memory kill: the solve ends coarser and says so.
+    double max_memory_mb = 0;
     bool use_clustering = true;
     bool progressive_refinement = true;  // the paper's 3.5 criterion
     int rays_per_link = 16;

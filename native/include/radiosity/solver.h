@@ -91,6 +91,10 @@ private:
     Judgement judge(const Link& l) const;
     void apply(int link_id, const Judgement& j, std::vector<Candidate>& next);
     bool can_split(int node) const;
+    // Estimated bytes held by nodes and links (their per-node index lists and cluster
+    // samples included, on average); compared with memory_limit_ before refining.
+    double memory_estimate(size_t more_links = 0, size_t more_nodes = 0) const;
+    double memory_limit_ = 0;
     uint64_t link_seed(int src, int rcv) const;
     int add_link(Link l);
     void deactivate(int link_id);

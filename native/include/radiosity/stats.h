@@ -40,7 +40,9 @@ struct Stats {
     int iterations = 0;
     int refine_rounds = 0;
     double residual = 0;            // estimated remaining relative error at the end
-    bool capped = false;            // a cap (elements/links/min area) stopped refinement
+    bool capped = false;            // a cap (elements/links/memory) stopped refinement
+    bool memory_capped = false;     // ... the memory cap (Settings::max_memory_mb)
+    int64_t memory_bytes = 0;       // estimated memory of elements and links at the end
     bool iteration_capped = false;  // max_iterations reached before the tolerance
     bool no_emitters = false;
     double seconds_build = 0, seconds_link = 0, seconds_solve = 0, seconds_total = 0;

@@ -78,4 +78,5 @@ def main():
         print("   full phases:  ", " ".join(f"{k} {v:.3f}" for k, v in sf["phases"].items()), "| iterations", sf["iterations"])
 
 
-main()
+if __name__ == "__main__":
+    main()

@@ -122,6 +122,8 @@ PYBIND11_MODULE(radiosity_native, m) {
         .def_readwrite("threads", &Settings::threads)
         .def_readwrite("crease_angle_deg", &Settings::crease_angle_deg)
         .def_readwrite("closure_rays", &Settings::closure_rays)
+        .def_readwrite("closure_refine_tolerance", &Settings::closure_refine_tolerance)
+        .def_readwrite("closure_refine_passes", &Settings::closure_refine_passes)
         .def_readwrite("seed", &Settings::seed)
         .def("validate", &Settings::validate);
 

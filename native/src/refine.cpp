@@ -285,7 +285,10 @@ bool Solver::closure_refine(const std::vector<double>& fsum) {
     for (int leaf : leaves_) {
         const Node& n = h_.nodes[leaf];
         if (n.enclosed != 1 || std::fabs(fsum[leaf] - 1.0) <= tol) continue;
-        for (int a = n.parent; a >= 0; a = h_.nodes[a].parent)
+        // Element ancestors only: splitting a cluster link on the receiver side re-links a
+        // whole object (overlapping sub-clusters go down to element pairs), millions of links
+        // in a furnished room for what one leaf's sum says.
+        for (int a = n.parent; a >= 0 && !h_.nodes[a].is_cluster(); a = h_.nodes[a].parent)
             for (int li : h_.nodes[a].in_links)
                 if (!queued[li] && can_split(links_[li].rcv)) {
                     queued[li] = 1;

@@ -123,6 +123,8 @@ double Solver::sweep(bool unit, std::vector<double>* fsum) {
 
 int Solver::iterate_to(double tolerance, int max_iterations, double p0, double p1) {
     collect_receivers();
+    int64_t gathered = 0;
+    for (int r : receivers_) gathered += int64_t(h_.nodes[r].in_links.size());
     double prev = -1;
     const double scale = std::max(L_ref_, 1e-300);
     int it = 0;
@@ -130,6 +132,7 @@ int Solver::iterate_to(double tolerance, int max_iterations, double p0, double p
         check_cancel();
         double delta = sweep(false, nullptr) / scale;
         ++stats_.iterations;
+        stats_.link_sweeps += gathered;
         // Remaining error of a geometric iteration: delta * q / (1 - q), q the observed
         // contraction; this keeps the stop honest at reflectance near 1.
         double q = prev > 0 ? std::min(delta / prev, 0.9999) : 0.9;

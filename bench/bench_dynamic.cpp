@@ -97,9 +97,11 @@ int main(int argc, char** argv) {
             std::printf(" %s %.3f", p.first.c_str(), p.second);
             if (p.first == "gather") gather = p.second;
         }
-        std::printf(" s\n  gathering: %lld link-sweeps, %.1f ns per link-sweep; %lld gather plans built in %.4f s\n",
-                    (long long)st.link_sweeps, 1e9 * gather / double(std::max<int64_t>(1, st.link_sweeps)),
-                    (long long)st.gather_plans, st.seconds_gather_plan);
+        const double ls = double(std::max<int64_t>(1, st.link_sweeps));
+        std::printf(" s\n  gathering: %lld link-sweeps; gather phase %.1f ns, sweeps alone %.1f ns per link-sweep; "
+                    "%lld gather plans built in %.4f s\n",
+                    (long long)st.link_sweeps, 1e9 * gather / ls, 1e9 * st.seconds_sweeps / ls, (long long)st.gather_plans,
+                    st.seconds_gather_plan);
     };
     phases("full solve phases", s_full);
     phases("update phases", s_upd);

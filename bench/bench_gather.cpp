@@ -4,7 +4,7 @@
 // spent building gather plans, and medians of the times. --save writes every threshold's corner
 // radiance to a file and --compare reads one back and prints the NRMSE against it, so two builds
 // (before and after a gather change) can be checked for equal results.
-// Usage: bench_gather [--runs N] [--save FILE | --compare FILE] [box_room|cornell|furnace] [eps ...]
+// Usage: bench_gather [--runs N] [--threads N] [--save FILE | --compare FILE] [box_room|cornell|furnace] [eps ...]
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -31,12 +31,13 @@ double phase(const Stats& s, const char* name) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    int runs = 3;
+    int runs = 3, threads = 0;
     std::string name = "box_room", save, compare;
     std::vector<double> eps;
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
         if (a == "--runs" && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
+        else if (a == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
         else if (a == "--save" && i + 1 < argc) save = argv[++i];
         else if (a == "--compare" && i + 1 < argc) compare = argv[++i];
         else if (a == "box_room" || a == "cornell" || a == "furnace") name = a;
@@ -56,14 +57,15 @@ int main(int argc, char** argv) {
     }
     FILE* out = save.empty() ? nullptr : std::fopen(save.c_str(), "wb");
     std::printf("scene: %s, %zu input polygons, %d runs (times are medians)\n\n", name.c_str(), scene.polygon_count(), runs);
-    std::printf("| eps | elements | links | rays | sweeps | link-sweeps | gather s | ns per link-sweep | plans | plan s | "
-                "plan / sweep | closure s | total s |%s\n", compare.empty() ? "" : " NRMSE vs saved |");
-    std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|%s\n", compare.empty() ? "" : "---|");
+    std::printf("| eps | elements | links | rays | sweeps | link-sweeps | gather s | gather ns per link-sweep | sweeps ns per "
+                "link-sweep | plans | plan s | plan / sweep | closure s | total s |%s\n", compare.empty() ? "" : " NRMSE vs saved |");
+    std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|%s\n", compare.empty() ? "" : "---|");
     size_t offset = 0;
     for (double e : eps) {
         Settings st;
         st.error_threshold = e;
-        std::vector<double> gather, per_link, plan, plan_per_sweep, closure, total;
+        st.threads = threads;
+        std::vector<double> gather, per_link, sweep_per_link, plan, plan_per_sweep, closure, total;
         Stats s;
         std::vector<float> corners;
         for (int r = 0; r < runs; ++r) {
@@ -71,22 +73,23 @@ int main(int argc, char** argv) {
             solver.solve();
             s = solver.stats();
             const double g = phase(s, "gather");
+            const double links = double(std::max<int64_t>(1, s.link_sweeps));
             gather.push_back(g);
-            per_link.push_back(1e9 * g / double(std::max<int64_t>(1, s.link_sweeps)));
+            per_link.push_back(1e9 * g / links);  // the whole phase: sweeps, plan builds, collecting receivers
+            sweep_per_link.push_back(1e9 * s.seconds_sweeps / links);  // the sweeps alone
             plan.push_back(s.seconds_gather_plan);
-            // One plan build against one sweep: the sweep's share of the gather phase
-            // without the plan builds.
-            const double sweep = (g - s.seconds_gather_plan) / std::max(1, s.iterations);
+            // One plan build (the mean over closure and gather builds) against one sweep.
+            const double sweep = s.seconds_sweeps / std::max(1, s.iterations);
             const double build = s.seconds_gather_plan / double(std::max<int64_t>(1, s.gather_plans));
             plan_per_sweep.push_back(sweep > 0 ? build / sweep : 0.0);
             closure.push_back(phase(s, "closure"));
             total.push_back(s.seconds_total);
             corners = solver.all_corner_radiance();
         }
-        std::printf("| %g | %lld | %lld | %lld | %d | %lld | %.3f | %.1f | %lld | %.4f | %.2f | %.3f | %.3f |", e,
+        std::printf("| %g | %lld | %lld | %lld | %d | %lld | %.3f | %.1f | %.1f | %lld | %.4f | %.2f | %.3f | %.3f |", e,
                     (long long)s.elements, (long long)s.links, (long long)s.rays, s.iterations, (long long)s.link_sweeps,
-                    median(gather), median(per_link), (long long)s.gather_plans, median(plan), median(plan_per_sweep),
-                    median(closure), median(total));
+                    median(gather), median(per_link), median(sweep_per_link), (long long)s.gather_plans, median(plan),
+                    median(plan_per_sweep), median(closure), median(total));
         if (!compare.empty()) {
             std::vector<float> ref;
             if (offset + corners.size() <= reference.size())

@@ -1,0 +1,409 @@
+// The gather plan (gather_plan.h): building it from the hierarchy and links, one Jacobi sweep
+// over it (gathering, push-pull), and copying the radiances back.
+#include "radiosity/gather_plan.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <tuple>
+
+#include "radiosity/parallel.h"
+
+namespace radiosity {
+
+int32_t GatherPlan::slot_of(int node) {
+    if (slot_[size_t(node)] < 0) {
+        // A node outside the element trees and clusters that a link still names (not expected
+        // from the solver's bookkeeping): its radiance stays what it is, as in a sweep over
+        // the nodes.
+        slot_[size_t(node)] = int32_t(slot_node_.size());
+        slot_node_.push_back(node);
+    }
+    return slot_[size_t(node)];
+}
+
+void GatherPlan::build(const Hierarchy& h, const std::vector<Link>& links, int threads) {
+    h_ = &h;
+    radiometry_ = false;
+    dirty_ = false;
+    const size_t nn = h.nodes.size();
+    slot_.assign(nn, -1);
+    slot_node_.clear();
+
+    // Element entries: each surface's quadtree breadth first.
+    const size_t ns = h.surfaces.size();
+    s_begin_.assign(ns + 1, 0);
+    e_child_.clear();
+    e_nchild_.clear();
+    for (size_t s = 0; s < ns; ++s) {
+        s_begin_[s] = int32_t(slot_node_.size());
+        const int root = h.surfaces[s].root;
+        slot_[size_t(root)] = int32_t(slot_node_.size());
+        slot_node_.push_back(root);
+        for (size_t i = size_t(s_begin_[s]); i < slot_node_.size(); ++i) {
+            const Node& n = h.nodes[size_t(slot_node_[i])];
+            e_child_.push_back(n.children.empty() ? -1 : int32_t(slot_node_.size()));
+            e_nchild_.push_back(uint8_t(n.children.size()));
+            for (int c : n.children) {
+                slot_[size_t(c)] = int32_t(slot_node_.size());
+                slot_node_.push_back(c);
+            }
+        }
+    }
+    s_begin_[ns] = int32_t(slot_node_.size());
+    n_elem_ = int32_t(slot_node_.size());
+    const size_t ne = size_t(n_elem_);
+    e_rcv_.assign(ne, 0);
+    e_nin_.assign(ne, 0);
+    parallel_for(ne, threads, [&](size_t i) {
+        const Node& n = h.nodes[size_t(slot_node_[i])];
+        e_nin_[i] = int32_t(n.in_links.size());
+        e_rcv_[i] = !n.in_links.empty();
+    }, 1024);
+    G_.assign(ne, Rgb{});
+    acc_.assign(ne, Rgb{});
+
+    // Clusters by decreasing node id: a cluster's child clusters have larger ids, so one
+    // forward pass over them pulls up bottom-up.
+    cr_node_.clear();
+    n_clusters_ = 0;
+    for (size_t id = nn; id-- > 0;)
+        if (h.nodes[id].is_cluster()) {
+            slot_[id] = int32_t(slot_node_.size());
+            slot_node_.push_back(int32_t(id));
+            ++n_clusters_;
+        }
+    const int32_t cl_lo = n_elem_, cl_hi = n_elem_ + n_clusters_;
+
+    // Receivers and the ranges of their links, in in_links order (the order a gather sums
+    // them in): element receivers by entry, then the links into clusters.
+    r_entry_.clear();
+    r_begin_.clear();
+    int32_t total = 0;
+    for (int32_t i = 0; i < n_elem_; ++i) {
+        if (!e_rcv_[size_t(i)]) continue;
+        r_entry_.push_back(i);
+        r_begin_.push_back(total);
+        total += e_nin_[size_t(i)];
+    }
+    r_begin_.push_back(total);
+    cluster_links_from_ = total;
+    std::vector<int32_t> cr_begin;
+    std::vector<int32_t> c_value_begin(size_t(n_clusters_), -1);  // per cluster: first index in cvalue_
+    for (int32_t ci = 0; ci < n_clusters_; ++ci) {
+        const int id = slot_node_[size_t(cl_lo + ci)];
+        const Node& c = h.nodes[size_t(id)];
+        if (c.dead || c.in_links.empty()) continue;
+        cr_node_.push_back(id);
+        cr_begin.push_back(total);
+        c_value_begin[size_t(ci)] = total - cluster_links_from_;
+        total += int32_t(c.in_links.size());
+    }
+
+    // The links: sender slot and K, in parallel. Cluster senders are marked -2 and senders
+    // outside the plan -3 for the serial pass after.
+    plinks_.resize(size_t(total));
+    plink_id_.resize(size_t(total));
+    auto fill = [&](int node, int32_t at) {
+        for (int li : h.nodes[size_t(node)].in_links) {
+            const Link& l = links[size_t(li)];
+            const int32_t src = slot_[size_t(l.src)];
+            const int32_t send = src < 0 ? -3 : (src >= cl_lo && src < cl_hi ? -2 : -1);
+            plinks_[size_t(at)] = PlanLink{src, send, l.K};
+            plink_id_[size_t(at)] = li;
+            ++at;
+        }
+    };
+    const size_t ner = r_entry_.size();
+    parallel_for(ner + cr_node_.size(), threads, [&](size_t r) {
+        if (r < ner) fill(slot_node_[size_t(r_entry_[r])], r_begin_[r]);
+        else fill(cr_node_[r - ner], cr_begin[r - ner]);
+    }, 256);
+    send_at_.clear();
+    for (size_t k = 0; k < plinks_.size(); ++k) {
+        PlanLink& p = plinks_[k];
+        if (p.send == -3) {
+            p.src = slot_of(links[size_t(plink_id_[k])].src);
+            p.send = -1;
+        } else if (p.send == -2) {
+            p.send = int32_t(send_at_.size());
+            send_at_.push_back(int32_t(k));
+        }
+    }
+    cvalue_.assign(size_t(total - cluster_links_from_), Rgb{});
+
+    // Flux through cluster links, per group of surfaces that receive the same: the same
+    // ancestor chain (the same deepest ancestor) and the same normal. Terms in the order the
+    // ancestors (root first) and their in_links come, as a per-surface walk would add them.
+    std::map<std::tuple<int, double, double, double>, int32_t> groups;
+    s_group_.assign(ns, 0);
+    g_begin_.clear();
+    flux_.clear();
+    for (size_t s = 0; s < ns; ++s) {
+        const std::vector<int>& anc = h.ancestors_of_surface(int(s));
+        const Vec3 nrm = h.nodes[size_t(h.surfaces[s].root)].normal;
+        const auto key = std::make_tuple(anc.empty() ? -1 : anc.back(), nrm.x, nrm.y, nrm.z);
+        auto it = groups.find(key);
+        if (it != groups.end()) {
+            s_group_[s] = it->second;
+            continue;
+        }
+        const int32_t g = int32_t(g_begin_.size());
+        groups.emplace(key, g);
+        s_group_[s] = g;
+        g_begin_.push_back(int32_t(flux_.size()));
+        for (int a : anc) {
+            const int32_t sa = slot_[size_t(a)];
+            const int32_t first = sa >= cl_lo && sa < cl_hi ? c_value_begin[size_t(sa - cl_lo)] : -1;
+            if (first < 0) continue;  // no links into it
+            const std::vector<int>& in = h.nodes[size_t(a)].in_links;
+            for (size_t k = 0; k < in.size(); ++k) {
+                const double c = -dot(nrm, links[size_t(in[k])].dir);
+                if (c > 0) flux_.push_back({first + int32_t(k), c});
+            }
+        }
+    }
+    g_begin_.push_back(int32_t(flux_.size()));
+    g_flux_.assign(g_begin_.size() - 1, Rgb{});
+    valid_ = true;
+}
+
+void GatherPlan::prepare_radiometry(const Hierarchy& h, const std::vector<Link>& links,
+                                    const std::function<Rgb(int)>& direct, int threads) {
+    if (radiometry_) return;
+    const size_t ne = size_t(n_elem_);
+    e_area_.assign(ne, 0.0);
+    e_child_area_.assign(ne, 0.0);
+    e_closure_.assign(ne, 1.0);
+    e_emission_.assign(ne, Rgb{});
+    e_rho_.assign(ne, Rgb{});
+    e_direct_.assign(ne, Rgb{});
+    L_.assign(ne, Rgb{});
+    parallel_for(ne, threads, [&](size_t i) {
+        const int id = slot_node_[i];
+        const Node& n = h.nodes[size_t(id)];
+        e_area_[i] = n.area;
+        e_emission_[i] = n.emission;
+        G_[i] = n.G;
+        L_[i] = n.L;
+        if (n.children.empty()) {
+            e_rho_[i] = n.rho;
+            e_closure_[i] = n.closure;
+            e_direct_[i] = direct(id);
+        }
+    }, 1024);
+    parallel_for(ne, threads, [&](size_t i) {
+        double area = 0;  // summed in children order, as the pull-up sums it
+        for (int32_t c = e_child_[i]; c >= 0 && c < e_child_[i] + e_nchild_[i]; ++c) area += e_area_[size_t(c)];
+        e_child_area_[i] = area;
+    }, 4096);
+
+    // Clusters: bins and children for the pull-up.
+    S_.assign(size_t(n_clusters_) * kBins, Rgb{});
+    c_begin_.assign(size_t(n_clusters_) + 1, 0);
+    c_children_.clear();
+    for (int32_t ci = 0; ci < n_clusters_; ++ci) {
+        const Node& c = h.nodes[size_t(slot_node_[size_t(n_elem_ + ci)])];
+        for (int b = 0; b < kBins; ++b) S_[size_t(ci) * kBins + size_t(b)] = c.S[size_t(b)];
+        c_begin_[size_t(ci)] = int32_t(c_children_.size());
+        for (int k : c.children) {
+            const Node& n = h.nodes[size_t(k)];
+            ClusterChild cc{};
+            cc.slot = slot_of(k);
+            cc.area = n.area;
+            cc.cluster = n.is_cluster() ? cc.slot - n_elem_ : -1;
+            for (int a = 0; a < 3; ++a) {
+                const double v = n.normal[a] * n.area;
+                cc.bin[a] = bin_of(a, v);
+                cc.proj[a] = std::fabs(v);
+            }
+            c_children_.push_back(cc);
+        }
+    }
+    c_begin_[size_t(n_clusters_)] = int32_t(c_children_.size());
+
+    // Cluster senders. Sample lists are referred to, not copied.
+    sends_.resize(send_at_.size());
+    parallel_for(send_at_.size(), threads, [&](size_t k) {
+        const PlanLink& p = plinks_[size_t(send_at_[k])];
+        const Link& l = links[size_t(plink_id_[size_t(send_at_[k])])];
+        ClusterSend cs{};
+        cs.src = p.src;
+        cs.samples = l.samples.data();
+        cs.nsamples = int32_t(l.samples.size());
+        if (l.samples.empty()) {
+            const Node& src = h.nodes[size_t(l.src)];
+            const int32_t ci = p.src - n_elem_;
+            for (int a = 0; a < 3; ++a) {
+                const double wa = l.dir[a] * l.dir[a];
+                if (wa <= 0) continue;
+                const int b = bin_of(a, l.dir[a]);
+                cs.bin[cs.nbins] = ci * kBins + b;
+                cs.w[cs.nbins] = wa;
+                cs.den += src.W[size_t(b)] * wa;
+                ++cs.nbins;
+            }
+        }
+        sends_[k] = cs;
+    }, 256);
+    for (size_t k = 0; k < cvalue_.size(); ++k) cvalue_[k] = links[size_t(plink_id_[size_t(cluster_links_from_) + k])].value;
+
+    // Radiances of clusters and of the nodes outside the trees.
+    L_.resize(slot_node_.size());
+    for (size_t i = ne; i < slot_node_.size(); ++i) L_[i] = h.nodes[size_t(slot_node_[i])].L;
+    radiometry_ = true;
+}
+
+// Sender radiance as transfer.cpp's sender_radiance computes it, from the plan's arrays.
+Rgb GatherPlan::sender_radiance(const PlanLink& p) const {
+    if (p.send < 0) return L_[size_t(p.src)];
+    const ClusterSend& c = sends_[size_t(p.send)];
+    if (c.nsamples > 0) {
+        Rgb acc;
+        double w = 0;
+        for (int32_t k = 0; k < c.nsamples; ++k) {
+            const auto& sm = c.samples[k];
+            const int32_t sl = slot_[size_t(sm.first)];
+            acc += (sl >= 0 ? L_[size_t(sl)] : h_->nodes[size_t(sm.first)].L) * double(sm.second);
+            w += sm.second;
+        }
+        return acc / w;
+    }
+    Rgb num;
+    for (int32_t b = 0; b < c.nbins; ++b) num += S_[size_t(c.bin[b])] * c.w[b];
+    return c.den > 0 ? num / c.den : L_[size_t(c.src)];
+}
+
+void GatherPlan::push_pull(size_t s, bool unit, std::vector<double>* fsum, double& delta) {
+    const int32_t b = s_begin_[s], e = s_begin_[s + 1];
+    acc_[size_t(b)] = g_flux_[size_t(s_group_[s])];
+    if (e_rcv_[size_t(b)]) acc_[size_t(b)] += G_[size_t(b)];
+    // Push irradiance down (parents come before children) and reflect it at the leaves.
+    for (int32_t i = b; i < e; ++i) {
+        const int32_t c0 = e_child_[size_t(i)];
+        if (c0 >= 0) {
+            for (int32_t c = c0; c < c0 + e_nchild_[size_t(i)]; ++c) {
+                acc_[size_t(c)] = acc_[size_t(i)];
+                if (e_rcv_[size_t(c)]) acc_[size_t(c)] += G_[size_t(c)];
+            }
+            continue;
+        }
+        if (unit) {
+            (*fsum)[size_t(slot_node_[size_t(i)])] = acc_[size_t(i)].mean();
+            continue;
+        }
+        const Rgb Lnew = e_emission_[size_t(i)] + e_rho_[size_t(i)] * (acc_[size_t(i)] * e_closure_[size_t(i)] + e_direct_[size_t(i)]);
+        const Rgb Lold = L_[size_t(i)];
+        delta = std::max(delta, std::fabs((Lnew - Lold).max()));
+        delta = std::max(delta, std::fabs((Lold - Lnew).max()));
+        L_[size_t(i)] = Lnew;
+    }
+    if (unit) return;
+    // Pull radiance up, area-weighted (a reverse pass: children before their parent).
+    for (int32_t i = e - 1; i >= b; --i) {
+        const int32_t c0 = e_child_[size_t(i)];
+        if (c0 < 0) continue;
+        Rgb sum;
+        for (int32_t c = c0; c < c0 + e_nchild_[size_t(i)]; ++c) sum += L_[size_t(c)] * e_area_[size_t(c)];
+        const double area = e_child_area_[size_t(i)];
+        L_[size_t(i)] = area > 0 ? sum / area : e_emission_[size_t(i)];
+    }
+}
+
+void GatherPlan::pull_up_clusters() {
+    for (int32_t ci = 0; ci < n_clusters_; ++ci) {
+        Rgb* S = &S_[size_t(ci) * kBins];
+        std::fill(S, S + kBins, Rgb{});
+        Rgb sum;
+        double area = 0;
+        for (int32_t k = c_begin_[size_t(ci)]; k < c_begin_[size_t(ci) + 1]; ++k) {
+            const ClusterChild& cc = c_children_[size_t(k)];
+            const Rgb L = L_[size_t(cc.slot)];
+            if (cc.cluster >= 0) {
+                const Rgb* Sc = &S_[size_t(cc.cluster) * kBins];
+                for (int b = 0; b < kBins; ++b) S[b] += Sc[b];
+            } else {
+                for (int a = 0; a < 3; ++a) S[cc.bin[a]] += L * cc.proj[a];
+            }
+            sum += L * cc.area;
+            area += cc.area;
+        }
+        L_[size_t(n_elem_ + ci)] = area > 0 ? sum / area : Rgb{};
+    }
+}
+
+double GatherPlan::sweep(bool unit, std::vector<double>* fsum, int threads) {
+    // 1. Gather through the links (Jacobi: from the previous sweep's radiances).
+    parallel_for(r_entry_.size(), threads, [&](size_t i) {
+        Rgb g;
+        for (int32_t k = r_begin_[i]; k < r_begin_[i + 1]; ++k) {
+            const PlanLink& p = plinks_[size_t(k)];
+            g += (unit ? Rgb::all(1.0) : sender_radiance(p)) * p.K;
+        }
+        G_[size_t(r_entry_[i])] = g;
+    }, 64);
+    parallel_for(cvalue_.size(), threads, [&](size_t k) {
+        const PlanLink& p = plinks_[size_t(cluster_links_from_) + k];
+        cvalue_[k] = (unit ? Rgb::all(1.0) : sender_radiance(p)) * p.K;
+    }, 256);
+    // 2. Flux arriving through cluster links, per surface group, times its cosine (oriented
+    //    clusters); then push-pull down and up each surface's quadtree.
+    parallel_for(g_flux_.size(), threads, [&](size_t g) {
+        Rgb acc;
+        for (int32_t k = g_begin_[g]; k < g_begin_[g + 1]; ++k) acc += cvalue_[size_t(flux_[size_t(k)].value)] * flux_[size_t(k)].cos;
+        g_flux_[g] = acc;
+    }, 64);
+    std::vector<double> deltas(s_group_.size(), 0.0);
+    parallel_for(s_group_.size(), threads, [&](size_t s) { push_pull(s, unit, fsum, deltas[s]); }, 64);
+    if (unit) return 0.0;
+    // 3. Clusters: radiance and axis bins from their children.
+    pull_up_clusters();
+    dirty_ = true;
+    double d = 0;
+    for (double x : deltas) d = std::max(d, x);
+    return d;
+}
+
+void GatherPlan::write_back(Hierarchy& h, std::vector<Link>& links, int threads) {
+    if (!dirty_) return;
+    dirty_ = false;
+    // Elements, bottom-up per surface: an inner node's range of leaf radiance comes from its
+    // children's.
+    parallel_for(s_group_.size(), threads, [&](size_t s) {
+        for (int32_t i = s_begin_[s + 1] - 1; i >= s_begin_[s]; --i) {
+            Node& n = h.nodes[size_t(slot_node_[size_t(i)])];
+            n.L = L_[size_t(i)];
+            if (e_rcv_[size_t(i)]) n.G = G_[size_t(i)];
+            const int32_t c0 = e_child_[size_t(i)];
+            if (c0 < 0) {
+                n.Lmin = n.Lmax = n.L;
+                continue;
+            }
+            Rgb lo = Rgb::all(1e300), hi = Rgb::all(-1e300);
+            for (int32_t c = c0; c < c0 + e_nchild_[size_t(i)]; ++c) {
+                const Node& k = h.nodes[size_t(slot_node_[size_t(c)])];
+                lo = cmin(lo, k.Lmin);
+                hi = cmax(hi, k.Lmax);
+            }
+            n.Lmin = lo;
+            n.Lmax = hi;
+        }
+    }, 64);
+    // Clusters receive through their links' values; their G stays zero.
+    for (int id : cr_node_) h.nodes[size_t(id)].G = Rgb{};
+    for (size_t k = 0; k < cvalue_.size(); ++k) links[size_t(plink_id_[size_t(cluster_links_from_) + k])].value = cvalue_[k];
+    for (int32_t ci = 0; ci < n_clusters_; ++ci) {
+        Node& c = h.nodes[size_t(slot_node_[size_t(n_elem_ + ci)])];
+        c.L = L_[size_t(n_elem_ + ci)];
+        for (int b = 0; b < kBins; ++b) c.S[size_t(b)] = S_[size_t(ci) * kBins + size_t(b)];
+        Rgb lo = Rgb::all(1e300), hi = Rgb::all(-1e300);
+        for (int k : c.children) {
+            lo = cmin(lo, h.nodes[size_t(k)].Lmin);
+            hi = cmax(hi, h.nodes[size_t(k)].Lmax);
+        }
+        c.Lmin = c.children.empty() ? Rgb{} : lo;
+        c.Lmax = c.children.empty() ? Rgb{} : hi;
+    }
+}
+
+}  // namespace radiosity

@@ -4,12 +4,26 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <tuple>
 
 #include "radiosity/parallel.h"
 
 namespace radiosity {
+
+namespace {
+// How many items ahead the flat build passes fetch the Link or Node they will read: far
+// enough to hide a memory access behind the work on the items in between.
+constexpr size_t kAhead = 16;
+// Starting a thread costs tens of microseconds (more on a busy machine): a plan with less
+// work than this (links + elements) is built and swept on the calling thread.
+constexpr size_t kParallelFrom = 16384;
+}  // namespace
+
+int GatherPlan::workers(int threads) const {
+    return plink_id_.size() + size_t(n_elem_) < kParallelFrom ? 1 : threads;
+}
 
 int32_t GatherPlan::slot_of(int node) {
     if (slot_[size_t(node)] < 0) {
@@ -30,12 +44,23 @@ void GatherPlan::build(const Hierarchy& h, const std::vector<Link>& links, int t
     slot_.assign(nn, -1);
     slot_node_.clear();
 
-    // Element entries: each surface's quadtree breadth first.
+    // Element entries: each surface's quadtree breadth first. Element receivers and their
+    // in_links (the order a gather sums them in) are taken on the way. A node is fetched when
+    // it joins the queue, well before it is read.
+    auto fetch = [&](int id) {
+        __builtin_prefetch(&h.nodes[size_t(id)].children);
+        __builtin_prefetch(&h.nodes[size_t(id)].in_links);
+    };
     const size_t ns = h.surfaces.size();
     s_begin_.assign(ns + 1, 0);
     e_child_.clear();
     e_nchild_.clear();
+    e_rcv_.clear();
+    r_entry_.clear();
+    r_begin_.clear();
+    plink_id_.clear();
     for (size_t s = 0; s < ns; ++s) {
+        if (s + 4 < ns) fetch(h.surfaces[s + 4].root);
         s_begin_[s] = int32_t(slot_node_.size());
         const int root = h.surfaces[s].root;
         slot_[size_t(root)] = int32_t(slot_node_.size());
@@ -44,7 +69,14 @@ void GatherPlan::build(const Hierarchy& h, const std::vector<Link>& links, int t
             const Node& n = h.nodes[size_t(slot_node_[i])];
             e_child_.push_back(n.children.empty() ? -1 : int32_t(slot_node_.size()));
             e_nchild_.push_back(uint8_t(n.children.size()));
+            e_rcv_.push_back(!n.in_links.empty());
+            if (!n.in_links.empty()) {
+                r_entry_.push_back(int32_t(i));
+                r_begin_.push_back(int32_t(plink_id_.size()));
+                plink_id_.insert(plink_id_.end(), n.in_links.begin(), n.in_links.end());
+            }
             for (int c : n.children) {
+                fetch(c);
                 slot_[size_t(c)] = int32_t(slot_node_.size());
                 slot_node_.push_back(c);
             }
@@ -53,19 +85,14 @@ void GatherPlan::build(const Hierarchy& h, const std::vector<Link>& links, int t
     s_begin_[ns] = int32_t(slot_node_.size());
     n_elem_ = int32_t(slot_node_.size());
     const size_t ne = size_t(n_elem_);
-    e_rcv_.assign(ne, 0);
-    e_nin_.assign(ne, 0);
-    parallel_for(ne, threads, [&](size_t i) {
-        const Node& n = h.nodes[size_t(slot_node_[i])];
-        e_nin_[i] = int32_t(n.in_links.size());
-        e_rcv_[i] = !n.in_links.empty();
-    }, 1024);
+    r_begin_.push_back(int32_t(plink_id_.size()));
+    cluster_links_from_ = int32_t(plink_id_.size());
     G_.assign(ne, Rgb{});
     acc_.assign(ne, Rgb{});
 
     // Clusters by decreasing node id: a cluster's child clusters have larger ids, so one
-    // forward pass over them pulls up bottom-up.
-    cr_node_.clear();
+    // forward pass over them pulls up bottom-up. Then the links into clusters, each with its
+    // own value.
     n_clusters_ = 0;
     for (size_t id = nn; id-- > 0;)
         if (h.nodes[id].is_cluster()) {
@@ -74,51 +101,28 @@ void GatherPlan::build(const Hierarchy& h, const std::vector<Link>& links, int t
             ++n_clusters_;
         }
     const int32_t cl_lo = n_elem_, cl_hi = n_elem_ + n_clusters_;
-
-    // Receivers and the ranges of their links, in in_links order (the order a gather sums
-    // them in): element receivers by entry, then the links into clusters.
-    r_entry_.clear();
-    r_begin_.clear();
-    int32_t total = 0;
-    for (int32_t i = 0; i < n_elem_; ++i) {
-        if (!e_rcv_[size_t(i)]) continue;
-        r_entry_.push_back(i);
-        r_begin_.push_back(total);
-        total += e_nin_[size_t(i)];
-    }
-    r_begin_.push_back(total);
-    cluster_links_from_ = total;
-    std::vector<int32_t> cr_begin;
+    cr_node_.clear();
     std::vector<int32_t> c_value_begin(size_t(n_clusters_), -1);  // per cluster: first index in cvalue_
     for (int32_t ci = 0; ci < n_clusters_; ++ci) {
         const int id = slot_node_[size_t(cl_lo + ci)];
         const Node& c = h.nodes[size_t(id)];
         if (c.dead || c.in_links.empty()) continue;
         cr_node_.push_back(id);
-        cr_begin.push_back(total);
-        c_value_begin[size_t(ci)] = total - cluster_links_from_;
-        total += int32_t(c.in_links.size());
+        c_value_begin[size_t(ci)] = int32_t(plink_id_.size()) - cluster_links_from_;
+        plink_id_.insert(plink_id_.end(), c.in_links.begin(), c.in_links.end());
     }
 
-    // The links: sender slot and K, in parallel. Cluster senders are marked -2 and senders
+    // Sender slot and K of every link, in one flat pass that fetches links ahead (a link read
+    // is a cache miss; this way the misses overlap). Cluster senders are marked -2 and senders
     // outside the plan -3 for the serial pass after.
-    plinks_.resize(size_t(total));
-    plink_id_.resize(size_t(total));
-    auto fill = [&](int node, int32_t at) {
-        for (int li : h.nodes[size_t(node)].in_links) {
-            const Link& l = links[size_t(li)];
-            const int32_t src = slot_[size_t(l.src)];
-            const int32_t send = src < 0 ? -3 : (src >= cl_lo && src < cl_hi ? -2 : -1);
-            plinks_[size_t(at)] = PlanLink{src, send, l.K};
-            plink_id_[size_t(at)] = li;
-            ++at;
-        }
-    };
-    const size_t ner = r_entry_.size();
-    parallel_for(ner + cr_node_.size(), threads, [&](size_t r) {
-        if (r < ner) fill(slot_node_[size_t(r_entry_[r])], r_begin_[r]);
-        else fill(cr_node_[r - ner], cr_begin[r - ner]);
-    }, 256);
+    plinks_.resize(plink_id_.size());
+    parallel_for(plinks_.size(), workers(threads), [&](size_t k) {
+        if (k + kAhead < plink_id_.size()) __builtin_prefetch(&links[size_t(plink_id_[k + kAhead])]);
+        const Link& l = links[size_t(plink_id_[k])];
+        const int32_t src = slot_[size_t(l.src)];
+        const int32_t send = src < 0 ? -3 : (src >= cl_lo && src < cl_hi ? -2 : -1);
+        plinks_[k] = PlanLink{src, send, l.K};
+    }, 4096);
     send_at_.clear();
     for (size_t k = 0; k < plinks_.size(); ++k) {
         PlanLink& p = plinks_[k];
@@ -130,19 +134,26 @@ void GatherPlan::build(const Hierarchy& h, const std::vector<Link>& links, int t
             send_at_.push_back(int32_t(k));
         }
     }
-    cvalue_.assign(size_t(total - cluster_links_from_), Rgb{});
+    cvalue_.assign(plinks_.size() - size_t(cluster_links_from_), Rgb{});
 
     // Flux through cluster links, per group of surfaces that receive the same: the same
     // ancestor chain (the same deepest ancestor) and the same normal. Terms in the order the
     // ancestors (root first) and their in_links come, as a per-surface walk would add them.
-    std::map<std::tuple<int, double, double, double>, int32_t> groups;
+    // Keyed by the normal's bits: exact equality, and a NaN normal (never expected) cannot
+    // upset the map's ordering.
+    auto bits = [](double x) {
+        uint64_t b;
+        std::memcpy(&b, &x, sizeof b);
+        return b;
+    };
+    std::map<std::tuple<int, uint64_t, uint64_t, uint64_t>, int32_t> groups;
     s_group_.assign(ns, 0);
     g_begin_.clear();
     flux_.clear();
     for (size_t s = 0; s < ns; ++s) {
         const std::vector<int>& anc = h.ancestors_of_surface(int(s));
         const Vec3 nrm = h.nodes[size_t(h.surfaces[s].root)].normal;
-        const auto key = std::make_tuple(anc.empty() ? -1 : anc.back(), nrm.x, nrm.y, nrm.z);
+        const auto key = std::make_tuple(anc.empty() ? -1 : anc.back(), bits(nrm.x), bits(nrm.y), bits(nrm.z));
         auto it = groups.find(key);
         if (it != groups.end()) {
             s_group_[s] = it->second;
@@ -179,20 +190,22 @@ void GatherPlan::prepare_radiometry(const Hierarchy& h, const std::vector<Link>&
     e_rho_.assign(ne, Rgb{});
     e_direct_.assign(ne, Rgb{});
     L_.assign(ne, Rgb{});
-    parallel_for(ne, threads, [&](size_t i) {
-        const int id = slot_node_[i];
-        const Node& n = h.nodes[size_t(id)];
+    // In node order: the nodes are read front to back, which the hardware prefetches.
+    parallel_for(h.nodes.size(), workers(threads), [&](size_t id) {
+        const int32_t sl = slot_[id];
+        if (sl < 0 || sl >= n_elem_) return;
+        const size_t i = size_t(sl);
+        const Node& n = h.nodes[id];
         e_area_[i] = n.area;
         e_emission_[i] = n.emission;
-        G_[i] = n.G;
         L_[i] = n.L;
-        if (n.children.empty()) {
+        if (e_child_[i] < 0) {
             e_rho_[i] = n.rho;
             e_closure_[i] = n.closure;
-            e_direct_[i] = direct(id);
+            e_direct_[i] = direct(int(id));
         }
-    }, 1024);
-    parallel_for(ne, threads, [&](size_t i) {
+    }, 2048);
+    parallel_for(ne, workers(threads), [&](size_t i) {
         double area = 0;  // summed in children order, as the pull-up sums it
         for (int32_t c = e_child_[i]; c >= 0 && c < e_child_[i] + e_nchild_[i]; ++c) area += e_area_[size_t(c)];
         e_child_area_[i] = area;
@@ -224,7 +237,8 @@ void GatherPlan::prepare_radiometry(const Hierarchy& h, const std::vector<Link>&
 
     // Cluster senders. Sample lists are referred to, not copied.
     sends_.resize(send_at_.size());
-    parallel_for(send_at_.size(), threads, [&](size_t k) {
+    parallel_for(send_at_.size(), workers(threads), [&](size_t k) {
+        if (k + kAhead < send_at_.size()) __builtin_prefetch(&links[size_t(plink_id_[size_t(send_at_[k + kAhead])])].samples);
         const PlanLink& p = plinks_[size_t(send_at_[k])];
         const Link& l = links[size_t(plink_id_[size_t(send_at_[k])])];
         ClusterSend cs{};
@@ -333,8 +347,15 @@ void GatherPlan::pull_up_clusters() {
 }
 
 double GatherPlan::sweep(bool unit, std::vector<double>* fsum, int threads) {
-    // 1. Gather through the links (Jacobi: from the previous sweep's radiances).
-    parallel_for(r_entry_.size(), threads, [&](size_t i) {
+    // 1. Gather through the links (Jacobi: from the previous sweep's radiances): element
+    //    receivers sum theirs, each link into a cluster keeps its own value.
+    const size_t ner = r_entry_.size();
+    parallel_for(ner + cvalue_.size(), workers(threads), [&](size_t i) {
+        if (i >= ner) {
+            const PlanLink& p = plinks_[size_t(cluster_links_from_) + (i - ner)];
+            cvalue_[i - ner] = (unit ? Rgb::all(1.0) : sender_radiance(p)) * p.K;
+            return;
+        }
         Rgb g;
         for (int32_t k = r_begin_[i]; k < r_begin_[i + 1]; ++k) {
             const PlanLink& p = plinks_[size_t(k)];
@@ -342,19 +363,15 @@ double GatherPlan::sweep(bool unit, std::vector<double>* fsum, int threads) {
         }
         G_[size_t(r_entry_[i])] = g;
     }, 64);
-    parallel_for(cvalue_.size(), threads, [&](size_t k) {
-        const PlanLink& p = plinks_[size_t(cluster_links_from_) + k];
-        cvalue_[k] = (unit ? Rgb::all(1.0) : sender_radiance(p)) * p.K;
-    }, 256);
     // 2. Flux arriving through cluster links, per surface group, times its cosine (oriented
-    //    clusters); then push-pull down and up each surface's quadtree.
-    parallel_for(g_flux_.size(), threads, [&](size_t g) {
+    //    clusters; few groups: serial); then push-pull down and up each surface's quadtree.
+    for (size_t g = 0; g < g_flux_.size(); ++g) {
         Rgb acc;
         for (int32_t k = g_begin_[g]; k < g_begin_[g + 1]; ++k) acc += cvalue_[size_t(flux_[size_t(k)].value)] * flux_[size_t(k)].cos;
         g_flux_[g] = acc;
-    }, 64);
+    }
     std::vector<double> deltas(s_group_.size(), 0.0);
-    parallel_for(s_group_.size(), threads, [&](size_t s) { push_pull(s, unit, fsum, deltas[s]); }, 64);
+    parallel_for(s_group_.size(), workers(threads), [&](size_t s) { push_pull(s, unit, fsum, deltas[s]); }, 64);
     if (unit) return 0.0;
     // 3. Clusters: radiance and axis bins from their children.
     pull_up_clusters();
@@ -369,7 +386,7 @@ void GatherPlan::write_back(Hierarchy& h, std::vector<Link>& links, int threads)
     dirty_ = false;
     // Elements, bottom-up per surface: an inner node's range of leaf radiance comes from its
     // children's.
-    parallel_for(s_group_.size(), threads, [&](size_t s) {
+    parallel_for(s_group_.size(), workers(threads), [&](size_t s) {
         for (int32_t i = s_begin_[s + 1] - 1; i >= s_begin_[s]; --i) {
             Node& n = h.nodes[size_t(slot_node_[size_t(i)])];
             n.L = L_[size_t(i)];

@@ -88,6 +88,7 @@ private:
     };
 
     int32_t slot_of(int node);
+    int workers(int threads) const;  // threads, or 1 for a small plan
     Rgb sender_radiance(const PlanLink& p) const;
     void push_pull(size_t s, bool unit, std::vector<double>* fsum, double& delta);
     void pull_up_clusters();
@@ -106,7 +107,6 @@ private:
     std::vector<int32_t> e_child_;     // first child entry, -1 for a leaf
     std::vector<uint8_t> e_nchild_;
     std::vector<uint8_t> e_rcv_;       // has active in-links (its G counts)
-    std::vector<int32_t> e_nin_;       // number of in-links
     std::vector<double> e_area_, e_child_area_;
     std::vector<Rgb> e_emission_, e_rho_, e_direct_;
     std::vector<double> e_closure_;

@@ -1,6 +1,7 @@
 // Gathering with push-pull (paper 2): every receiver gathers through its links from the
 // previous radiances (Jacobi), irradiance is pushed down the hierarchy, reflected at the
-// leaves and radiance pulled back up area-weighted.
+// leaves and radiance pulled back up area-weighted. The sweeps run on a gather plan
+// (gather_plan.h), a compact copy of links and trees made after collect_receivers().
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -49,14 +50,16 @@ int Solver::iterate_to(double tolerance, int max_iterations, double p0, double p
     const int64_t gathered = plan_.link_count();
     double prev = -1;
     const double scale = std::max(L_ref_, 1e-300);
-    int it = 0;
-    // The sweeps run on the plan; the nodes get the radiances once, at the end (also when
-    // cancelled, so the nodes never hold a half-copied state).
-    struct WriteBack {
+    // The sweeps run on the plan; the nodes get the radiances once, after the last one. When
+    // a cancel unwinds through here they get them too (on this thread: nothing may throw
+    // while unwinding), so the nodes never hold a half-copied state.
+    struct WriteBackOnUnwind {
         Solver& s;
-        ~WriteBack() { s.plan_.write_back(s.h_, s.links_, s.settings_.threads); }
-    } write_back{*this};
-    for (; it < max_iterations; ++it) {
+        ~WriteBackOnUnwind() { s.plan_.write_back(s.h_, s.links_, 1); }
+    } unwind{*this};
+    int sweeps = 0;
+    bool converged = false;
+    while (sweeps < max_iterations && !converged) {
         check_cancel();
         const auto t0 = std::chrono::steady_clock::now();
         double delta = plan_.sweep(false, nullptr, settings_.threads) / scale;
@@ -69,11 +72,13 @@ int Solver::iterate_to(double tolerance, int max_iterations, double p0, double p
         double remaining = delta * q / (1.0 - q);
         stats_.residual = remaining;
         prev = delta;
-        set_progress(p0 + (p1 - p0) * std::min(1.0, double(it + 1) / max_iterations));
-        if (delta == 0 || (it >= 1 && remaining < tolerance)) return it + 1;
+        ++sweeps;
+        set_progress(p0 + (p1 - p0) * std::min(1.0, double(sweeps) / max_iterations));
+        converged = delta == 0 || (sweeps >= 2 && remaining < tolerance);
     }
-    stats_.iteration_capped = true;
-    return it;
+    plan_.write_back(h_, links_, settings_.threads);
+    if (!converged) stats_.iteration_capped = true;
+    return sweeps;
 }
 
 // Closure correction: a leaf from which no escape ray finds open space is enclosed, so its

@@ -25,9 +25,10 @@ void Solver::collect_receivers() {
 }
 
 void Solver::ensure_plan(bool radiometry) {
-    if (plan_.valid() && (!radiometry || plan_.has_radiometry())) return;
+    const bool valid = plan_.valid(links_.size(), h_.nodes.size());
+    if (valid && (!radiometry || plan_.has_radiometry())) return;
     const auto t0 = std::chrono::steady_clock::now();
-    if (!plan_.valid()) {
+    if (!valid) {
         plan_.build(h_, links_, settings_.threads);
         ++stats_.gather_plans;
     }

@@ -3,6 +3,7 @@
 #include "radiosity/gather_plan.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -18,7 +19,7 @@ namespace {
 constexpr size_t kAhead = 16;
 // Starting a thread costs tens of microseconds (more on a busy machine): a plan with less
 // work than this (links + elements) is built and swept on the calling thread.
-constexpr size_t kParallelFrom = 16384;
+constexpr size_t kParallelFrom = 65536;
 }  // namespace
 
 int GatherPlan::workers(int threads) const {
@@ -37,7 +38,8 @@ int32_t GatherPlan::slot_of(int node) {
 }
 
 void GatherPlan::build(const Hierarchy& h, const std::vector<Link>& links, int threads) {
-    h_ = &h;
+    built_links_ = links.size();
+    built_nodes_ = h.nodes.size();
     radiometry_ = false;
     dirty_ = false;
     const size_t nn = h.nodes.size();
@@ -235,16 +237,36 @@ void GatherPlan::prepare_radiometry(const Hierarchy& h, const std::vector<Link>&
     }
     c_begin_[size_t(n_clusters_)] = int32_t(c_children_.size());
 
-    // Cluster senders. Sample lists are referred to, not copied.
-    sends_.resize(send_at_.size());
+    // Cluster senders: records and their samples, flattened. First the counts (in parallel),
+    // then the ranges, then the copies (in parallel); a sample node outside the plan (not
+    // expected: samples are surface roots) gets its slot in a serial pass after.
+    sends_.assign(send_at_.size(), ClusterSend{});
+    auto link_of = [&](size_t k) -> const Link& { return links[size_t(plink_id_[size_t(send_at_[k])])]; };
     parallel_for(send_at_.size(), workers(threads), [&](size_t k) {
-        if (k + kAhead < send_at_.size()) __builtin_prefetch(&links[size_t(plink_id_[size_t(send_at_[k + kAhead])])].samples);
+        if (k + kAhead < send_at_.size()) __builtin_prefetch(&link_of(k + kAhead).samples);
+        sends_[k].sample_end = int32_t(link_of(k).samples.size());
+    }, 256);
+    int32_t nsamples = 0;
+    for (ClusterSend& cs : sends_) {
+        cs.sample_begin = nsamples;
+        nsamples += cs.sample_end;
+        cs.sample_end = nsamples;
+    }
+    samples_.resize(size_t(nsamples));
+    std::atomic<bool> outside{false};
+    parallel_for(send_at_.size(), workers(threads), [&](size_t k) {
         const PlanLink& p = plinks_[size_t(send_at_[k])];
-        const Link& l = links[size_t(plink_id_[size_t(send_at_[k])])];
-        ClusterSend cs{};
+        const Link& l = link_of(k);
+        ClusterSend& cs = sends_[k];
         cs.src = p.src;
-        cs.samples = l.samples.data();
-        cs.nsamples = int32_t(l.samples.size());
+        double w = 0;  // in samples order, as sender_radiance sums it
+        for (size_t j = 0; j < l.samples.size(); ++j) {
+            const int32_t sl = slot_[size_t(l.samples[j].first)];
+            if (sl < 0) outside = true;
+            samples_[size_t(cs.sample_begin) + j] = {sl, l.samples[j].second};
+            w += l.samples[j].second;
+        }
+        cs.wsum = w;
         if (l.samples.empty()) {
             const Node& src = h.nodes[size_t(l.src)];
             const int32_t ci = p.src - n_elem_;
@@ -258,8 +280,12 @@ void GatherPlan::prepare_radiometry(const Hierarchy& h, const std::vector<Link>&
                 ++cs.nbins;
             }
         }
-        sends_[k] = cs;
     }, 256);
+    if (outside)
+        for (size_t k = 0; k < sends_.size(); ++k)
+            for (int32_t j = sends_[k].sample_begin; j < sends_[k].sample_end; ++j)
+                if (samples_[size_t(j)].slot < 0)
+                    samples_[size_t(j)].slot = slot_of(link_of(k).samples[size_t(j - sends_[k].sample_begin)].first);
     for (size_t k = 0; k < cvalue_.size(); ++k) cvalue_[k] = links[size_t(plink_id_[size_t(cluster_links_from_) + k])].value;
 
     // Radiances of clusters and of the nodes outside the trees.
@@ -272,16 +298,11 @@ void GatherPlan::prepare_radiometry(const Hierarchy& h, const std::vector<Link>&
 Rgb GatherPlan::sender_radiance(const PlanLink& p) const {
     if (p.send < 0) return L_[size_t(p.src)];
     const ClusterSend& c = sends_[size_t(p.send)];
-    if (c.nsamples > 0) {
+    if (c.sample_begin < c.sample_end) {
         Rgb acc;
-        double w = 0;
-        for (int32_t k = 0; k < c.nsamples; ++k) {
-            const auto& sm = c.samples[k];
-            const int32_t sl = slot_[size_t(sm.first)];
-            acc += (sl >= 0 ? L_[size_t(sl)] : h_->nodes[size_t(sm.first)].L) * double(sm.second);
-            w += sm.second;
-        }
-        return acc / w;
+        for (int32_t k = c.sample_begin; k < c.sample_end; ++k)
+            acc += L_[size_t(samples_[size_t(k)].slot)] * double(samples_[size_t(k)].weight);
+        return acc / c.wsum;
     }
     Rgb num;
     for (int32_t b = 0; b < c.nbins; ++b) num += S_[size_t(c.bin[b])] * c.w[b];

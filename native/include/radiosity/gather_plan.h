@@ -15,12 +15,10 @@
 //
 // Built in two steps, both lazily: the structure (trees, links, flux groups) is all a unit
 // sweep needs; a radiometric sweep also needs materials, radiances and the cluster senders'
-// records. The plan refers to the hierarchy and to the links' sample lists (not copied, since a
-// sweep reads each once anyway): both must stay unchanged while the plan is valid.
+// samples. The plan owns copies of everything it reads (no pointer into links or nodes).
 #pragma once
 #include <cstdint>
 #include <functional>
-#include <utility>
 #include <vector>
 
 #include "radiosity/hierarchy.h"
@@ -37,7 +35,9 @@ public:
     // and direct light (`direct(node)`), radiances as the starting point, cluster senders.
     void prepare_radiometry(const Hierarchy& h, const std::vector<Link>& links,
                             const std::function<Rgb(int)>& direct, int threads);
-    bool valid() const { return valid_; }
+    // Valid since the last build and not invalidated. `links` and `nodes` are the current
+    // sizes: a plan built from fewer is stale even if nobody invalidated it.
+    bool valid(size_t links, size_t nodes) const { return valid_ && links == built_links_ && nodes == built_nodes_; }
     bool has_radiometry() const { return radiometry_; }
     void invalidate() { valid_ = radiometry_ = false; }
     int64_t link_count() const { return int64_t(plinks_.size()); }
@@ -64,13 +64,17 @@ private:
     // of its visible samples, or (none) a projected-area estimate from the axis bins toward
     // the receiver, or the cluster's mean radiance when no bin faces that way.
     struct ClusterSend {
-        const std::pair<int, float>* samples;  // the link's own list
-        int32_t nsamples;
-        int32_t src;                           // the cluster's slot (fallback radiance)
-        int32_t nbins;                         // bins with a non-zero weight, in axis order
-        int32_t bin[3];                        // index into S_
+        int32_t sample_begin, sample_end;  // range in samples_
+        int32_t src;                       // the cluster's slot (fallback radiance)
+        int32_t nbins;                     // bins with a non-zero weight, in axis order
+        int32_t bin[3];                    // index into S_
         double w[3];
-        double den;                            // sum of W[bin] * w, as sender_radiance sums it
+        double den;                        // sum of W[bin] * w, as sender_radiance sums it
+        double wsum;                       // sum of the sample weights, in samples order
+    };
+    struct Sample {
+        int32_t slot;                      // a surface root's slot
+        float weight;
     };
     // A child of a cluster in the pull-up: a cluster (its S bins add up) or a surface root
     // (its radiance enters the bins by its projected area along each axis).
@@ -95,7 +99,6 @@ private:
 
     bool valid_ = false, radiometry_ = false;
     bool dirty_ = false;  // radiometric sweeps ran since the last build or write-back
-    const Hierarchy* h_ = nullptr;
 
     // Slots: radiance of every node a sweep reads or writes.
     std::vector<int32_t> slot_;        // per node, -1: not in the plan
@@ -132,6 +135,8 @@ private:
     std::vector<int32_t> plink_id_;    // per plan link: its id in the solver's links
     std::vector<int32_t> send_at_;     // per cluster sender record: its plan link
     std::vector<ClusterSend> sends_;
+    std::vector<Sample> samples_;      // cluster senders' visible samples, flattened
+    size_t built_links_ = 0, built_nodes_ = 0;  // sizes of links and nodes the plan was built from
 };
 
 }  // namespace radiosity

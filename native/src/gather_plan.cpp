@@ -405,43 +405,61 @@ double GatherPlan::sweep(bool unit, std::vector<double>* fsum, int threads) {
 void GatherPlan::write_back(Hierarchy& h, std::vector<Link>& links, int threads) {
     if (!dirty_) return;
     dirty_ = false;
-    // Elements, bottom-up per surface: an inner node's range of leaf radiance comes from its
-    // children's.
+    // Range of leaf radiance below every node, in the plan's arrays: bottom-up per surface
+    // (an inner node's range from its children's), then clusters (children first).
+    const size_t nslots = slot_node_.size();
+    lo_.resize(nslots);
+    hi_.resize(nslots);
     parallel_for(s_group_.size(), workers(threads), [&](size_t s) {
         for (int32_t i = s_begin_[s + 1] - 1; i >= s_begin_[s]; --i) {
-            Node& n = h.nodes[size_t(slot_node_[size_t(i)])];
-            n.L = L_[size_t(i)];
-            if (e_rcv_[size_t(i)]) n.G = G_[size_t(i)];
             const int32_t c0 = e_child_[size_t(i)];
             if (c0 < 0) {
-                n.Lmin = n.Lmax = n.L;
+                lo_[size_t(i)] = hi_[size_t(i)] = L_[size_t(i)];
                 continue;
             }
             Rgb lo = Rgb::all(1e300), hi = Rgb::all(-1e300);
             for (int32_t c = c0; c < c0 + e_nchild_[size_t(i)]; ++c) {
-                const Node& k = h.nodes[size_t(slot_node_[size_t(c)])];
-                lo = cmin(lo, k.Lmin);
-                hi = cmax(hi, k.Lmax);
+                lo = cmin(lo, lo_[size_t(c)]);
+                hi = cmax(hi, hi_[size_t(c)]);
             }
-            n.Lmin = lo;
-            n.Lmax = hi;
+            lo_[size_t(i)] = lo;
+            hi_[size_t(i)] = hi;
         }
     }, 64);
+    const size_t first_extra = size_t(n_elem_ + n_clusters_);
+    for (size_t i = first_extra; i < nslots; ++i) {  // nodes outside the plan keep theirs
+        lo_[i] = h.nodes[size_t(slot_node_[i])].Lmin;
+        hi_[i] = h.nodes[size_t(slot_node_[i])].Lmax;
+    }
+    for (int32_t ci = 0; ci < n_clusters_; ++ci) {
+        Rgb lo = Rgb::all(1e300), hi = Rgb::all(-1e300);
+        for (int32_t k = c_begin_[size_t(ci)]; k < c_begin_[size_t(ci) + 1]; ++k) {
+            lo = cmin(lo, lo_[size_t(c_children_[size_t(k)].slot)]);
+            hi = cmax(hi, hi_[size_t(c_children_[size_t(k)].slot)]);
+        }
+        const bool empty = c_begin_[size_t(ci)] == c_begin_[size_t(ci) + 1];
+        lo_[size_t(n_elem_ + ci)] = empty ? Rgb{} : lo;
+        hi_[size_t(n_elem_ + ci)] = empty ? Rgb{} : hi;
+    }
+    // Into the nodes in node order (front to back through memory, which the hardware
+    // prefetches, rather than tree by tree).
+    parallel_for(h.nodes.size(), workers(threads), [&](size_t id) {
+        const int32_t sl = slot_[id];
+        if (sl < 0 || size_t(sl) >= first_extra) return;
+        Node& n = h.nodes[id];
+        n.L = L_[size_t(sl)];
+        n.Lmin = lo_[size_t(sl)];
+        n.Lmax = hi_[size_t(sl)];
+        if (sl < n_elem_) {
+            if (e_rcv_[size_t(sl)]) n.G = G_[size_t(sl)];
+        } else {
+            const size_t ci = size_t(sl - n_elem_);
+            for (int b = 0; b < kBins; ++b) n.S[size_t(b)] = S_[ci * kBins + size_t(b)];
+        }
+    }, 2048);
     // Clusters receive through their links' values; their G stays zero.
     for (int id : cr_node_) h.nodes[size_t(id)].G = Rgb{};
     for (size_t k = 0; k < cvalue_.size(); ++k) links[size_t(plink_id_[size_t(cluster_links_from_) + k])].value = cvalue_[k];
-    for (int32_t ci = 0; ci < n_clusters_; ++ci) {
-        Node& c = h.nodes[size_t(slot_node_[size_t(n_elem_ + ci)])];
-        c.L = L_[size_t(n_elem_ + ci)];
-        for (int b = 0; b < kBins; ++b) c.S[size_t(b)] = S_[size_t(ci) * kBins + size_t(b)];
-        Rgb lo = Rgb::all(1e300), hi = Rgb::all(-1e300);
-        for (int k : c.children) {
-            lo = cmin(lo, h.nodes[size_t(k)].Lmin);
-            hi = cmax(hi, h.nodes[size_t(k)].Lmax);
-        }
-        c.Lmin = c.children.empty() ? Rgb{} : lo;
-        c.Lmax = c.children.empty() ? Rgb{} : hi;
-    }
 }
 
 }  // namespace radiosity

@@ -114,6 +114,7 @@ private:
     std::vector<Rgb> e_emission_, e_rho_, e_direct_;
     std::vector<double> e_closure_;
     std::vector<Rgb> G_, acc_;
+    std::vector<Rgb> lo_, hi_;         // per slot, write-back only: range of leaf radiance below
     // Surfaces: entry range and flux group.
     std::vector<int32_t> s_begin_, s_group_;
     std::vector<int32_t> g_begin_;     // per group: range in flux_

@@ -38,10 +38,9 @@ int32_t GatherPlan::slot_of(int node) {
 }
 
 void GatherPlan::build(const Hierarchy& h, const std::vector<Link>& links, int threads) {
+    valid_ = radiometry_ = dirty_ = false;  // until the build completes (it may throw bad_alloc)
     built_links_ = links.size();
     built_nodes_ = h.nodes.size();
-    radiometry_ = false;
-    dirty_ = false;
     const size_t nn = h.nodes.size();
     slot_.assign(nn, -1);
     slot_node_.clear();

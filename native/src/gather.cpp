@@ -37,8 +37,14 @@ void Solver::ensure_plan(bool radiometry) {
 }
 
 // One Jacobi sweep. With unit=true every sender counts as radiance 1 and the per-leaf sum
-// of form factors is written to fsum instead (used by the closure correction).
+// of form factors is written to fsum instead (used by the closure correction). A unit sweep
+// uses the plan when there is one; else it walks the hierarchy (a plan would cost as much to
+// build as that one sweep, and iterate_to builds its own after the closure pass).
 double Solver::sweep(bool unit, std::vector<double>* fsum) {
+    if (unit && !plan_.valid(links_.size(), h_.nodes.size())) {
+        coupling_sums(h_, links_, *fsum, settings_.threads);
+        return 0.0;
+    }
     ensure_plan(!unit);
     const double d = plan_.sweep(unit, fsum, settings_.threads);
     plan_.write_back(h_, links_, settings_.threads);

@@ -22,6 +22,41 @@ constexpr size_t kAhead = 16;
 constexpr size_t kParallelFrom = 65536;
 }  // namespace
 
+namespace {
+
+// Irradiance / pi (all colours alike) that the links into a node bring from unit senders.
+Rgb unit_gather(const Node& n, const std::vector<Link>& links) {
+    Rgb g;
+    for (int li : n.in_links) g += Rgb::all(1.0) * links[size_t(li)].K;
+    return g;
+}
+
+void unit_push_down(const Hierarchy& h, const std::vector<Link>& links, int id, Rgb acc, std::vector<double>& fsum) {
+    const Node& n = h.nodes[size_t(id)];
+    if (!n.in_links.empty()) acc += unit_gather(n, links);
+    if (n.children.empty()) {
+        fsum[size_t(id)] = acc.mean();
+        return;
+    }
+    for (int c : n.children) unit_push_down(h, links, c, acc, fsum);
+}
+
+}  // namespace
+
+void coupling_sums(const Hierarchy& h, const std::vector<Link>& links, std::vector<double>& fsum, int threads) {
+    parallel_for(h.surfaces.size(), threads, [&](size_t s) {
+        const Vec3 nrm = h.nodes[size_t(h.surfaces[s].root)].normal;
+        Rgb acc;  // through the cluster links above the surface, times its cosine toward each
+        for (int a : h.ancestors_of_surface(int(s)))
+            for (int li : h.nodes[size_t(a)].in_links) {
+                const Link& l = links[size_t(li)];
+                const double c = -dot(nrm, l.dir);
+                if (c > 0) acc += (Rgb::all(1.0) * l.K) * c;
+            }
+        unit_push_down(h, links, h.surfaces[s].root, acc, fsum);
+    }, 16);
+}
+
 int GatherPlan::workers(int threads) const {
     return plink_id_.size() + size_t(n_elem_) < kParallelFrom ? 1 : threads;
 }
@@ -206,11 +241,11 @@ void GatherPlan::prepare_radiometry(const Hierarchy& h, const std::vector<Link>&
             e_direct_[i] = direct(int(id));
         }
     }, 2048);
-    parallel_for(ne, workers(threads), [&](size_t i) {
+    for (size_t i = 0; i < ne; ++i) {  // cheap (the plan's own arrays): no thread worth starting
         double area = 0;  // summed in children order, as the pull-up sums it
         for (int32_t c = e_child_[i]; c >= 0 && c < e_child_[i] + e_nchild_[i]; ++c) area += e_area_[size_t(c)];
         e_child_area_[i] = area;
-    }, 4096);
+    }
 
     // Clusters: bins and children for the pull-up.
     S_.assign(size_t(n_clusters_) * kBins, Rgb{});
@@ -236,20 +271,17 @@ void GatherPlan::prepare_radiometry(const Hierarchy& h, const std::vector<Link>&
     }
     c_begin_[size_t(n_clusters_)] = int32_t(c_children_.size());
 
-    // Cluster senders: records and their samples, flattened. First the counts (in parallel),
-    // then the ranges, then the copies (in parallel); a sample node outside the plan (not
+    // Cluster senders: records and their samples, flattened. First the ranges (a link's
+    // sample count), then the copies (in parallel); a sample node outside the plan (not
     // expected: samples are surface roots) gets its slot in a serial pass after.
     sends_.assign(send_at_.size(), ClusterSend{});
     auto link_of = [&](size_t k) -> const Link& { return links[size_t(plink_id_[size_t(send_at_[k])])]; };
-    parallel_for(send_at_.size(), workers(threads), [&](size_t k) {
-        if (k + kAhead < send_at_.size()) __builtin_prefetch(&link_of(k + kAhead).samples);
-        sends_[k].sample_end = int32_t(link_of(k).samples.size());
-    }, 256);
     int32_t nsamples = 0;
-    for (ClusterSend& cs : sends_) {
-        cs.sample_begin = nsamples;
-        nsamples += cs.sample_end;
-        cs.sample_end = nsamples;
+    for (size_t k = 0; k < sends_.size(); ++k) {
+        if (k + kAhead < send_at_.size()) __builtin_prefetch(&link_of(k + kAhead).samples);
+        sends_[k].sample_begin = nsamples;
+        nsamples += int32_t(link_of(k).samples.size());
+        sends_[k].sample_end = nsamples;
     }
     samples_.resize(size_t(nsamples));
     std::atomic<bool> outside{false};

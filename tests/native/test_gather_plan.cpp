@@ -187,7 +187,7 @@ TEST_P(GatherPlanTest, SweepsAreBitIdenticalToASweepOverTheHierarchy) {
     plan.write_back(got.h, got.links, 2);
     expect_equal(ref, got);
 
-    // The unit sweep (closure correction): the coupling sum of every leaf.
+    // The unit sweep (closure correction): the coupling sum of every leaf, from a plan...
     std::vector<double> f_ref(start.h.nodes.size(), -1.0), f_got(start.h.nodes.size(), -1.0);
     ReferenceSweep{ref.h, ref.links, direct}.sweep(true, &f_ref);
     GatherPlan unit_plan;
@@ -195,6 +195,10 @@ TEST_P(GatherPlanTest, SweepsAreBitIdenticalToASweepOverTheHierarchy) {
     EXPECT_FALSE(unit_plan.has_radiometry());
     EXPECT_EQ(unit_plan.sweep(true, &f_got, 1), 0.0);
     EXPECT_EQ(std::memcmp(f_ref.data(), f_got.data(), f_ref.size() * sizeof(double)), 0);
+    // ... and straight from the hierarchy, without a plan.
+    std::vector<double> f_direct(start.h.nodes.size(), -1.0);
+    coupling_sums(got.h, got.links, f_direct, 2);
+    EXPECT_EQ(std::memcmp(f_ref.data(), f_direct.data(), f_ref.size() * sizeof(double)), 0);
     int leaves = 0;
     for (double f : f_got) leaves += f >= 0;
     EXPECT_GT(leaves, 0);

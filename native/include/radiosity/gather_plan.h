@@ -26,6 +26,12 @@
 
 namespace radiosity {
 
+// The unit sweep straight from the hierarchy: every sender counts as radiance 1 and each
+// leaf's coupling sum (mean over colours) goes to fsum[node], exactly as GatherPlan::sweep(true)
+// computes it. One such sweep reads every link once, as building a plan does, so for a single
+// unit sweep (the closure correction right after links changed) no plan is built.
+void coupling_sums(const Hierarchy& h, const std::vector<Link>& links, std::vector<double>& fsum, int threads);
+
 class GatherPlan {
 public:
     // The structure: element trees, clusters, the active links (every live node's in_links)

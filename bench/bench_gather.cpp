@@ -5,8 +5,9 @@
 // radiance to a file and --compare reads one back and prints the NRMSE against it, so two builds
 // (before and after a gather change) can be checked for equal results.
 // --micro: after each solve, builds a GatherPlan from the solver's final hierarchy and links and
-// times a plan build, its radiometric part, a unit sweep and a sweep in isolation (the fastest of
-// 15 repetitions, so other jobs on the machine do not count).
+// times a plan build, its radiometric part, a unit sweep (with the plan and straight from the
+// hierarchy) and a sweep in isolation (the fastest of 15 repetitions, so other jobs on the
+// machine do not count).
 // Usage: bench_gather [--runs N] [--threads N] [--micro] [--save FILE | --compare FILE]
 //                     [box_room|cornell|furnace] [eps ...]
 #include <algorithm>
@@ -61,15 +62,16 @@ std::string micro(const Solver& solver, int threads) {
         t_radio = std::min(t_radio, fastest(1, [&] { plan.prepare_radiometry(h, links, direct, threads); }));
     }
     const double t_unit = fastest(reps, [&] { plan.sweep(true, &fsum, threads); });
+    const double t_direct = fastest(reps, [&] { coupling_sums(h, links, fsum, threads); });
     plan.prepare_radiometry(h, links, direct, threads);
     const double t_sweep = fastest(reps, [&] { plan.sweep(false, nullptr, threads); });
     const double n = double(std::max<int64_t>(1, plan.link_count()));
     char line[400];
     std::snprintf(line, sizeof line,
-                  "    micro (%lld links, fastest of %d): build %.2f ms, radiometric part %.2f ms, unit sweep %.2f ms, "
-                  "sweep %.2f ms = %.1f ns per link; (build + radiometric part) / sweep %.2f\n",
-                  (long long)plan.link_count(), reps, 1e3 * t_build, 1e3 * t_radio, 1e3 * t_unit, 1e3 * t_sweep,
-                  1e9 * t_sweep / n, (t_build + t_radio) / t_sweep);
+                  "    micro (%lld links, fastest of %d): build %.2f ms, radiometric part %.2f ms, unit sweep %.2f ms "
+                  "(without a plan %.2f ms), sweep %.2f ms = %.1f ns per link; (build + radiometric part) / sweep %.2f\n",
+                  (long long)plan.link_count(), reps, 1e3 * t_build, 1e3 * t_radio, 1e3 * t_unit, 1e3 * t_direct,
+                  1e3 * t_sweep, 1e9 * t_sweep / n, (t_build + t_radio) / t_sweep);
     return line;
 }
 }  // namespace

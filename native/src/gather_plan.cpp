@@ -272,33 +272,39 @@ void GatherPlan::prepare_radiometry(const Hierarchy& h, const std::vector<Link>&
     c_begin_[size_t(n_clusters_)] = int32_t(c_children_.size());
 
     // Cluster senders: records and their samples, flattened. First the ranges (a link's
-    // sample count), then the copies (in parallel); a sample node outside the plan (not
-    // expected: samples are surface roots) gets its slot in a serial pass after.
+    // sample count, and where its list is, for fetching it ahead), then the copies (in
+    // parallel); a sample node outside the plan (not expected: samples are surface roots)
+    // gets its slot in a serial pass after.
     sends_.assign(send_at_.size(), ClusterSend{});
     auto link_of = [&](size_t k) -> const Link& { return links[size_t(plink_id_[size_t(send_at_[k])])]; };
+    std::vector<const std::pair<int, float>*> lists(send_at_.size());
     int32_t nsamples = 0;
     for (size_t k = 0; k < sends_.size(); ++k) {
         if (k + kAhead < send_at_.size()) __builtin_prefetch(&link_of(k + kAhead).samples);
+        const Link& l = link_of(k);
+        lists[k] = l.samples.data();
         sends_[k].sample_begin = nsamples;
-        nsamples += int32_t(link_of(k).samples.size());
+        nsamples += int32_t(l.samples.size());
         sends_[k].sample_end = nsamples;
     }
     samples_.resize(size_t(nsamples));
     std::atomic<bool> outside{false};
     parallel_for(send_at_.size(), workers(threads), [&](size_t k) {
+        if (k + kAhead < lists.size() && lists[k + kAhead]) __builtin_prefetch(lists[k + kAhead]);
         const PlanLink& p = plinks_[size_t(send_at_[k])];
-        const Link& l = link_of(k);
         ClusterSend& cs = sends_[k];
         cs.src = p.src;
+        const int32_t n = cs.sample_end - cs.sample_begin;
         double w = 0;  // in samples order, as sender_radiance sums it
-        for (size_t j = 0; j < l.samples.size(); ++j) {
-            const int32_t sl = slot_[size_t(l.samples[j].first)];
+        for (int32_t j = 0; j < n; ++j) {
+            const int32_t sl = slot_[size_t(lists[k][j].first)];
             if (sl < 0) outside = true;
-            samples_[size_t(cs.sample_begin) + j] = {sl, l.samples[j].second};
-            w += l.samples[j].second;
+            samples_[size_t(cs.sample_begin + j)] = {sl, lists[k][j].second};
+            w += lists[k][j].second;
         }
         cs.wsum = w;
-        if (l.samples.empty()) {
+        if (n == 0) {
+            const Link& l = link_of(k);
             const Node& src = h.nodes[size_t(l.src)];
             const int32_t ci = p.src - n_elem_;
             for (int a = 0; a < 3; ++a) {

@@ -20,9 +20,6 @@ constexpr size_t kAhead = 16;
 // Starting a thread costs tens of microseconds (more on a busy machine): a plan with less
 // work than this (links + elements) is built and swept on the calling thread.
 constexpr size_t kParallelFrom = 65536;
-}  // namespace
-
-namespace {
 
 // Irradiance / pi (all colours alike) that the links into a node bring from unit senders.
 Rgb unit_gather(const Node& n, const std::vector<Link>& links) {
@@ -54,7 +51,7 @@ void coupling_sums(const Hierarchy& h, const std::vector<Link>& links, std::vect
                 if (c > 0) acc += (Rgb::all(1.0) * l.K) * c;
             }
         unit_push_down(h, links, h.surfaces[s].root, acc, fsum);
-    }, 16);
+    }, 64);
 }
 
 int GatherPlan::workers(int threads) const {

@@ -92,8 +92,16 @@ int main(int argc, char** argv) {
     std::printf("| NRMSE incremental vs full re-solve | %.4f | |\n", err);
     auto phases = [](const char* what, const Stats& st) {
         std::printf("\n%s (last run): %d iterations, %d refine rounds;", what, st.iterations, st.refine_rounds);
-        for (const auto& p : st.phases) std::printf(" %s %.3f", p.first.c_str(), p.second);
-        std::printf(" s\n");
+        double gather = 0;
+        for (const auto& p : st.phases) {
+            std::printf(" %s %.3f", p.first.c_str(), p.second);
+            if (p.first == "gather") gather = p.second;
+        }
+        const double ls = double(std::max<int64_t>(1, st.link_sweeps));
+        std::printf(" s\n  gathering: %lld link-sweeps; gather phase %.1f ns, sweeps alone %.1f ns per link-sweep; "
+                    "%lld gather plans built in %.4f s\n",
+                    (long long)st.link_sweeps, 1e9 * gather / ls, 1e9 * st.seconds_sweeps / ls, (long long)st.gather_plans,
+                    st.seconds_gather_plan);
     };
     phases("full solve phases", s_full);
     phases("update phases", s_upd);

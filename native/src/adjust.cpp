@@ -271,6 +271,8 @@ void Solver::update(Control* control) {
     s.env_env_links_rays_clear = 0;
     s.obj_env_links_removed = s.links_created = s.history_reactivated = 0;
     s.iterations = 0;
+    s.link_sweeps = s.gather_plans = 0;
+    s.seconds_sweeps = s.seconds_gather_plan = 0;
     s.refine_rounds = 0;
     s.iteration_capped = false;
     const int64_t links_before = int64_t(links_.size());

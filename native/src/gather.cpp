@@ -1,12 +1,13 @@
 // Gathering with push-pull (paper 2): every receiver gathers through its links from the
 // previous radiances (Jacobi), irradiance is pushed down the hierarchy, reflected at the
-// leaves and radiance pulled back up area-weighted.
+// leaves and radiance pulled back up area-weighted. The sweeps run on a gather plan
+// (gather_plan.h), a compact copy of links and trees made after collect_receivers().
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "radiosity/parallel.h"
 #include "radiosity/solver.h"
-#include "radiosity/transfer.h"
 
 namespace radiosity {
 
@@ -20,127 +21,71 @@ void Solver::collect_receivers() {
         if (!n.is_cluster() && n.is_leaf()) leaves_.push_back(int(i));
     }
     light_prepare();  // lights.cpp: direct light of new leaves
+    plan_.invalidate();  // links, nodes or materials may have changed since it was built
 }
 
-void Solver::push_down(int id, Rgb acc, bool unit, std::vector<double>* fsum, double& delta) {
-    Node& n = h_.nodes[id];
-    if (!n.in_links.empty()) acc += n.G;
-    if (n.children.empty()) {
-        if (unit) {
-            (*fsum)[id] = acc.mean();
-            return;
-        }
-        Rgb Lnew = n.emission + n.rho * (acc * n.closure + light_direct(id));  // lights.cpp
-        delta = std::max(delta, std::fabs((Lnew - n.L).max()));
-        delta = std::max(delta, std::fabs((n.L - Lnew).max()));
-        n.L = Lnew;
-        n.Lmin = n.Lmax = Lnew;
-        return;
+void Solver::ensure_plan(bool radiometry) {
+    const bool valid = plan_.valid(links_.size(), h_.nodes.size());
+    if (valid && (!radiometry || plan_.has_radiometry())) return;
+    const auto t0 = std::chrono::steady_clock::now();
+    if (!valid) {
+        plan_.build(h_, links_, settings_.threads);
+        ++stats_.gather_plans;
     }
-    Rgb sum, lo = Rgb::all(1e300), hi = Rgb::all(-1e300);
-    double area = 0;
-    for (int c : n.children) {
-        push_down(c, acc, unit, fsum, delta);
-        if (unit) continue;
-        const Node& k = h_.nodes[c];
-        sum += k.L * k.area;
-        area += k.area;
-        lo = cmin(lo, k.Lmin);
-        hi = cmax(hi, k.Lmax);
-    }
-    if (unit) return;
-    n.L = area > 0 ? sum / area : n.emission;
-    n.Lmin = lo;
-    n.Lmax = hi;
-}
-
-void Solver::pull_up_clusters() {
-    // Children clusters always have larger ids than their parents: one reverse pass.
-    for (int i = int(h_.nodes.size()) - 1; i >= 0; --i) {
-        Node& c = h_.nodes[i];
-        if (!c.is_cluster()) continue;
-        Rgb sum, lo = Rgb::all(1e300), hi = Rgb::all(-1e300);
-        double area = 0;
-        c.S.fill(Rgb{});
-        for (int k : c.children) {
-            const Node& n = h_.nodes[k];
-            if (n.is_cluster()) {
-                for (int b = 0; b < kBins; ++b) c.S[b] += n.S[b];
-            } else {
-                for (int a = 0; a < 3; ++a) {
-                    double v = n.normal[a] * n.area;
-                    c.S[bin_of(a, v)] += n.L * std::fabs(v);
-                }
-            }
-            sum += n.L * n.area;
-            area += n.area;
-            lo = cmin(lo, n.Lmin);
-            hi = cmax(hi, n.Lmax);
-        }
-        c.L = area > 0 ? sum / area : Rgb{};
-        c.Lmin = c.children.empty() ? Rgb{} : lo;
-        c.Lmax = c.children.empty() ? Rgb{} : hi;
-    }
+    if (radiometry) plan_.prepare_radiometry(h_, links_, [this](int id) { return light_direct(id); }, settings_.threads);  // lights.cpp
+    stats_.seconds_gather_plan += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 // One Jacobi sweep. With unit=true every sender counts as radiance 1 and the per-leaf sum
-// of form factors is written to fsum instead (used by the closure correction).
+// of form factors is written to fsum instead (used by the closure correction). A unit sweep
+// uses the plan when there is one; else it walks the hierarchy (a plan would cost as much to
+// build as that one sweep, and iterate_to builds its own after the closure pass).
 double Solver::sweep(bool unit, std::vector<double>* fsum) {
-    // 1. Gather through links, in parallel over receivers (each writes only its own data).
-    parallel_for(receivers_.size(), settings_.threads, [&](size_t i) {
-        Node& q = h_.nodes[receivers_[i]];
-        Rgb g;
-        for (int li : q.in_links) {
-            Link& l = links_[li];
-            Rgb Ls = unit ? Rgb::all(1.0) : sender_radiance(h_, l);
-            Rgb v = Ls * l.K;
-            if (q.is_cluster()) l.value = v;
-            else g += v;
-        }
-        q.G = g;
-    }, 64);
-    // 2. Per surface: flux arriving through cluster links above it, times its own cosine
-    //    (oriented clusters), then push-pull down its quadtree.
-    std::vector<double> deltas(h_.surfaces.size(), 0.0);
-    parallel_for(h_.surfaces.size(), settings_.threads, [&](size_t s) {
-        const int root = h_.surfaces[s].root;
-        const Vec3 n = h_.nodes[root].normal;
-        Rgb acc;
-        for (int a : h_.ancestors_of_surface(int(s)))
-            for (int li : h_.nodes[a].in_links) {
-                const Link& l = links_[li];
-                double c = -dot(n, l.dir);
-                if (c > 0) acc += l.value * c;
-            }
-        push_down(root, acc, unit, fsum, deltas[s]);
-    }, 64);
-    if (unit) return 0.0;
-    pull_up_clusters();
-    double d = 0;
-    for (double x : deltas) d = std::max(d, x);
+    if (unit && !plan_.valid(links_.size(), h_.nodes.size())) {
+        coupling_sums(h_, links_, *fsum, settings_.threads);
+        return 0.0;
+    }
+    ensure_plan(!unit);
+    const double d = plan_.sweep(unit, fsum, settings_.threads);
+    plan_.write_back(h_, links_, settings_.threads);
     return d;
 }
 
 int Solver::iterate_to(double tolerance, int max_iterations, double p0, double p1) {
     collect_receivers();
+    ensure_plan(true);
+    const int64_t gathered = plan_.link_count();
     double prev = -1;
     const double scale = std::max(L_ref_, 1e-300);
-    int it = 0;
-    for (; it < max_iterations; ++it) {
+    // The sweeps run on the plan; the nodes get the radiances once, after the last one. When
+    // a cancel unwinds through here they get them too (on this thread: nothing may throw
+    // while unwinding), so the nodes never hold a half-copied state.
+    struct WriteBackOnUnwind {
+        Solver& s;
+        ~WriteBackOnUnwind() { s.plan_.write_back(s.h_, s.links_, 1); }
+    } unwind{*this};
+    int sweeps = 0;
+    bool converged = false;
+    while (sweeps < max_iterations && !converged) {
         check_cancel();
-        double delta = sweep(false, nullptr) / scale;
+        const auto t0 = std::chrono::steady_clock::now();
+        double delta = plan_.sweep(false, nullptr, settings_.threads) / scale;
+        stats_.seconds_sweeps += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         ++stats_.iterations;
+        stats_.link_sweeps += gathered;
         // Remaining error of a geometric iteration: delta * q / (1 - q), q the observed
         // contraction; this keeps the stop honest at reflectance near 1.
         double q = prev > 0 ? std::min(delta / prev, 0.9999) : 0.9;
         double remaining = delta * q / (1.0 - q);
         stats_.residual = remaining;
         prev = delta;
-        set_progress(p0 + (p1 - p0) * std::min(1.0, double(it + 1) / max_iterations));
-        if (delta == 0 || (it >= 1 && remaining < tolerance)) return it + 1;
+        ++sweeps;
+        set_progress(p0 + (p1 - p0) * std::min(1.0, double(sweeps) / max_iterations));
+        converged = delta == 0 || (sweeps >= 2 && remaining < tolerance);
     }
-    stats_.iteration_capped = true;
-    return it;
+    plan_.write_back(h_, links_, settings_.threads);
+    if (!converged) stats_.iteration_capped = true;
+    return sweeps;
 }
 
 // Closure correction: a leaf from which no escape ray finds open space is enclosed, so its

@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "radiosity/gather_plan.h"
 #include "radiosity/hierarchy.h"
 #include "radiosity/lights.h"
 #include "radiosity/link.h"
@@ -102,11 +103,15 @@ private:
     void kill(int link_id);  // a link and its history subtree, for good
     bool refine_round();
     bool refine_links(const std::vector<int>& ids);  // one round over these links only
-    // gather.cpp
+    // gather.cpp. A sweep runs on plan_ (gather_plan.h), a snapshot of links, trees,
+    // materials, closure factors and direct light taken at the first sweep after
+    // collect_receivers(): whatever changes those must call collect_receivers() before the
+    // next sweep. sweep(false) copies radiances back to the nodes at once; iterate_to after
+    // its last sweep; a unit sweep only fills fsum (nodes' G and links' value are left as the
+    // last radiometric sweep made them).
     double sweep(bool unit, std::vector<double>* fsum);
     int iterate_to(double tolerance, int max_iterations, double progress_from, double progress_to);
-    void push_down(int node, Rgb acc, bool unit, std::vector<double>* fsum, double& delta);
-    void pull_up_clusters();
+    void ensure_plan(bool radiometry);
     void compute_closure();
     // Splits links above enclosed leaves whose form factors do not sum to ~1; true if any.
     bool closure_refine(const std::vector<double>& fsum);
@@ -162,6 +167,7 @@ private:
     std::vector<Link> links_;
     std::vector<int> receivers_;   // nodes with active incoming links
     std::vector<int> leaves_;      // leaf elements (rebuilt with receivers_)
+    GatherPlan plan_;              // invalidated by collect_receivers, built by ensure_plan
     Stats stats_;
     Control* control_ = nullptr;
     double L_ref_ = 0, threshold_ = 0, min_area_ = 0;

@@ -38,6 +38,13 @@ struct Stats {
     int64_t avoided_by_progressive = 0;  // refinements the 3.5 criterion avoided
     int64_t refined_by_closure = 0;      // links split because a leaf's form factors missed 1
     int iterations = 0;
+    // Gathering cost (gather.cpp): links gathered summed over the sweeps of iterate_to (a
+    // sweep over n links adds n) and the time of those sweeps; gather plans built and the
+    // time building them. Both times are part of the "closure" and "gather" phases.
+    int64_t link_sweeps = 0;
+    double seconds_sweeps = 0;
+    int64_t gather_plans = 0;
+    double seconds_gather_plan = 0;
     int refine_rounds = 0;
     double residual = 0;            // estimated remaining relative error at the end
     bool capped = false;            // a cap (elements/links/memory) stopped refinement

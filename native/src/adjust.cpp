@@ -491,6 +491,7 @@ void Solver::update(Control* control) {
     s.seconds_adjust = since(t0);
     lap("history");
 
+    light_update();  // lights.cpp: drop light splits the new direct light does not need
     // Warm-started re-solve: the previous radiances are the starting point. Only links the
     // update touched, or whose sender's light changed enough to tip the oracle, are judged
     // again; a full solve's refine rounds judge every link.

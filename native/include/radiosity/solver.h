@@ -125,9 +125,16 @@ private:
     void prune_elements();
     // lights.cpp
     void light_prepare();                        // direct term of every leaf lacking it
+    void light_invalidate();                     // placements changed: every direct term is stale
     void light_compute(const std::vector<int>& ids);
     bool light_refine();                         // split leaves whose direct light varies
     bool light_coarsen();                        // merge light splits no longer needed
+    void light_update();                         // before an update's solve: invalidate, coarsen
+    void light_resize();                         // per-node light arrays to the node count
+    // Top-down over the element trees: nodes whose children the light needs (`lit`), and
+    // nodes whose children neither the light nor a link below needs (`drop`).
+    void light_walk(const std::vector<char>& link_below, std::vector<int>& lit, std::vector<int>& drop);
+    std::vector<char> link_below(const std::vector<char>& referenced) const;
     void light_initial();                        // before the first linking: split and light
     void light_contacts();                       // coplanar touching surfaces (a box on a floor)
     bool light_in_contact(int surface, const Vec3& p) const;

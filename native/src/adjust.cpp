@@ -146,6 +146,20 @@ void Solver::unrefine(int id) {
     ++stats_.history_reactivated;
 }
 
+bool Solver::unrefine_if_acceptable(int id) {
+    // Acceptable again means what a full solve would decide for this link now: keep it, or
+    // settle it (3.5: its receiver's children would agree). Only Keep came back before, so a
+    // link refined under a bright sender that is now dim stayed refined where a full solve
+    // settles it whole (a point light moved away from the floor beside a box: the box's foot
+    // 7 % dark).
+    const Judgement j = judge(links_[id]);
+    if (j.side != Side::Keep && j.side != Side::Settle) return false;
+    unrefine(id);
+    std::vector<Candidate> none;
+    apply(id, j, none);
+    return true;
+}
+
 // 3.4: history links, coarsest first (parents have lower ids), whose error is acceptable
 // again become active; the links below them go.
 void Solver::unrefine_pass(const std::vector<char>* senders) {
@@ -158,7 +172,7 @@ void Solver::unrefine_pass(const std::vector<char>* senders) {
     freshen(cand);
     for (int id : cand) {
         if (links_[id].dead || links_[id].active) continue;  // an ancestor came back first
-        if (judge(links_[id]).side == Side::Keep) unrefine(id);
+        unrefine_if_acceptable(id);
     }
 }
 
@@ -486,8 +500,7 @@ void Solver::update(Control* control) {
     // History links whose view changed: coarsen back where the old shadow is gone.
     freshen(recheck_history);
     for (int id : recheck_history)  // ascending: a parent before the links it refined into
-        if (!links_[id].dead && !links_[id].active && !links_[id].occluded && judge(links_[id]).side == Side::Keep)
-            unrefine(id);
+        if (!links_[id].dead && !links_[id].active && !links_[id].occluded) unrefine_if_acceptable(id);
     s.seconds_adjust = since(t0);
     lap("history");
 

@@ -109,6 +109,8 @@ private:
     void set_material(int object, const std::vector<Rgb>& values, bool emission);
     void apply_materials();
     void unrefine(int link_id);
+    // A history link whose judgement is Keep or Settle again: unrefined (and settled).
+    bool unrefine_if_acceptable(int link_id);
     // Takes a fresh evaluation's coupling, visibility and samples into a kept link.
     void refresh(int link_id, const Link& fresh);
     // Re-evaluates the stale links among `ids` (in parallel).

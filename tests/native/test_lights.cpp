@@ -139,21 +139,8 @@ TEST(Lights, MovingAPointLightIncrementallyEqualsAFullSolve) {
     EXPECT_GT(nrmse(before, full.corner_radiance(0)), 0.05);  // the move mattered
 }
 
-// The scene of tests/blender/test_lights.py (scripts/light_scenes.py): a 4 x 4 floor of 10 x 10
-// quads, a box of 4 x 4 quads per side in a collection (a cluster) standing on it, a 200 W
-// point light of radius 0.1 and colour (1, 0.8, 0.6).
-SceneDesc box_on_floor(Vec3 light) {
-    SceneDesc s = floor_scene(10);
-    const int props = s.add_cluster("Props");
-    scenes::add_box(s, "box", props, Vec3{0.1, -0.2, 0.0}, Vec3{1.1, 0.8, 0.8}, 4, Rgb{0.7, 0.35, 0.2}, Rgb{});
-    LightDesc l = point_light(light, 200 / (4 * kPi), 0.1);
-    l.intensity = Rgb{1.0, 0.8, 0.6} * (200 / (4 * kPi));
-    s.add_light(l);
-    return s;
-}
-
 TEST(Lights, MovingAPointLightBesideABoxEqualsAFullSolve) {
-    // Issue 7: a moved point light goes through the incremental path and equals a full solve
+    // The scene of tests/blender/test_lights.py. Issue 7: a moved point light goes through the incremental path and equals a full solve
     // within 0.5 % NRMSE. The error used to sit at the box's foot, where the update kept the
     // link and light refinement made for the old light position (0.68 % on the first move
     // before settled links were judged again, light splits coarsened top-down and history
@@ -161,7 +148,7 @@ TEST(Lights, MovingAPointLightBesideABoxEqualsAFullSolve) {
     const Vec3 from{-0.5, -0.3, 1.5};
     for (const Vec3 to : {Vec3{0.9, -0.6, 1.3}, Vec3{-1.0, 1.0, 1.2}}) {
         const Settings st = Settings::preset("HIGH");
-        Solver inc(box_on_floor(from), st);
+        Solver inc(scenes::point_light_box_on_floor(from), st);
         inc.solve();
         const int64_t evaluated_before = inc.stats().links_evaluated;
         LightDesc moved = inc.scene().lights()[0];
@@ -169,7 +156,7 @@ TEST(Lights, MovingAPointLightBesideABoxEqualsAFullSolve) {
         inc.set_light(0, moved);
         inc.update();
         EXPECT_TRUE(inc.stats().mode_incremental);
-        Solver full(box_on_floor(to), st);
+        Solver full(scenes::point_light_box_on_floor(to), st);
         full.solve();
         const double e = nrmse(inc.all_corner_radiance(), full.all_corner_radiance());
         const int64_t evaluated = inc.stats().links_evaluated - evaluated_before;

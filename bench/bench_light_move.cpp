@@ -49,6 +49,7 @@ int main(int argc, char** argv) {
                 from.y, from.z, preset.c_str(), runs);
     std::printf("| to | NRMSE inc vs full | time update / full | rays update / full | links evaluated update / full "
                 "| elements update / full | links update / full |\n|---|---|---|---|---|---|---|\n");
+    std::vector<std::string> phases;  // of the last run, per move
     for (const Vec3& to : moves) {
         std::vector<double> ratio;
         double err = 0;
@@ -79,6 +80,14 @@ int main(int argc, char** argv) {
                     to.z, 100 * err, median(ratio), (long long)rays, (long long)sf.rays, (long long)evaluated,
                     (long long)sf.links_evaluated, (long long)su.elements, (long long)sf.elements, (long long)su.links,
                     (long long)sf.links);
+        char buf[64];
+        std::string line = "(" + std::to_string(to.x) + ", " + std::to_string(to.y) + ", " + std::to_string(to.z) + ") update:";
+        for (const auto& p : su.phases) std::snprintf(buf, sizeof buf, " %s %.3f", p.first.c_str(), p.second), line += buf;
+        line += " | full:";
+        for (const auto& p : sf.phases) std::snprintf(buf, sizeof buf, " %s %.3f", p.first.c_str(), p.second), line += buf;
+        phases.push_back(line);
     }
+    std::printf("\nSeconds per phase (last run):\n");
+    for (const std::string& l : phases) std::printf("  %s\n", l.c_str());
     return 0;
 }

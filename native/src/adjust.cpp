@@ -493,6 +493,7 @@ void Solver::update(Control* control) {
     lap("history");
 
     light_update();  // lights.cpp: drop light splits the new direct light does not need
+    lap("lights");
     // Warm-started re-solve: the previous radiances are the starting point. Only links the
     // update touched, or whose sender's light changed enough to tip the oracle, are judged
     // again; a full solve's refine rounds judge every link.

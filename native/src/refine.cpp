@@ -84,12 +84,7 @@ Solver::Judgement Solver::judge(const Link& l) const {
     if (l.must_refine) {
         err_rcv = err_src = 1e300;
     } else if (!l.cluster) {
-        // A settled link (3.5) is judged again like any other: its settlement held for the
-        // sender's radiance then (the children's kernel spread times it was below the
-        // threshold), and radiance changes: between rounds (the first judgement sees direct
-        // light only) and in an update (a lamp moved). Frozen, a full solve and an update
-        // settled different links at a box's foot (up to 0.6 % NRMSE between them).
-        err_rcv = rho * Lp * l.dK;
+        err_rcv = l.settled ? 0.0 : rho * Lp * l.dK;
         err_src = rho * l.K * dLp;
     } else {
         // Oriented point model: its relative error grows with (size / distance); a partly
@@ -164,9 +159,9 @@ void Solver::apply(int id, const Judgement& j, std::vector<Candidate>& next) {
     if (j.side == Side::Keep) return;
     if (j.side == Side::Settle) {
         Link& l = links_[id];
-        if (!l.settled) ++stats_.avoided_by_progressive;
         l.K = l.K_unoccluded = j.settled_K;
         l.settled = true;
+        ++stats_.avoided_by_progressive;
         return;
     }
     // The caps are checked here, where links and elements are made, not only when judging

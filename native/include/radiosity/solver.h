@@ -115,6 +115,8 @@ private:
     void refresh(int link_id, const Link& fresh);
     // Re-evaluates the stale links among `ids` (in parallel).
     void freshen(const std::vector<int>& ids);
+    // Settled links (3.5) whose sender's radiance changed: evaluated afresh, unsettled.
+    void reopen_settled(const std::vector<int>& ids);
     // History links reactivated where acceptable; only those whose sender is marked in
     // `senders` (all when null).
     void unrefine_pass(const std::vector<char>* senders = nullptr);

@@ -110,12 +110,13 @@ private:
     void apply_materials();
     void unrefine(int link_id);
     // A history link whose judgement is Keep or Settle again: unrefined (and settled).
-    bool unrefine_if_acceptable(int link_id);
+    // `first`: its judgement on a lit scene's first bounce (at_first_bounce), if known.
+    bool unrefine_if_acceptable(int link_id, const Judgement* first = nullptr);
     // Takes a fresh evaluation's coupling, visibility and samples into a kept link.
     void refresh(int link_id, const Link& fresh);
     // Re-evaluates the stale links among `ids` (in parallel).
     void freshen(const std::vector<int>& ids);
-    // Settled links (3.5) whose sender's radiance changed: evaluated afresh, unsettled.
+    // Settled links (3.5) whose sender's judging_radiance grew: evaluated afresh, unsettled.
     void reopen_settled(const std::vector<int>& ids);
     // History links reactivated where acceptable; only those whose sender is marked in
     // `senders` (all when null).
@@ -124,6 +125,9 @@ private:
     // oracle judgement of a link they send through.
     std::vector<char> changed_senders(const std::vector<float>& snap) const;
     std::vector<float> snapshot() const;
+    // Per node: the radiance a full solve settles links on (lit scene: first_bounce; else
+    // the largest channel of `snap`).
+    std::vector<float> judging_radiance(const std::vector<float>& snap) const;
     void prune_elements();
     // lights.cpp
     void light_prepare();                        // direct term of every leaf lacking it
@@ -145,6 +149,10 @@ private:
     double light_power(double total_area) const; // for the reference radiance
     Rgb light_direct(int node) const;
     Rgb leaf_irradiance(int leaf) const;
+    // Per node: emission + rho x lamp light, the radiance a full solve's first linking sees.
+    std::vector<float> first_bounce() const;
+    // Runs `judge_links` with every node's radiance set to first_bounce's (then restored).
+    void at_first_bounce(const std::function<void()>& judge_links);
     LightState lights_;
     // output.cpp: per-corner values of any per-leaf quantity
     std::vector<float> corner_values(int object, const std::function<Rgb(int)>& leaf_value) const;

@@ -526,11 +526,29 @@ void Solver::at_first_bounce(const std::function<void()>& judge_links) {
     // swapped in for it and back; judged on converged radiance instead, links beside a box's
     // foot that a full solve settles were split (0.64 % NRMSE after one light move).
     const size_t nn = h_.nodes.size();
-    std::vector<Rgb> L(nn), lo(nn), hi(nn);
-    std::vector<std::array<Rgb, kBins>> S(nn);
+    // The solved radiance comes back however judge_links ends (a cancel throws).
+    struct Saved {
+        Hierarchy& h;
+        size_t nn;
+        std::vector<Rgb> L, lo, hi;
+        std::vector<std::array<Rgb, kBins>> S;
+        ~Saved() {
+            for (size_t i = 0; i < nn; ++i) {
+                Node& n = h.nodes[i];
+                n.L = L[i], n.Lmin = lo[i], n.Lmax = hi[i], n.S = S[i];
+            }
+            // Elements split meanwhile inherit their parent's radiance, as subdivide does.
+            for (size_t i = nn; i < h.nodes.size(); ++i) {
+                Node& n = h.nodes[i];
+                if (n.is_cluster() || n.parent < 0) continue;
+                n.L = n.Lmin = n.Lmax = h.nodes[n.parent].L;
+            }
+        }
+    } saved{h_, nn, std::vector<Rgb>(nn), std::vector<Rgb>(nn), std::vector<Rgb>(nn),
+            std::vector<std::array<Rgb, kBins>>(nn)};
     for (size_t i = 0; i < nn; ++i) {
         const Node& n = h_.nodes[i];
-        L[i] = n.L, lo[i] = n.Lmin, hi[i] = n.Lmax, S[i] = n.S;
+        saved.L[i] = n.L, saved.lo[i] = n.Lmin, saved.hi[i] = n.Lmax, saved.S[i] = n.S;
     }
     for (size_t i = nn; i-- > 0;) {  // children (larger ids) before their parents
         Node& n = h_.nodes[i];
@@ -554,10 +572,6 @@ void Solver::at_first_bounce(const std::function<void()>& judge_links) {
     }
     pull_up_clusters();
     judge_links();
-    for (size_t i = 0; i < nn; ++i) {
-        Node& n = h_.nodes[i];
-        n.L = L[i], n.Lmin = lo[i], n.Lmax = hi[i], n.S = S[i];
-    }
 }
 
 Rgb Solver::leaf_irradiance(int id) const {

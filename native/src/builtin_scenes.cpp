@@ -129,4 +129,19 @@ SceneDesc box_room(int n) {
     return s;
 }
 
+SceneDesc point_light_box_on_floor(Vec3 light) {
+    SceneDesc s;
+    add_grid(s, "Floor", -1, {Vec3{-2, -2, 0}, Vec3{2, -2, 0}, Vec3{2, 2, 0}, Vec3{-2, 2, 0}}, 10, 10, Rgb::all(0.5), {});
+    const int props = s.add_cluster("Props");
+    add_box(s, "Box", props, {0.1, -0.2, 0.0}, {1.1, 0.8, 0.8}, 4, Rgb{0.7, 0.35, 0.2}, {});
+    LightDesc l;
+    l.name = "point";
+    l.type = LightDesc::Type::Point;
+    l.position = light;
+    l.radius = 0.1;
+    l.intensity = Rgb{1.0, 0.8, 0.6} * (200 / (4 * kPi));  // Blender: power x colour / 4 pi (W/sr)
+    s.add_light(l);
+    return s;
+}
+
 }  // namespace radiosity::scenes

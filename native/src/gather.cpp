@@ -88,6 +88,38 @@ int Solver::iterate_to(double tolerance, int max_iterations, double p0, double p
     return sweeps;
 }
 
+// Clusters' radiance, range and direction bins from their children, over the nodes (the
+// gather plan does this in its own arrays; this serves code that sets element radiances
+// outside a sweep: lights.cpp at_first_bounce).
+void Solver::pull_up_clusters() {
+    // Children clusters always have larger ids than their parents: one reverse pass.
+    for (int i = int(h_.nodes.size()) - 1; i >= 0; --i) {
+        Node& c = h_.nodes[i];
+        if (!c.is_cluster()) continue;
+        Rgb sum, lo = Rgb::all(1e300), hi = Rgb::all(-1e300);
+        double area = 0;
+        c.S.fill(Rgb{});
+        for (int k : c.children) {
+            const Node& n = h_.nodes[k];
+            if (n.is_cluster()) {
+                for (int b = 0; b < kBins; ++b) c.S[b] += n.S[b];
+            } else {
+                for (int a = 0; a < 3; ++a) {
+                    double v = n.normal[a] * n.area;
+                    c.S[bin_of(a, v)] += n.L * std::fabs(v);
+                }
+            }
+            sum += n.L * n.area;
+            area += n.area;
+            lo = cmin(lo, n.Lmin);
+            hi = cmax(hi, n.Lmax);
+        }
+        c.L = area > 0 ? sum / area : Rgb{};
+        c.Lmin = c.children.empty() ? Rgb{} : lo;
+        c.Lmax = c.children.empty() ? Rgb{} : hi;
+    }
+}
+
 // Closure correction: a leaf from which no escape ray finds open space is enclosed, so its
 // form factors must sum to 1; the analytic kernels with sampled visibility miss that by a
 // little, and at reflectance near 1 the error is amplified 1/(1 - rho) times. Such leaves

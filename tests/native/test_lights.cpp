@@ -127,15 +127,51 @@ TEST(Lights, MovingAPointLightIncrementallyEqualsAFullSolve) {
     s2.add_light(moved);
     Solver full(s2, st);
     full.solve();
-    // Both objects' corners together (the box alone differs by ~0.8 %: where it meets the
-    // floor the link hierarchies of an update and a full solve differ, see README).
+    // Both objects' corners together (measured 0.32 %, the box alone 0.37 %: where it meets
+    // the floor the link hierarchies of an update and a full solve still differ a little).
     std::vector<float> a = inc.corner_radiance(0), b = full.corner_radiance(0);
     for (float x : inc.corner_radiance(1)) a.push_back(x);
     for (float x : full.corner_radiance(1)) b.push_back(x);
     const double e = nrmse(a, b);
-    std::printf("incremental vs full NRMSE %.5f\n", e);
+    std::printf("[ figure ] incremental vs full NRMSE %.5f (box alone %.5f)\n", e,
+                nrmse(inc.corner_radiance(1), full.corner_radiance(1)));
     EXPECT_LT(e, 0.005);
     EXPECT_GT(nrmse(before, full.corner_radiance(0)), 0.05);  // the move mattered
+}
+
+TEST(Lights, MovingAPointLightBesideABoxEqualsAFullSolve) {
+    // The scene of tests/blender/test_lights.py. Issue 7: a moved point light goes through
+    // the incremental path and equals a full solve within 0.5 % NRMSE. The error used to sit
+    // at the box's foot, where the update kept the link and light refinement made for the old
+    // light position (0.68 % on the first move, 0.84 % on the second, before settled links
+    // were evaluated again, light splits coarsened top-down and a lit scene's first links
+    // judged on the lamps' first bounce, as a full solve does). Measured: 0.26 %, 0.40 %.
+    const Vec3 from{-0.5, -0.3, 1.5};
+    for (const Vec3 to : {Vec3{0.9, -0.6, 1.3}, Vec3{-1.0, 1.0, 1.2}}) {
+        const Settings st = Settings::preset("HIGH");
+        Solver inc(scenes::point_light_box_on_floor(from), st);
+        inc.solve();
+        const int64_t evaluated_before = inc.stats().links_evaluated;
+        LightDesc moved = inc.scene().lights()[0];
+        moved.position = to;
+        inc.set_light(0, moved);
+        inc.update();
+        EXPECT_TRUE(inc.stats().mode_incremental);
+        Solver full(scenes::point_light_box_on_floor(to), st);
+        full.solve();
+        const double e = nrmse(inc.all_corner_radiance(), full.all_corner_radiance());
+        const int64_t evaluated = inc.stats().links_evaluated - evaluated_before;
+        std::printf("[ figure ] point light to (%g, %g, %g): incremental vs full NRMSE %.5f; elements %lld vs %lld, "
+                    "links %lld vs %lld, links evaluated %lld vs %lld\n",
+                    to.x, to.y, to.z, e, (long long)inc.stats().elements, (long long)full.stats().elements,
+                    (long long)inc.stats().links, (long long)full.stats().links, (long long)evaluated,
+                    (long long)full.stats().links_evaluated);
+        EXPECT_LT(e, 0.005);
+        // Incremental: the kept links are reused, not linked again from the root.
+        EXPECT_LT(evaluated, full.stats().links_evaluated / 2);
+        // The light's elements follow the light (splits for the old position merged back).
+        EXPECT_NEAR(double(inc.stats().elements), double(full.stats().elements), 0.03 * full.stats().elements);
+    }
 }
 
 TEST(Lights, LightingOnlyIsRadianceWithoutAlbedoAndEmission) {

@@ -24,5 +24,9 @@ SceneDesc furnace_room_with_box(double rho, double emission, int n = 4);
 SceneDesc cornell_box(int n = 8);
 // The paper's box room: 300 x 300 x 250 room, ceiling light of radiance 12, two boxes.
 SceneDesc box_room(int n = 8);
+// The scene of the Blender light tests (tests/blender/scripts/light_scenes.py): a 4 x 4 m floor
+// of 10 x 10 quads (rho 0.5), a 1 x 1 x 0.8 m box of 4 x 4 quads per side in a collection
+// standing on it, and a 200 W point light of radius 0.1 m, colour (1, 0.8, 0.6), at `light`.
+SceneDesc point_light_box_on_floor(Vec3 light);
 
 }  // namespace radiosity::scenes

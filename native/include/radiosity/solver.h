@@ -113,6 +113,7 @@ private:
     int iterate_to(double tolerance, int max_iterations, double progress_from, double progress_to);
     void ensure_plan(bool radiometry);
     void compute_closure();
+    void pull_up_clusters();  // over the nodes, outside sweeps
     // Splits links above enclosed leaves whose form factors do not sum to ~1; true if any.
     bool closure_refine(const std::vector<double>& fsum);
     void escape_rays(const Node& n, std::vector<std::pair<Vec3, Vec3>>& rays) const;
@@ -123,10 +124,15 @@ private:
     void set_material(int object, const std::vector<Rgb>& values, bool emission);
     void apply_materials();
     void unrefine(int link_id);
+    // A history link whose judgement is Keep or Settle again: unrefined (and settled).
+    // `first`: its judgement on a lit scene's first bounce (at_first_bounce), if known.
+    bool unrefine_if_acceptable(int link_id, const Judgement* first = nullptr);
     // Takes a fresh evaluation's coupling, visibility and samples into a kept link.
     void refresh(int link_id, const Link& fresh);
     // Re-evaluates the stale links among `ids` (in parallel).
     void freshen(const std::vector<int>& ids);
+    // Settled links (3.5) whose sender's judging_radiance grew: evaluated afresh, unsettled.
+    void reopen_settled(const std::vector<int>& ids);
     // History links reactivated where acceptable; only those whose sender is marked in
     // `senders` (all when null).
     void unrefine_pass(const std::vector<char>* senders = nullptr);
@@ -134,12 +140,22 @@ private:
     // oracle judgement of a link they send through.
     std::vector<char> changed_senders(const std::vector<float>& snap) const;
     std::vector<float> snapshot() const;
+    // Per node: the radiance a full solve settles links on (lit scene: first_bounce; else
+    // the largest channel of `snap`).
+    std::vector<float> judging_radiance(const std::vector<float>& snap) const;
     void prune_elements();
     // lights.cpp
     void light_prepare();                        // direct term of every leaf lacking it
+    void light_invalidate();                     // placements changed: every direct term is stale
     void light_compute(const std::vector<int>& ids);
     bool light_refine();                         // split leaves whose direct light varies
     bool light_coarsen();                        // merge light splits no longer needed
+    void light_update();                         // before an update's solve: invalidate, coarsen
+    void light_resize();                         // per-node light arrays to the node count
+    // Top-down over the element trees: nodes whose children the light needs (`lit`), and
+    // nodes whose children neither the light nor a link below needs (`drop`).
+    void light_walk(const std::vector<char>& link_below, std::vector<int>& lit, std::vector<int>& drop);
+    std::vector<char> link_below(const std::vector<char>& referenced) const;
     void light_initial();                        // before the first linking: split and light
     void light_contacts();                       // coplanar touching surfaces (a box on a floor)
     bool light_in_contact(int surface, const Vec3& p) const;
@@ -147,6 +163,10 @@ private:
     void light_keep(std::vector<int>& refs);     // pruning keeps light-split children
     double light_power(double total_area) const; // for the reference radiance
     Rgb light_direct(int node) const;
+    // Per node: emission + rho x lamp light, the radiance a full solve's first linking sees.
+    std::vector<float> first_bounce() const;
+    // Runs `judge_links` with every node's radiance set to first_bounce's (then restored).
+    void at_first_bounce(const std::function<void()>& judge_links);
     LightState lights_;
     // output.cpp: per-corner values of any per-leaf quantity
     std::vector<float> corner_values(int object, const std::function<Rgb(int)>& leaf_value) const;

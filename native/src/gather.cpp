@@ -104,6 +104,7 @@ double Solver::sweep(bool unit, std::vector<double>* fsum) {
     std::vector<double> deltas(h_.surfaces.size(), 0.0);
     parallel_for(h_.surfaces.size(), settings_.threads, [&](size_t s) {
         const int root = h_.surfaces[s].root;
+        if (h_.nodes[root].dead) return;  // of a removed object
         const Vec3 n = h_.nodes[root].normal;
         Rgb acc;
         for (int a : h_.ancestors_of_surface(int(s)))

@@ -19,6 +19,7 @@ int hardware_threads() {
 
 Solver::Solver(SceneDesc scene, Settings settings) : scene_(std::move(scene)), settings_(settings) {
     settings_.validate();
+    removed_.assign(scene_.objects().size(), 0);
 }
 
 void Solver::check_cancel() const {
@@ -37,6 +38,7 @@ void Solver::solve(Control* control) {
     lap_t_ = t0;
     links_.clear();
     lights_ = LightState{};  // lights.cpp: the hierarchy is rebuilt
+    commit_topology();       // topology.cpp: objects removed since are left out
 
     h_.build(scene_, settings_.use_clustering);
     vis_ = std::make_unique<Visibility>();
@@ -150,6 +152,7 @@ void Solver::compute_sealed() {
     parallel_for(h_.surfaces.size(), settings_.threads, [&](size_t s) {
         Node& n = h_.nodes[h_.surfaces[s].root];
         n.sealed = false;
+        if (n.dead) return;  // of a removed object
         Rng rng(Hierarchy::mix(settings_.seed ^ 0x5EA1ED, n.key));
         Vec3 t = std::fabs(n.normal.x) > 0.5 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
         Vec3 u = normalize(cross(n.normal, t)), v = cross(n.normal, u);
@@ -215,6 +218,7 @@ void Solver::compute_reference() {
     double ae = 0, a = 0, ar = 0;
     for (const Surface& s : h_.surfaces) {
         const Node& e = h_.nodes[s.root];
+        if (e.dead) continue;  // of a removed object
         ae += e.area * e.emission.max();
         ar += e.area * e.rho.max();
         a += e.area;
@@ -228,11 +232,13 @@ void Solver::compute_reference() {
 void Solver::compute_stats() {
     Stats& s = stats_;
     s.input_surfaces = int64_t(scene_.polygon_count());
-    s.primitives = int64_t(h_.prims.size());
+    s.primitives = 0;
+    for (const Primitive& p : h_.prims) s.primitives += p.object >= 0;  // removed objects' are -1
     s.skipped_polygons = int64_t(h_.skipped_polygons);
-    s.objects = int64_t(scene_.objects().size());
+    s.objects = 0;
+    for (size_t o = 0; o < scene_.objects().size(); ++o) s.objects += !removed(int(o));
     s.clusters = 0;
-    for (const Node& n : h_.nodes) s.clusters += n.is_cluster();
+    for (const Node& n : h_.nodes) s.clusters += n.is_cluster() && !n.dead;
     s.links = s.cluster_links = s.surface_links = s.history_links = 0;
     s.obj_env_links = s.env_env_links = s.obj_obj_links = 0;
     for (const Link& l : links_) {
@@ -254,6 +260,7 @@ void Solver::compute_stats() {
     s.elements = 0;
     std::vector<char> reached(h_.surfaces.size(), 0);
     for (size_t si = 0; si < h_.surfaces.size(); ++si) {
+        if (h_.surface_dead(int(si))) continue;  // of a removed object
         // Reached through a cluster link only if the surface faces its sender.
         bool r = false;
         const Vec3 nrm = h_.nodes[h_.surfaces[si].root].normal;

@@ -67,6 +67,20 @@ void Visibility::add_object(int object, const std::vector<Vec3>& tv) {
     rtcReleaseGeometry(inst);
 }
 
+void Visibility::remove_object(int object) {
+    if (object < 0 || object >= int(instance_geom_.size())) return;
+    if (instance_geom_[object] >= 0) {
+        rtcDetachGeometry(top_, unsigned(instance_geom_[object]));
+        geom_object_[instance_geom_[object]] = -1;  // Embree may hand the id to a later object
+        instance_geom_[object] = -1;
+    }
+    if (object_scenes_[object]) {
+        rtcReleaseScene(object_scenes_[object]);
+        object_scenes_[object] = nullptr;
+    }
+    check_device(device_, "object removal");
+}
+
 void Visibility::set_object_transform(int object, const double m[12]) {
     if (object < 0 || object >= int(instance_geom_.size()) || instance_geom_[object] < 0) return;
     RTCGeometry inst = rtcGetGeometry(top_, unsigned(instance_geom_[object]));

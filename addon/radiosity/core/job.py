@@ -32,6 +32,7 @@ class CachedSolution:
     # -- what the incremental path needs (per object name) --
     settings_key: object = None
     object_ids: dict = field(default_factory=dict)       # name -> native object id
+    cluster_ids: dict = field(default_factory=dict)      # cluster path (names from the root) -> native id
     shapes: dict = field(default_factory=dict)           # name -> shape_digest
     build_matrices: dict = field(default_factory=dict)   # name -> world matrix at add_object
     matrices: dict = field(default_factory=dict)         # name -> placement last solved
@@ -125,25 +126,29 @@ class SolveJob:
         if hit.settings_key != self.settings_key:
             return "settings changed"
         names = [o.name for o in self.scene_input.objects]
-        added = sorted(set(names) - set(hit.object_ids))
+        if len(names) != len(set(names)):
+            return "duplicate object names"
+        # Objects added or deleted since the last bake are linked in / taken out by the kept
+        # solver (a deletion: hidden, excluded, or gone from the view layer).
+        added = [o for o in self.scene_input.objects if o.name not in hit.object_ids]
         removed = sorted(set(hit.object_ids) - set(names))
-        if added or removed:
+        if (added or removed) and not hasattr(hit.solver, "add_object"):
             parts = []
             if added:
-                parts.append("added: " + ", ".join(added))
+                parts.append("added: " + ", ".join(o.name for o in added))
             if removed:
                 parts.append("removed: " + ", ".join(removed))
             return ("objects added or removed since the last bake (" + "; ".join(parts)
-                    + "); the native solver cannot add or remove objects yet")
-        if len(names) != len(set(names)):
-            return "duplicate object names"
-        changed = [n for n in names if self.shapes[n] != hit.shapes[n]]
+                    + "); the native module cannot add or remove objects")
+        changed = [n for n in names if n in hit.shapes and self.shapes[n] != hit.shapes[n]]
         if changed:
             return ("geometry, modifiers or collection changed: " + ", ".join(changed[:5])
                     + (" …" if len(changed) > 5 else ""))
         # Work out every change before touching the kept solver.
         moves, emissions, reflectances = [], [], []
         for o in self.scene_input.objects:
+            if o.name not in hit.object_ids:
+                continue        # added: given as it is now
             oid = hit.object_ids[o.name]
             m = scene_data.object_matrix(o)
             if not np.allclose(m, hit.matrices[o.name], rtol=0.0, atol=MATRIX_TOLERANCE):
@@ -163,7 +168,8 @@ class SolveJob:
         light_changes = [i for i, (a, b) in enumerate(zip(new_keys, hit.lights)) if a != b]
         if light_changes and not hasattr(hit.solver, "set_light"):
             return "the native module cannot change lights"
-        if not (moves or emissions or reflectances or light_changes) and names == hit.names:
+        if not (moves or emissions or reflectances or light_changes or added or removed) \
+                and names == hit.names:
             # Only something that does not affect the solve differs (e.g. which meshes can be
             # written): the kept radiance is still the answer.
             hit.fingerprint = self.fingerprint
@@ -172,6 +178,17 @@ class SolveJob:
         # From here on the kept solver no longer matches hit.fingerprint.
         hit.fingerprint = None
         try:
+            for name in removed:
+                hit.solver.remove_object(hit.object_ids[name])
+                for d in (hit.object_ids, hit.shapes, hit.build_matrices):
+                    d.pop(name, None)
+            paths = scene_data.cluster_paths(self.scene_input)
+            for o in added:
+                cid = self._native_cluster(hit, o.cluster, paths)
+                hit.object_ids[o.name] = scene_data.add_native_object(hit.solver, o, cid)
+                hit.shapes[o.name] = self.shapes[o.name]
+                # Later moves are relative to the placement it was added with.
+                hit.build_matrices[o.name] = scene_data.object_matrix(o)
             for oid, rel in moves:
                 hit.solver.move_object(oid, rel)
             for oid, e in emissions:
@@ -190,10 +207,23 @@ class SolveJob:
         self.incremental = hit
         self.changes = {"moved": len(moves), "emission_changed": len(emissions),
                         "reflectance_changed": len(reflectances),
-                        "lights_changed": len(light_changes)}
+                        "lights_changed": len(light_changes),
+                        "added": len(added), "removed": len(removed)}
         self.scene, self.solver = hit.scene, hit.solver
         self.object_ids = [hit.object_ids[n] for n in names]
         return None
+
+    def _native_cluster(self, hit, index, paths):
+        """Native id of SceneInput cluster `index` in the kept solver (-1: the root), made with
+        its parents when the kept solution has no such collection yet."""
+        if index < 0:
+            return -1
+        path = paths[index]
+        if path not in hit.cluster_ids:
+            c = self.scene_input.clusters[index]
+            parent = self._native_cluster(hit, c.parent, paths)
+            hit.cluster_ids[path] = hit.solver.add_cluster(c.name, parent)
+        return hit.cluster_ids[path]
 
     def _release(self, ok):
         """End of an incremental job: on failure/cancel the kept solver has no valid solution."""
@@ -325,6 +355,7 @@ class SolveJob:
                 len(si.clusters), len(si.objects), si.polygon_count,
                 settings_key=self.settings_key,
                 object_ids={o.name: oid for o, oid in zip(si.objects, self.object_ids)},
+                cluster_ids=dict(zip(scene_data.cluster_paths(si), self.cluster_ids or [])),
                 shapes=dict(self.shapes),
                 build_matrices={o.name: scene_data.object_matrix(o) for o in si.objects},
                 leaf_meshes=self._leaf_meshes)

@@ -72,13 +72,15 @@ void print_work(const char* what, const Solver& inc, const Work& w, const Solver
     const Stats& s = inc.stats();
     std::printf("[ figure ] %s: incremental vs full NRMSE %.4f; links evaluated %lld (full solve %lld, %.0f %%), "
                 "rays %lld (full %lld, %.0f %%), links created %lld, removed %lld, env-env tested %lld "
-                "rejected %lld re-evaluated %lld; links %lld vs full %lld, elements %lld vs full %lld\n",
+                "rejected %lld re-evaluated %lld; links %lld vs full %lld, elements %lld vs full %lld; wall time "
+                "update / full solve %.0f %% (one run)\n",
                 what, e, (long long)w.evaluated, (long long)full.stats().links_evaluated,
                 100.0 * double(w.evaluated) / double(full.stats().links_evaluated), (long long)w.rays,
                 (long long)full.stats().rays, 100.0 * double(w.rays) / double(full.stats().rays),
                 (long long)s.links_created, (long long)s.links_removed, (long long)s.env_env_links_tested,
                 (long long)s.env_env_links_rejected, (long long)s.env_env_links_recomputed, (long long)s.links,
-                (long long)full.stats().links, (long long)s.elements, (long long)full.stats().elements);
+                (long long)full.stats().links, (long long)s.elements, (long long)full.stats().elements,
+                100.0 * s.seconds_total / full.stats().seconds_total);
 }
 
 const std::vector<std::string> kAll = {"room", "light", "Box1", "Box2"};

@@ -386,6 +386,18 @@ class SolveJob:
                 out.append((obj, radiance_to_rgba(rad, obj.corner_count)))
         return out
 
+    def srgb_bytes(self, exposure):
+        """[(ObjectInput, uint8 (C,4))] sRGB byte copies (see core.srgb) for every object with a
+        write target, all converted before the caller writes a single mesh."""
+        from .srgb import radiance_to_srgb_bytes
+        out = []
+        for obj, rad in zip(self.scene_input.objects, self.radiance()):
+            if obj.target is not None:
+                if len(rad) != obj.corner_count:
+                    raise ValueError(f"radiance has {len(rad)} corners, mesh has {obj.corner_count}")
+                out.append((obj, radiance_to_srgb_bytes(rad, exposure)))
+        return out
+
     def leaf_meshes(self):
         """Per object the native leaf_mesh dict (adaptive-mesh output), or None."""
         if self.cached is not None:

@@ -37,6 +37,7 @@ void Solver::solve(Control* control) {
     stats_ = Stats{};
     lap_t_ = t0;
     links_.clear();
+    live_links_ = 0;
     lights_ = LightState{};  // lights.cpp: the hierarchy is rebuilt
     commit_topology();       // topology.cpp: objects removed since are left out
 

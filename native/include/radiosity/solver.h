@@ -187,6 +187,7 @@ private:
     Hierarchy h_;
     std::unique_ptr<Visibility> vis_;
     std::vector<Link> links_;
+    int64_t live_links_ = 0;       // links_ that are not dead (what the max_links cap counts)
     std::vector<int> receivers_;   // nodes with active incoming links
     std::vector<int> leaves_;      // leaf elements (rebuilt with receivers_)
     Stats stats_;

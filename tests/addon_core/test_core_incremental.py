@@ -33,7 +33,7 @@ def test_move_is_incremental_and_matches_full(native):
     inc = _job(native, scenes_np.room((0.9, 0.5))).prepare()
     assert inc.mode == "incremental" and inc.full_reason is None
     assert inc.changes == {"moved": 1, "emission_changed": 0, "reflectance_changed": 0,
-                           "lights_changed": 0, "added": 0, "removed": 0}
+                           "lights_changed": 0, "added": 0, "removed": 0, "replaced": 0}
     inc.run()
     st = inc.native_stats()
     assert st["mode"] == "incremental" and "env_env_links_recomputed" in st
@@ -124,21 +124,46 @@ def test_refused_addition_drops_the_kept_solution(native):
     assert _job(native, scenes_np.room()).prepare().full_reason == "no kept solution"
 
 
-def test_full_reasons(native):
-    # A shape change (object space) is not a move.
+def test_changed_shape_or_scale_is_replaced(native):
+    """A mesh edit (object space) or a non-rigid placement is not a move: the object is removed
+    and added again under its name (``replaced``), unless that is most of the scene."""
+    def edited():
+        si = scenes_np.room()
+        b = si.objects[-1]
+        b.local_vertices = b.local_vertices * 1.01
+        b.vertices = b.local_vertices @ b.matrix[:3, :3].T + b.matrix[:3, 3]
+        return si
+
+    def scaled():
+        si = scenes_np.room()
+        b = si.objects[-1]
+        b.matrix = b.matrix @ np.diag([1.5, 1.5, 1.5, 1.0])
+        b.vertices = b.local_vertices @ b.matrix[:3, :3].T + b.matrix[:3, 3]
+        return si
+
+    for make in (edited, scaled):
+        _job(native, scenes_np.room()).prepare().run()
+        j = _job(native, make()).prepare()
+        assert j.mode == "incremental", j.full_reason
+        assert (j.changes["replaced"], j.changes["moved"]) == (1, 0)
+        j.run()
+        full = _job(native, make(), key=None, use_cache=False).prepare().run()
+        assert _nrmse(j.radiance(), full.radiance()) < _tol(native)
+        # The replacement moves like any object: relative to its new placement.
+        si = make()
+        b = si.objects[-1]
+        b.matrix = b.matrix.copy()
+        b.matrix[0, 3] += 0.5
+        b.vertices = b.vertices + (0.5, 0.0, 0.0)
+        mv = _job(native, si).prepare()
+        assert mv.mode == "incremental" and mv.changes["moved"] == 1 and mv.changes["replaced"] == 0
+    # Most of the scene changed shape: solved in full.
     _job(native, scenes_np.room()).prepare().run()
     si = scenes_np.room()
-    b = si.objects[-1]
-    b.local_vertices = b.local_vertices * 1.01
-    b.vertices = b.local_vertices @ b.matrix[:3, :3].T + b.matrix[:3, 3]
-    assert "geometry" in _job(native, si).prepare().full_reason
-    # A scaled placement is not rigid.
-    _job(native, scenes_np.room()).prepare().run()
-    si = scenes_np.room()
-    b = si.objects[-1]
-    b.matrix = b.matrix @ np.diag([1.5, 1.5, 1.5, 1.0])
-    b.vertices = b.local_vertices @ b.matrix[:3, :3].T + b.matrix[:3, 3]
-    assert "rigid" in _job(native, si).prepare().full_reason
+    for w in si.objects[:6]:
+        w.vertices = w.vertices * 1.001
+        w.local_vertices = w.vertices
+    assert "most of the scene" in _job(native, si).prepare().full_reason
     assert "requested" in _job(native, scenes_np.room(), use_cache=False).prepare().full_reason
 
 

@@ -140,26 +140,39 @@ class SolveJob:
                 parts.append("removed: " + ", ".join(removed))
             return ("objects added or removed since the last bake (" + "; ".join(parts)
                     + "); the native module cannot add or remove objects")
+        # An object whose mesh (modifiers included) or collection changed, or that was scaled,
+        # sheared or mirrored, is replaced: removed and added again under its name.
+        can_replace = hasattr(hit.solver, "add_object")
         changed = [n for n in names if n in hit.shapes and self.shapes[n] != hit.shapes[n]]
-        if changed:
+        if changed and not can_replace:
             return ("geometry, modifiers or collection changed: " + ", ".join(changed[:5])
                     + (" …" if len(changed) > 5 else ""))
         # Work out every change before touching the kept solver.
         moves, emissions, reflectances = [], [], []
         for o in self.scene_input.objects:
-            if o.name not in hit.object_ids:
-                continue        # added: given as it is now
+            if o.name not in hit.object_ids or o.name in changed:
+                continue        # added or replaced: given as it is now
             oid = hit.object_ids[o.name]
             m = scene_data.object_matrix(o)
             if not np.allclose(m, hit.matrices[o.name], rtol=0.0, atol=MATRIX_TOLERANCE):
                 rel = m @ np.linalg.inv(hit.build_matrices[o.name])
                 if not scene_data.is_rigid(rel):
-                    return f"'{o.name}' was scaled, sheared or mirrored (not a rigid move)"
+                    if not can_replace:
+                        return f"'{o.name}' was scaled, sheared or mirrored (not a rigid move)"
+                    changed.append(o.name)
+                    continue
                 moves.append((oid, np.ascontiguousarray(rel, dtype=np.float64)))
             if not np.array_equal(o.emission, hit.emission[o.name]):
                 emissions.append((oid, np.ascontiguousarray(o.emission, dtype=np.float64)))
             if not np.array_equal(o.reflectance, hit.reflectance[o.name]):
                 reflectances.append((oid, np.ascontiguousarray(o.reflectance, dtype=np.float64)))
+        # Replacing most of the scene costs more than solving it afresh.
+        polygons = {o.name: o.polygon_count for o in self.scene_input.objects}
+        if changed and 2 * sum(polygons[n] for n in changed) > self.scene_input.polygon_count:
+            return ("most of the scene changed shape, collection or scale: "
+                    + ", ".join(changed[:5]) + (" …" if len(changed) > 5 else ""))
+        by_name = {o.name: o for o in self.scene_input.objects}
+        replaced = [by_name[n] for n in changed]
         # Point/spot/sun lights and the world: the same lights (by name and kind, in order) are
         # updated in place; any other change of the light list needs a full solve.
         new_keys = [li.key() for li in self.scene_input.lights]
@@ -168,7 +181,8 @@ class SolveJob:
         light_changes = [i for i, (a, b) in enumerate(zip(new_keys, hit.lights)) if a != b]
         if light_changes and not hasattr(hit.solver, "set_light"):
             return "the native module cannot change lights"
-        if not (moves or emissions or reflectances or light_changes or added or removed) \
+        if not (moves or emissions or reflectances or light_changes or added or removed
+                or replaced) \
                 and names == hit.names:
             # Only something that does not affect the solve differs (e.g. which meshes can be
             # written): the kept radiance is still the answer.
@@ -178,12 +192,12 @@ class SolveJob:
         # From here on the kept solver no longer matches hit.fingerprint.
         hit.fingerprint = None
         try:
-            for name in removed:
+            for name in removed + changed:
                 hit.solver.remove_object(hit.object_ids[name])
                 for d in (hit.object_ids, hit.shapes, hit.build_matrices):
                     d.pop(name, None)
             paths = scene_data.cluster_paths(self.scene_input)
-            for o in added:
+            for o in added + replaced:
                 cid = self._native_cluster(hit, o.cluster, paths)
                 hit.object_ids[o.name] = scene_data.add_native_object(hit.solver, o, cid)
                 hit.shapes[o.name] = self.shapes[o.name]
@@ -208,7 +222,8 @@ class SolveJob:
         self.changes = {"moved": len(moves), "emission_changed": len(emissions),
                         "reflectance_changed": len(reflectances),
                         "lights_changed": len(light_changes),
-                        "added": len(added), "removed": len(removed)}
+                        "added": len(added), "removed": len(removed),
+                        "replaced": len(replaced)}
         self.scene, self.solver = hit.scene, hit.solver
         self.object_ids = [hit.object_ids[n] for n in names]
         return None

@@ -1,8 +1,9 @@
 """Objects added and deleted between bakes (issue 4: "added -> linked in; deleted -> removed"):
 bake the diffuse scene; add a cube in a new collection and bake (incremental), then bake in
-full and compare; move the added cube (incremental, relative to where it was added); delete the
-Box (incremental) and compare again; hide the cube from render (it leaves the bake like a
-deleted object).
+full and compare; move the added cube (incremental, relative to where it was added); scale it
+and put it in another collection (replaced: removed and added again); delete the Box
+(incremental) and compare again; hide the cube from render (it leaves the bake like a deleted
+object).
 """
 import bpy
 import numpy as np
@@ -70,6 +71,15 @@ out["cube_lit"] = bool("Cube" in inc and float(inc["Cube"].sum()) > 0)
 cube.location = (-0.6, -1.2, 0.35)
 bpy.context.view_layer.update()
 step("move")
+
+# 2b) The cube scaled (not a rigid move) and moved to another collection: replaced (removed and
+# added again under its name).
+cube.scale = (1.3, 1.0, 0.8)
+coll = bpy.data.collections["Added"]
+coll.objects.unlink(cube)
+rt.new_collection("Moved").objects.link(cube)
+bpy.context.view_layer.update()
+step("replace")
 
 # 3) The Box deleted (its collection "Props" is left empty).
 bpy.data.objects.remove(bpy.data.objects["Box"], do_unlink=True)

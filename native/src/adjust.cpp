@@ -54,6 +54,11 @@ void Solver::move_object(int object, const double m[16]) {
     Pose p;
     std::copy(R, R + 9, p.R);
     p.t = (Ro + mt - o) / h_.unit;
+    // Beyond 1e12 scene diagonals rays to it leave float range: Embree refuses them (an
+    // assertion in Debian's build; fuzzer finding with a translation of 1e30).
+    for (int k = 0; k < 3; ++k)
+        if (!(std::fabs(p.t[k]) <= 1e12))
+            throw InputError("object '" + name + "': the move takes it more than 1e12 scene sizes away");
     pending_moves_[object] = p;
 }
 
@@ -405,6 +410,7 @@ void Solver::update(Control* control) {
     // A full solve instead (it builds from scene_: additions are in, removals are committed
     // by solve(), moves go into poses_).
     auto solve_in_full = [&](const char* why) {
+        poses_.resize(scene_.objects().size());  // a move can name an object added since (fuzzer finding)
         for (auto& [obj, pose] : pending_moves_) poses_[obj] = pose;
         pending_moves_.clear();
         solve(control);
@@ -414,6 +420,11 @@ void Solver::update(Control* control) {
         // An object moved into (or carrying) a closed pocket: which faces are sealed changes,
         // and with it which links may exist. Rare; solve again in full.
         solve_in_full("a move changed a closed pocket: solved in full");
+        return;
+    }
+    if (changes_outgrow_frame()) {  // topology.cpp
+        solve_in_full("objects added or removed changed the scene's size: solved in full (the scene's frame "
+                      "changes)");
         return;
     }
     control_ = control;

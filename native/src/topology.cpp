@@ -6,6 +6,7 @@
 // object changed shape, so their links are made anew, and env-env links whose rays may pass
 // through the object's box are re-evaluated (adjust.cpp does both for all kinds of change).
 #include <algorithm>
+#include <cmath>
 
 #include "radiosity/solver.h"
 
@@ -58,6 +59,24 @@ void Solver::commit_topology() {
     for (int r : pending_removes_) blank_object(r);
     pending_removes_.clear();
     pending_adds_.clear();  // already in scene_: the full solve builds them
+}
+
+bool Solver::changes_outgrow_frame() const {
+    if (pending_adds_.empty() && pending_removes_.empty()) return false;
+    // The frame a full solve would derive (hierarchy.cpp: the box of every corner-used vertex
+    // as given, placements aside) against the one this solution was built in.
+    Aabb all;
+    for (size_t oi = 0; oi < scene_.objects().size(); ++oi) {
+        if (removed(int(oi))) continue;
+        const ObjectDesc& d = scene_.objects()[oi];
+        for (int32_t c : d.corner_verts) all.grow(d.vertices[c]);
+    }
+    if (all.empty()) return false;  // nothing left: the update handles an empty scene
+    // More than twice as coarse or as fine: the minimum element area and the ray offsets,
+    // relative to the frame, would differ that much from a fresh solve's. Far-off vertices
+    // (1e30) end here too, before they reach Embree as rays it refuses (fuzzer finding).
+    const double d = all.diagonal();
+    return !std::isfinite(d) || d > 2.0 * h_.unit || d < 0.5 * h_.unit;
 }
 
 void Solver::apply_topology(Change& ch) {

@@ -136,6 +136,9 @@ private:
     void check_live(int object, const char* what) const;
     void blank_object(int object);           // the scene slot of a removed object, emptied
     void commit_topology();                  // before a full solve: pending changes into scene_
+    // Whether pending additions or removals change the scene's size a lot: the internal frame
+    // and the tolerances relative to it would then differ from a fresh solve's.
+    bool changes_outgrow_frame() const;
     // Applies pending removals and additions to the hierarchy, Embree and `ch`.
     void apply_topology(Change& ch);
     // Re-derives which surfaces are sealed; false when a surviving surface changed (its links

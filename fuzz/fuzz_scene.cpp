@@ -1,7 +1,7 @@
-// libFuzzer target (issue 6): scene building, a coarse solve, moves, material changes and
-// incremental updates, all driven by the fuzzer's bytes. A finding is a sanitizer report, a
-// crash, an exception the API does not document, a hang (-timeout) or a non-finite or
-// negative radiance in the output.
+// libFuzzer target (issue 6): scene building, a coarse solve, moves, material changes,
+// objects added and removed, and incremental updates, all driven by the fuzzer's bytes. A
+// finding is a sanitizer report, a crash, an exception the API does not document, a hang
+// (-timeout) or a non-finite or negative radiance in the output.
 //
 // The bytes are read as a small program: settings first, then objects (vertices on a coarse
 // lattice so coincident, coplanar and degenerate polygons come up often; now and then a
@@ -162,12 +162,18 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     solver.solve();
     check_output(solver);
 
-    const int n_objects = int(solver.scene().objects().size());
     const int ops = in.below(5);
     for (int k = 0; k < ops && !in.done(); ++k) {
-        const int obj = in.below(n_objects + 1);  // n_objects: unknown object
+        const int n_objects = int(solver.scene().objects().size());
+        const int obj = in.below(n_objects + 1);  // n_objects: unknown object (or a removed one)
         try {
-            switch (in.below(4)) {
+            switch (in.below(6)) {
+                case 4:
+                    solver.remove_object(obj);
+                    break;
+                case 5:
+                    solver.add_object(object(in, n_objects, int(solver.scene().clusters().size())));
+                    break;
                 case 0:
                 case 1: {
                     std::vector<double> m = matrix(in);
@@ -198,8 +204,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     solver.update();
     check_output(solver);
     // Point queries on the first polygon of each object, inside and far outside it.
-    for (int o = 0; o < n_objects; ++o) {
-        if (solver.scene().objects()[o].polygon_count() == 0) continue;
+    for (int o = 0; o < int(solver.scene().objects().size()); ++o) {
+        if (solver.scene().objects()[o].polygon_count() == 0) continue;  // also removed objects
         try {
             Rgb r = solver.radiance_at(o, 0, Vec3{in.coord(), in.coord(), in.coord()});
             if (!finite(r)) finding("non-finite radiance_at", o, r.g);

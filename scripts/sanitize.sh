@@ -12,7 +12,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 JOBS=${RADIOSITY_SANITIZE_JOBS:-$(nproc)}
-DEFAULT_FILTER='AnalyticKernel.*:SolverTransport.*:AllPresets/Furnace.ClosedCubeAndRoomWithBoxAreExact/3:Solver.NoEmitterGivesZerosAndAWarning:Solver.ScaleInvariance:Solver.BackFacesNothingLightsCostNothing:Solver.UniformlyLitWallStaysOneElement:Dynamic.FurnaceConservedAfterMoves:Dynamic.BadMovesAreRejectedOrSafe'
+DEFAULT_FILTER='AnalyticKernel.*:SolverTransport.*:AllPresets/Furnace.ClosedCubeAndRoomWithBoxAreExact/3:Solver.NoEmitterGivesZerosAndAWarning:Solver.ScaleInvariance:Solver.BackFacesNothingLightsCostNothing:Solver.UniformlyLitWallStaysOneElement:Dynamic.FurnaceConservedAfterMoves:Dynamic.BadMovesAreRejectedOrSafe:Topology.FurnaceStaysExact:Topology.BadInputIsRefused:Topology.ExtremeChangesStaySafe:Topology.AddingIntoAClosedPocketSolvesInFull'
 FILTER=${RADIOSITY_SANITIZE_FILTER:-$DEFAULT_FILTER}
 
 # RelWithDebInfo: optimised enough to run in minutes, with line numbers in reports.

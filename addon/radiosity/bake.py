@@ -13,7 +13,7 @@ import numpy as np
 
 from .core import job as core_job
 from .core import live as core_live
-from .core import presets, stats
+from .core import presets, srgb, stats
 from .core.scene_data import InputError
 from . import gather, writer
 
@@ -114,14 +114,17 @@ class BakeRun:
         native_stats = self.job.native_stats()
         for w in native_stats.get("warnings", None) or []:
             self.warnings.append(f"solver: {w}")
+        byte_copy = bool(getattr(self.props, "byte_copy", False))
         try:
             items = self.job.rgba()
+            byte_items = (self.job.srgb_bytes(float(self.props.exposure)) if byte_copy else None)
         except ValueError as exc:
             raise BakeError(str(exc)) from exc
+        byte_name = srgb.byte_attribute_name(self.props.attribute_name)
         st = core_live.state_for(scene_key(self.scene))
         st.busy = True          # our writes echo back through depsgraph_update_post
         try:
-            self.written = writer.write_all(items, self.props.attribute_name)
+            self.written = writer.write_all(items, self.props.attribute_name, byte_items, byte_name)
             meshes = self.job.leaf_meshes() if self.job.scene_input.adaptive_mesh else None
             if meshes is not None:
                 self.adaptive = writer.write_adaptive(self.job.scene_input.objects, meshes,
@@ -149,6 +152,9 @@ class BakeRun:
             extra["adaptive_objects"] = list(self.adaptive)
         if self.job.scene_input.lighting_only:
             extra["lighting_only"] = True
+        if byte_copy:
+            extra["byte_copy"] = byte_name
+            extra["exposure"] = float(self.props.exposure)
         extra["lights"] = len(self.job.scene_input.lights)
         self.result = stats.make_stats(
             mode, time.perf_counter() - self.t0, native_stats,

@@ -42,6 +42,16 @@ class RadiositySceneSettings(bpy.types.PropertyGroup):
         description="Also build, per baked object, a new mesh object from the solver's "
                     "elements (finer where shadows need it) carrying the colours; the original "
                     "is not modified")
+    byte_copy: BoolProperty(
+        name="sRGB Byte Copy", default=False,
+        description="Also write a BYTE_COLOR corner attribute named <attribute>_sRGB for game "
+                    "export: the baked values times 2^exposure, sRGB-encoded and clamped to "
+                    "[0, 1] (8 bits per channel)")
+    exposure: FloatProperty(
+        name="Exposure", default=0.0, min=-64.0, max=64.0, soft_min=-10.0, soft_max=10.0,
+        step=10, precision=2, unit="NONE",
+        description="Stops applied to the sRGB byte copy only (x 2^exposure before encoding); "
+                    "the float attribute keeps Cycles' units")
     live: BoolProperty(name="Live", default=False, update=_live_update,
                        description="Re-bake automatically when baked objects are moved")
     # Read-only: a getter without a setter. The value lives in an ID property so that it is

@@ -113,6 +113,17 @@ class Solver:
         world, 'loop_totals' int32 (F,), 'corner_verts' int32 (C,), 'values' float32 (F,3) radiance
         (or irradiance / pi), 'source_face' int32 (F,) the input polygon each subdivides."""
     def set_light(self, index: int, light: Light) -> None: ...   # then update(): incremental
+    # Objects added and removed after a solve, applied by the next update() (incremental: the
+    # new object is linked in, a removed one's links and nodes go). Ids stay stable: add_object
+    # returns the next id, a removed id keeps an empty slot (corner_radiance gives (0,3)).
+    def add_object(self, name: str, cluster: int, vertices: np.ndarray, loop_starts: np.ndarray,
+                   loop_totals: np.ndarray, corner_verts: np.ndarray, reflectance: np.ndarray,
+                   emission: np.ndarray, two_sided: Optional[np.ndarray] = None,
+                   occluder: bool = True) -> int:
+        """As Scene.add_object (world space, placed as given: later moves are relative to it).
+        ValueError naming the object and polygon for bad input."""
+    def remove_object(self, object_id: int) -> None: ...  # ValueError: unknown id, removed already
+    def add_cluster(self, name: str, parent: int = -1) -> int: ...  # a collection for added objects
     def radiance_at(self, object_id: int, face: int, point: tuple) -> tuple: ...  # front-side radiance of the leaf at a world point
     def stats(self) -> dict: ...  # counts and seconds (native/include/radiosity/stats.h) plus 'mode': 'full' | 'incremental'
     # Dynamic environments (AdjustSystem). Record changes, then update() / start_update().

@@ -14,6 +14,10 @@ def draw_settings(layout, context):
     col.prop(props, "attribute_name")
     col.prop(props, "lighting_only")
     col.prop(props, "adaptive_mesh")
+    col.prop(props, "byte_copy")
+    sub = col.row()
+    sub.enabled = props.byte_copy
+    sub.prop(props, "exposure")
     col.prop(props, "live")
     row = layout.row(align=True)
     row.operator("radiosity.bake", text="Bake", icon="RENDER_STILL").full = False

@@ -4,16 +4,17 @@ import bpy
 from .gather import WriteTarget
 
 COLOR_TYPE, COLOR_DOMAIN = "FLOAT_COLOR", "CORNER"
+BYTE_TYPE = "BYTE_COLOR"       # the optional sRGB copy for game export (core/srgb.py)
 
 
-def ensure_color_attribute(me, name):
-    """The FLOAT_COLOR/CORNER attribute `name`: reused, or (re)created; never duplicated."""
+def ensure_color_attribute(me, name, data_type=COLOR_TYPE):
+    """The `data_type`/CORNER attribute `name`: reused, or (re)created; never duplicated."""
     attr = me.attributes.get(name)
-    if attr is not None and (attr.data_type != COLOR_TYPE or attr.domain != COLOR_DOMAIN):
+    if attr is not None and (attr.data_type != data_type or attr.domain != COLOR_DOMAIN):
         me.attributes.remove(attr)
         attr = None
     if attr is None:
-        attr = me.color_attributes.new(name, COLOR_TYPE, COLOR_DOMAIN)
+        attr = me.color_attributes.new(name, data_type, COLOR_DOMAIN)
     return attr
 
 
@@ -48,17 +49,31 @@ def resolve(target: WriteTarget):
     return me
 
 
-def write_all(items, attribute_name):
-    """items: [(ObjectInput, rgba)]. Resolve every mesh first, then write; returns count."""
+def write_byte_copy(me, name, byte_rgba):
+    """The sRGB byte copy (uint8 (C,4)); stored exactly (color_srgb takes byte / 255)."""
+    from .core.srgb import bytes_to_color_srgb
+    attr = ensure_color_attribute(me, name, BYTE_TYPE)
+    attr.data.foreach_set("color_srgb", bytes_to_color_srgb(byte_rgba))
+
+
+def write_all(items, attribute_name, byte_items=None, byte_name=None):
+    """items: [(ObjectInput, rgba)]; byte_items: None or [(ObjectInput, uint8 (C,4))] written
+    as `byte_name`. Resolve every mesh first, then write; returns count."""
     resolved = []
+    bytes_of = {id(o): b for o, b in (byte_items or [])}
     for obj_input, rgba in items:
         me = resolve(obj_input.target)
         if me is None:
             raise RuntimeError(f"object '{obj_input.name}' was deleted or changed during the bake")
         if len(me.loops) * 4 != len(rgba):
             raise RuntimeError(f"object '{obj_input.name}' changed its topology during the bake")
-        resolved.append((me, rgba))
-    for me, rgba in resolved:
+        b = bytes_of.get(id(obj_input)) if byte_items is not None else None
+        if byte_items is not None and (b is None or len(b) != len(me.loops)):
+            raise RuntimeError(f"object '{obj_input.name}': no sRGB copy for its corners")
+        resolved.append((me, rgba, b))
+    for me, rgba, b in resolved:
+        if b is not None:
+            write_byte_copy(me, byte_name, b)   # first: the float attribute is made active last
         write_mesh(me, attribute_name, rgba)
     return len(resolved)
 

@@ -31,10 +31,10 @@ std::vector<Rgb> rgb_rows(const Arr<double>& a, const char* what, size_t rows) {
     return out;
 }
 
-int add_object(SceneDesc& s, const std::string& name, int cluster, const Arr<double>& verts,
-               const Arr<int32_t>& loop_starts, const Arr<int32_t>& loop_totals, const Arr<int32_t>& corner_verts,
-               const Arr<double>& reflectance, const Arr<double>& emission, const py::object& two_sided,
-               bool occluder) {
+ObjectDesc make_object(const std::string& name, int cluster, const Arr<double>& verts,
+                       const Arr<int32_t>& loop_starts, const Arr<int32_t>& loop_totals, const Arr<int32_t>& corner_verts,
+                       const Arr<double>& reflectance, const Arr<double>& emission, const py::object& two_sided,
+                       bool occluder) {
     ObjectDesc o;
     o.name = name;
     o.occluder = occluder;
@@ -56,7 +56,15 @@ int add_object(SceneDesc& s, const std::string& name, int cluster, const Arr<dou
         check_shape(t, 0, "two_sided", nf);
         o.two_sided.assign(t.data(), t.data() + nf);
     }
-    return s.add_object(std::move(o));
+    return o;
+}
+
+int add_object(SceneDesc& s, const std::string& name, int cluster, const Arr<double>& verts,
+               const Arr<int32_t>& loop_starts, const Arr<int32_t>& loop_totals, const Arr<int32_t>& corner_verts,
+               const Arr<double>& reflectance, const Arr<double>& emission, const py::object& two_sided,
+               bool occluder) {
+    return s.add_object(make_object(name, cluster, verts, loop_starts, loop_totals, corner_verts, reflectance,
+                                    emission, two_sided, occluder));
 }
 
 // A solver plus the job that may be running it.
@@ -90,7 +98,7 @@ py::dict stats_dict(const Stats& s) {
     F(capped); F(memory_capped); F(memory_bytes); F(iteration_capped); F(no_emitters); F(seconds_build); F(seconds_link); F(seconds_solve);
     F(seconds_total); F(warnings); F(occluded_links); F(env_env_links_tested); F(env_env_links_rejected);
     F(obj_env_links_removed); F(links_created); F(history_reactivated); F(seconds_adjust);
-    F(env_env_links_rays_clear);
+    F(env_env_links_rays_clear); F(objects_added); F(objects_removed); F(links_removed);
     py::dict phases;
     for (const auto& p : s.phases) phases[py::str(p.first)] = p.second;
     d["phases"] = phases;
@@ -181,6 +189,25 @@ PYBIND11_MODULE(radiosity_native, m) {
             if (m.ndim() != 2 || m.shape(0) != 4 || m.shape(1) != 4) throw py::value_error("matrix must be 4x4");
             s.solver->move_object(object, m.data());
         }, py::arg("object_id"), py::arg("matrix"))
+        // Objects added / removed since the solve; applied by the next update().
+        .def("add_object", [](PySolver& s, const std::string& name, int cluster, const Arr<double>& verts,
+                              const Arr<int32_t>& loop_starts, const Arr<int32_t>& loop_totals,
+                              const Arr<int32_t>& corner_verts, const Arr<double>& reflectance,
+                              const Arr<double>& emission, const py::object& two_sided, bool occluder) {
+            s.idle();
+            return s.solver->add_object(make_object(name, cluster, verts, loop_starts, loop_totals, corner_verts,
+                                                    reflectance, emission, two_sided, occluder));
+        }, py::arg("name"), py::arg("cluster"), py::arg("vertices"), py::arg("loop_starts"), py::arg("loop_totals"),
+           py::arg("corner_verts"), py::arg("reflectance"), py::arg("emission"), py::arg("two_sided") = py::none(),
+           py::arg("occluder") = true)
+        .def("remove_object", [](PySolver& s, int object) {
+            s.idle();
+            s.solver->remove_object(object);
+        }, py::arg("object_id"))
+        .def("add_cluster", [](PySolver& s, const std::string& name, int parent) {
+            s.idle();
+            return s.solver->add_cluster(name, parent);
+        }, py::arg("name"), py::arg("parent") = -1)
         .def("set_emission", [](PySolver& s, int object, const Arr<double>& v) {
             s.idle();
             s.solver->set_emission(object, rgb_list(v));

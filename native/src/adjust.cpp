@@ -31,8 +31,7 @@ unsigned outcode(const Aabb& b, const Aabb& clip) {
 
 void Solver::move_object(int object, const double m[16]) {
     if (!solved_) throw std::logic_error("move_object: solve the scene first");
-    if (object < 0 || object >= int(scene_.objects().size()))
-        throw InputError("move_object: unknown object " + std::to_string(object));
+    check_live(object, "move_object");  // topology.cpp
     const std::string& name = scene_.objects()[object].name;
     for (int i = 0; i < 16; ++i)
         if (!std::isfinite(m[i])) throw InputError("object '" + name + "': the matrix has a NaN or inf entry");
@@ -55,12 +54,16 @@ void Solver::move_object(int object, const double m[16]) {
     Pose p;
     std::copy(R, R + 9, p.R);
     p.t = (Ro + mt - o) / h_.unit;
+    // Beyond 1e12 scene diagonals rays to it leave float range: Embree refuses them (an
+    // assertion in Debian's build; fuzzer finding with a translation of 1e30).
+    for (int k = 0; k < 3; ++k)
+        if (!(std::fabs(p.t[k]) <= 1e12))
+            throw InputError("object '" + name + "': the move takes it more than 1e12 scene sizes away");
     pending_moves_[object] = p;
 }
 
 void Solver::set_material(int object, const std::vector<Rgb>& values, bool emission) {
-    if (object < 0 || object >= int(scene_.objects().size()))
-        throw InputError("unknown object " + std::to_string(object));
+    check_live(object, emission ? "set_emission" : "set_reflectance");  // topology.cpp
     ObjectDesc& o = scene_.objects_mut()[object];
     if (values.size() != o.polygon_count() && values.size() != 1)
         throw InputError("object '" + o.name + "': need one RGB per polygon or one for all");
@@ -86,6 +89,7 @@ void Solver::set_reflectance(int object, const std::vector<Rgb>& v) { set_materi
 
 void Solver::apply_materials() {
     for (const Primitive& p : h_.prims) {
+        if (p.object < 0) continue;  // of a removed object
         const ObjectDesc& o = scene_.objects()[p.object];
         for (int s : {p.front, p.back}) {
             if (s < 0) continue;
@@ -223,7 +227,8 @@ void Solver::prune_elements() {
         }
         return empty && h_.nodes[id].children.empty();
     };
-    for (const Surface& s : h_.surfaces) prune(s.root);
+    for (const Surface& s : h_.surfaces)
+        if (!h_.nodes[s.root].dead) prune(s.root);  // removed objects' nodes are gone already
 }
 
 // Per node: radiance and its range below (max - min), 6 floats.
@@ -297,23 +302,185 @@ bool Solver::move_breaks_seal() const {
     return false;
 }
 
+void Solver::adjust_links(Change& ch, std::vector<int>& recheck_history) {
+    Stats& s = stats_;
+    // Classify every live link.
+    std::vector<int> recompute;
+    const size_t nlinks = links_.size();
+    for (size_t i = 0; i < nlinks; ++i) {
+        Link& l = links_[i];
+        if (l.dead) continue;
+        const Node& a = h_.nodes[l.src];
+        const Node& b = h_.nodes[l.rcv];
+        if (ch.inX[l.src] || ch.inX[l.rcv]) {
+            // Obj-obj (both ends inside one moved object): a rigid move keeps its form
+            // factor; only the direction turns.
+            if (a.object >= 0 && a.object == b.object && ch.moved[a.object]) {
+                const Pose& p = pending_moves_.at(a.object);
+                Vec3 d = l.dir;
+                l.dir = {p.R[0] * d.x + p.R[1] * d.y + p.R[2] * d.z, p.R[3] * d.x + p.R[4] * d.y + p.R[5] * d.z,
+                         p.R[6] * d.x + p.R[7] * d.y + p.R[8] * d.z};
+                continue;
+            }
+            if (l.active) ++s.obj_env_links_removed;
+            if (l.parent < 0 || (!ch.inX[links_[l.parent].src] && !ch.inX[links_[l.parent].rcv])) kill(int(i));
+            continue;
+        }
+        // Env-env: 3.3 pruning with the old and new boxes of every moved object.
+        ++s.env_env_links_tested;
+        bool rejected = true;
+        for (const Aabb& c : ch.clips)
+            if ((outcode(a.box, c) & outcode(b.box, c)) == 0) { rejected = false; break; }
+        if (rejected) { ++s.env_env_links_rejected; continue; }
+        recompute.push_back(int(i));
+    }
+    lap("classify");
+    // Of the links the outcode test kept, only those with a ray through an old or new box
+    // of a moved object can have changed: a dry run of their rays (no ray cast) tells.
+    {
+        std::vector<char> meets(recompute.size(), 0);
+        parallel_for(recompute.size(), settings_.threads, [&](size_t k) {
+            const Link& l = links_[recompute[k]];
+            const Node& a = h_.nodes[l.src];
+            const Node& b = h_.nodes[l.rcv];
+            // Every ray joins a point of one end's bounding sphere to a point of the
+            // other's, so it stays within max(radius) of the segment between the centres:
+            // a box that this capsule misses meets no ray (cheap first test).
+            const double r = std::max(a.radius, b.radius) + 1e-5;
+            bool capsule = false;
+            for (const Aabb& c : ch.clips) {
+                Aabb g = c;
+                g.lo -= Vec3{r, r, r};
+                g.hi += Vec3{r, r, r};
+                capsule = capsule || g.meets_segment(a.center, b.center);
+            }
+            meets[k] = capsule && link_rays_meet(h_, l.src, l.rcv, settings_.rays_per_link, link_seed(l.src, l.rcv), ch.clips);
+        }, 64);
+        size_t kept = 0;
+        for (size_t k = 0; k < recompute.size(); ++k)
+            if (meets[k]) recompute[kept++] = recompute[k];
+        s.env_env_links_rays_clear += int64_t(recompute.size() - kept);
+        recompute.resize(kept);
+    }
+    lap("probe");
+    // History links are not gathered: they are only re-evaluated when the oracle asks for
+    // them (un-refinement), most never are.
+    {
+        size_t kept = 0;
+        for (int id : recompute) {
+            Link& l = links_[id];
+            if (!l.active && !l.occluded) l.stale = true;
+            else recompute[kept++] = id;
+        }
+        recompute.resize(kept);
+    }
+    // Visibility (and form factor, cheap beside the rays) of the links that may have changed.
+    std::vector<Link> fresh(recompute.size());
+    parallel_for(recompute.size(), settings_.threads,
+                 [&](size_t k) { fresh[k] = evaluate(links_[recompute[k]].src, links_[recompute[k]].rcv); }, 16);
+    for (size_t k = 0; k < recompute.size(); ++k) {
+        Link& l = links_[recompute[k]];
+        if (l.dead) continue;
+        const Link& f = fresh[k];
+        ++s.env_env_links_recomputed;
+        const bool changed = f.K != l.K || f.partial != l.partial;
+        refresh(recompute[k], f);
+        l.rejudge = true;
+        const bool transports = f.must_refine || f.K > 0;
+        if (l.active && !transports) {
+            deactivate(recompute[k]);  // newly fully occluded: a new shadow
+            l.occluded = true;
+        } else if (l.occluded && transports) {
+            activate(recompute[k]);    // the view opened: an old shadow goes
+        }
+        // Its history may coarsen back (an old shadow gone): the refined-from links up
+        // the chain are asked again, coarsest first (paper 3.4).
+        if (changed)
+            for (int p = l.parent; p >= 0; p = links_[p].parent) recheck_history.push_back(p);
+    }
+    std::sort(recheck_history.begin(), recheck_history.end());
+    recheck_history.erase(std::unique(recheck_history.begin(), recheck_history.end()), recheck_history.end());
+    lap("recompute");
+    // Env-obj links created anew: the moved clusters against the environment, top-down,
+    // cluster pairs first (this also links an object where it had no link before).
+    std::set<std::pair<int, int>> pairs;
+    std::vector<Candidate> wave;
+    for (const auto& chain : ch.chains)
+        for (size_t i = 0; i + 1 < chain.size(); ++i)
+            for (int sib : h_.nodes[chain[i]].children) {
+                if (sib == chain[i + 1]) continue;
+                if (pairs.insert({sib, chain[i + 1]}).second) wave.push_back({sib, chain[i + 1], -1});
+                if (pairs.insert({chain[i + 1], sib}).second) wave.push_back({chain[i + 1], sib, -1});
+            }
+    // Added objects: their own inside (a self-link, expanded by link_from) and, unclustered,
+    // their surfaces with every other one.
+    for (const Candidate& c : ch.seeds)
+        if (pairs.insert({c.src, c.rcv}).second) wave.push_back(c);
+    // Unclustered scenes have no object cluster: link each moved surface with the rest.
+    for (auto& [obj, pose] : pending_moves_) {
+        (void)pose;
+        if (h_.object_node[obj] >= 0) continue;
+        for (int c : h_.nodes[h_.root].children) {
+            if (ch.inX[c]) continue;
+            for (const Primitive& p : h_.prims)
+                if (p.object == obj)
+                    for (int sidx : {p.front, p.back})
+                        if (sidx >= 0) {
+                            int r = h_.surfaces[sidx].root;
+                            wave.push_back({c, r, -1});
+                            wave.push_back({r, c, -1});
+                        }
+        }
+    }
+    link_from(std::move(wave));
+    lap("relink");
+    // A move can open or close a pocket (the floor a box stood on now sees the sky).
+    // Every decider of an enclosure answer asks again, but casts again only the escape
+    // rays that pass through a moved object's old or new box (all of them if it moved).
+    std::vector<char> is_decider(h_.nodes.size(), 0);
+    for (const Node& n : h_.nodes)
+        if (!n.is_cluster() && !n.dead && n.enclosed >= 0 && n.decider >= 0) is_decider[n.decider] = 1;
+    std::vector<int> deciders;
+    for (size_t i = 0; i < is_decider.size(); ++i)
+        if (is_decider[i]) deciders.push_back(int(i));
+    parallel_for(deciders.size(), settings_.threads, [&](size_t k) {
+        Node& d = h_.nodes[deciders[k]];
+        if (ch.moved[d.object]) d.enclosed = -1;
+        decide_enclosed(deciders[k], ch.moved[d.object] ? nullptr : &ch.clips);
+    }, 16);
+    for (Node& n : h_.nodes)
+        if (!n.is_cluster() && !n.dead && n.decider >= 0) n.enclosed = h_.nodes[n.decider].enclosed;
+}
+
 void Solver::update(Control* control) {
     if (!solved_) {
         solve(control);
         return;
     }
-    if (pending_moves_.empty() && !materials_changed_) {
+    const bool topology = !pending_adds_.empty() || !pending_removes_.empty();
+    if (pending_moves_.empty() && !materials_changed_ && !topology) {
         stats_.mode_incremental = true;
         stats_.seconds_adjust = 0;
         return;
     }
-    if (move_breaks_seal()) {
-        // An object moved into (or carrying) a closed pocket: which faces are sealed changes,
-        // and with it which links may exist. Rare; solve again in full.
+    // A full solve instead (it builds from scene_: additions are in, removals are committed
+    // by solve(), moves go into poses_).
+    auto solve_in_full = [&](const char* why) {
+        poses_.resize(scene_.objects().size());  // a move can name an object added since (fuzzer finding)
         for (auto& [obj, pose] : pending_moves_) poses_[obj] = pose;
         pending_moves_.clear();
         solve(control);
-        stats_.warnings.push_back("a move changed a closed pocket: solved in full");
+        if (why) stats_.warnings.push_back(why);
+    };
+    if (move_breaks_seal()) {
+        // An object moved into (or carrying) a closed pocket: which faces are sealed changes,
+        // and with it which links may exist. Rare; solve again in full.
+        solve_in_full("a move changed a closed pocket: solved in full");
+        return;
+    }
+    if (changes_outgrow_frame()) {  // topology.cpp
+        solve_in_full("objects added or removed changed the scene's size: solved in full (the scene's frame "
+                      "changes)");
         return;
     }
     control_ = control;
@@ -325,6 +492,7 @@ void Solver::update(Control* control) {
     s.env_env_links_tested = s.env_env_links_rejected = s.env_env_links_recomputed = 0;
     s.env_env_links_rays_clear = 0;
     s.obj_env_links_removed = s.links_created = s.history_reactivated = 0;
+    s.objects_added = s.objects_removed = s.links_removed = 0;
     s.iterations = 0;
     s.link_sweeps = s.gather_plans = 0;
     s.seconds_sweeps = s.seconds_gather_plan = 0;
@@ -342,191 +510,69 @@ void Solver::update(Control* control) {
         // Dark now: a zero reference makes the oracle's threshold 0, and the update refined
         // every link to the caps (gigabytes, minutes). Dark before: solve() made no links,
         // so there is nothing to update. solve() handles both.
-        for (auto& [obj, pose] : pending_moves_) poses_[obj] = pose;
-        pending_moves_.clear();
-        solve(control);
+        solve_in_full(nullptr);
         return;
     }
 
     std::vector<int> recheck_history;
-    if (!pending_moves_.empty()) {
-        // Geometry and Embree instances.
-        std::vector<Aabb> clips;
-        std::vector<char> moved(scene_.objects().size(), 0);
+    bool rejudge_all = false;
+    if (!pending_moves_.empty() || topology) {
+        Change ch;
+        ch.inX.assign(h_.nodes.size(), 0);
+        const size_t known_surfaces = h_.surfaces.size();
+        if (topology) apply_topology(ch);  // topology.cpp
+        // Geometry and Embree instances of moved objects.
+        ch.moved.assign(scene_.objects().size(), 0);
         for (auto& [obj, pose] : pending_moves_) {
-            clips.push_back(h_.object_box(obj));
+            ch.clips.push_back(h_.object_box(obj));
             h_.place_object(obj, pose.R, pose.t);
             poses_[obj] = pose;
             double m[12] = {pose.R[0], pose.R[1], pose.R[2], pose.t.x, pose.R[3], pose.R[4],
                             pose.R[5], pose.t.y, pose.R[6], pose.R[7], pose.R[8], pose.t.z};
             vis_->set_object_transform(obj, m);
-            clips.push_back(h_.object_box(obj));
-            moved[obj] = 1;
+            ch.clips.push_back(h_.object_box(obj));
+            ch.moved[obj] = 1;
         }
         vis_->commit();
         lap("place");
-        for (Aabb& c : clips) {  // ray ends are lifted off surfaces: a hair of margin
+        if (topology) {
+            // Whether faces are sealed (the inside of a closed box) decides which links may
+            // exist at all: when an addition or removal changes that for a face that stays,
+            // solve in full (rare: an object put into or taken out of a closed pocket).
+            if (!reseal(known_surfaces)) {
+                solve_in_full("an object added or removed changed a closed pocket: solved in full");
+                return;
+            }
+            // Area and emission changed: the reference radiance, and with it the oracle's
+            // threshold. Beyond the tolerance changed_senders() uses, every link is judged again.
+            const double old_threshold = threshold_;
+            compute_reference();
+            if (L_ref_ <= 0) {
+                solve_in_full(nullptr);
+                return;
+            }
+            rejudge_all = std::fabs(threshold_ - old_threshold) > 0.02 * old_threshold;
+            lap("topology");
+        }
+        for (Aabb& c : ch.clips) {  // ray ends are lifted off surfaces: a hair of margin
             c.lo -= Vec3{1e-5, 1e-5, 1e-5};
             c.hi += Vec3{1e-5, 1e-5, 1e-5};
         }
         // X: the moved objects' nodes and the clusters above them (their geometry changed).
-        std::vector<char> inX(h_.nodes.size(), 0);
-        std::vector<std::vector<int>> chains;
         for (auto& [obj, pose] : pending_moves_) {
             (void)pose;
-            for (int id : h_.object_nodes(obj)) inX[id] = 1;
+            for (int id : h_.object_nodes(obj)) ch.inX[id] = 1;
             std::vector<int> chain;
             int top = h_.object_node[obj];
             if (top >= 0) {
                 for (int a = top; a >= 0; a = h_.nodes[a].parent) chain.push_back(a);
             }
             for (int a : chain)
-                if (a != h_.root) inX[a] = 1;
+                if (a != h_.root) ch.inX[a] = 1;
             std::reverse(chain.begin(), chain.end());  // root first
-            chains.push_back(chain);
+            ch.chains.push_back(chain);
         }
-        // Classify every live link.
-        std::vector<int> recompute;
-        const size_t nlinks = links_.size();
-        for (size_t i = 0; i < nlinks; ++i) {
-            Link& l = links_[i];
-            if (l.dead) continue;
-            const Node& a = h_.nodes[l.src];
-            const Node& b = h_.nodes[l.rcv];
-            if (inX[l.src] || inX[l.rcv]) {
-                // Obj-obj (both ends inside one moved object): a rigid move keeps its form
-                // factor; only the direction turns.
-                if (a.object >= 0 && a.object == b.object && moved[a.object]) {
-                    const Pose& p = pending_moves_.at(a.object);
-                    Vec3 d = l.dir;
-                    l.dir = {p.R[0] * d.x + p.R[1] * d.y + p.R[2] * d.z, p.R[3] * d.x + p.R[4] * d.y + p.R[5] * d.z,
-                             p.R[6] * d.x + p.R[7] * d.y + p.R[8] * d.z};
-                    continue;
-                }
-                if (l.active) ++s.obj_env_links_removed;
-                if (l.parent < 0 || (!inX[links_[l.parent].src] && !inX[links_[l.parent].rcv])) kill(int(i));
-                continue;
-            }
-            // Env-env: 3.3 pruning with the old and new boxes of every moved object.
-            ++s.env_env_links_tested;
-            bool rejected = true;
-            for (const Aabb& c : clips)
-                if ((outcode(a.box, c) & outcode(b.box, c)) == 0) { rejected = false; break; }
-            if (rejected) { ++s.env_env_links_rejected; continue; }
-            recompute.push_back(int(i));
-        }
-        lap("classify");
-        // Of the links the outcode test kept, only those with a ray through an old or new box
-        // of a moved object can have changed: a dry run of their rays (no ray cast) tells.
-        {
-            std::vector<char> meets(recompute.size(), 0);
-            parallel_for(recompute.size(), settings_.threads, [&](size_t k) {
-                const Link& l = links_[recompute[k]];
-                const Node& a = h_.nodes[l.src];
-                const Node& b = h_.nodes[l.rcv];
-                // Every ray joins a point of one end's bounding sphere to a point of the
-                // other's, so it stays within max(radius) of the segment between the centres:
-                // a box that this capsule misses meets no ray (cheap first test).
-                const double r = std::max(a.radius, b.radius) + 1e-5;
-                bool capsule = false;
-                for (const Aabb& c : clips) {
-                    Aabb g = c;
-                    g.lo -= Vec3{r, r, r};
-                    g.hi += Vec3{r, r, r};
-                    capsule = capsule || g.meets_segment(a.center, b.center);
-                }
-                meets[k] = capsule && link_rays_meet(h_, l.src, l.rcv, settings_.rays_per_link, link_seed(l.src, l.rcv), clips);
-            }, 64);
-            size_t kept = 0;
-            for (size_t k = 0; k < recompute.size(); ++k)
-                if (meets[k]) recompute[kept++] = recompute[k];
-            s.env_env_links_rays_clear += int64_t(recompute.size() - kept);
-            recompute.resize(kept);
-        }
-        lap("probe");
-        // History links are not gathered: they are only re-evaluated when the oracle asks for
-        // them (un-refinement), most never are.
-        {
-            size_t kept = 0;
-            for (int id : recompute) {
-                Link& l = links_[id];
-                if (!l.active && !l.occluded) l.stale = true;
-                else recompute[kept++] = id;
-            }
-            recompute.resize(kept);
-        }
-        // Visibility (and form factor, cheap beside the rays) of the links that may have changed.
-        std::vector<Link> fresh(recompute.size());
-        parallel_for(recompute.size(), settings_.threads,
-                     [&](size_t k) { fresh[k] = evaluate(links_[recompute[k]].src, links_[recompute[k]].rcv); }, 16);
-        for (size_t k = 0; k < recompute.size(); ++k) {
-            Link& l = links_[recompute[k]];
-            if (l.dead) continue;
-            const Link& f = fresh[k];
-            ++s.env_env_links_recomputed;
-            const bool changed = f.K != l.K || f.partial != l.partial;
-            refresh(recompute[k], f);
-            l.rejudge = true;
-            const bool transports = f.must_refine || f.K > 0;
-            if (l.active && !transports) {
-                deactivate(recompute[k]);  // newly fully occluded: a new shadow
-                l.occluded = true;
-            } else if (l.occluded && transports) {
-                activate(recompute[k]);    // the view opened: an old shadow goes
-            }
-            // Its history may coarsen back (an old shadow gone): the refined-from links up
-            // the chain are asked again, coarsest first (paper 3.4).
-            if (changed)
-                for (int p = l.parent; p >= 0; p = links_[p].parent) recheck_history.push_back(p);
-        }
-        std::sort(recheck_history.begin(), recheck_history.end());
-        recheck_history.erase(std::unique(recheck_history.begin(), recheck_history.end()), recheck_history.end());
-        lap("recompute");
-        // Env-obj links created anew: the moved clusters against the environment, top-down,
-        // cluster pairs first (this also links an object where it had no link before).
-        std::set<std::pair<int, int>> pairs;
-        std::vector<Candidate> wave;
-        for (const auto& chain : chains)
-            for (size_t i = 0; i + 1 < chain.size(); ++i)
-                for (int sib : h_.nodes[chain[i]].children) {
-                    if (sib == chain[i + 1]) continue;
-                    if (pairs.insert({sib, chain[i + 1]}).second) wave.push_back({sib, chain[i + 1], -1});
-                    if (pairs.insert({chain[i + 1], sib}).second) wave.push_back({chain[i + 1], sib, -1});
-                }
-        // Unclustered scenes have no object cluster: link each moved surface with the rest.
-        for (auto& [obj, pose] : pending_moves_) {
-            (void)pose;
-            if (h_.object_node[obj] >= 0) continue;
-            for (int c : h_.nodes[h_.root].children) {
-                if (inX[c]) continue;
-                for (const Primitive& p : h_.prims)
-                    if (p.object == obj)
-                        for (int sidx : {p.front, p.back})
-                            if (sidx >= 0) {
-                                int r = h_.surfaces[sidx].root;
-                                wave.push_back({c, r, -1});
-                                wave.push_back({r, c, -1});
-                            }
-            }
-        }
-        link_from(std::move(wave));
-        lap("relink");
-        // A move can open or close a pocket (the floor a box stood on now sees the sky).
-        // Every decider of an enclosure answer asks again, but casts again only the escape
-        // rays that pass through a moved object's old or new box (all of them if it moved).
-        std::vector<char> is_decider(h_.nodes.size(), 0);
-        for (const Node& n : h_.nodes)
-            if (!n.is_cluster() && !n.dead && n.enclosed >= 0 && n.decider >= 0) is_decider[n.decider] = 1;
-        std::vector<int> deciders;
-        for (size_t i = 0; i < is_decider.size(); ++i)
-            if (is_decider[i]) deciders.push_back(int(i));
-        parallel_for(deciders.size(), settings_.threads, [&](size_t k) {
-            Node& d = h_.nodes[deciders[k]];
-            if (moved[d.object]) d.enclosed = -1;
-            decide_enclosed(deciders[k], moved[d.object] ? nullptr : &clips);
-        }, 16);
-        for (Node& n : h_.nodes)
-            if (!n.is_cluster() && !n.dead && n.decider >= 0) n.enclosed = h_.nodes[n.decider].enclosed;
+        adjust_links(ch, recheck_history);
         pending_moves_.clear();
     }
     s.links_created = int64_t(links_.size()) - links_before;
@@ -551,6 +597,8 @@ void Solver::update(Control* control) {
     iterate_to(settings_.tolerance, settings_.max_iterations, 0.3, 0.6);
     lap("gather");
     std::vector<char> moved_light = changed_senders(before);
+    // A new threshold (objects added or removed) can tip any judgement.
+    if (rejudge_all) std::fill(moved_light.begin(), moved_light.end(), 1);
     unrefine_pass(&moved_light);  // less light somewhere: un-refine (3.4)
     lap("unrefine");
     // The closure factors and the converged radiances belong to the links as they were

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <map>
+#include <string>
 
 namespace radiosity {
 
@@ -20,6 +22,24 @@ int Hierarchy::new_node(NodeKind kind, int parent) {
 }
 
 namespace {
+
+// Keys of clusters that are not element quadtrees (see Node::key): from what they stand for,
+// never from creation order.
+uint64_t name_hash(const std::string& name) {
+    uint64_t h = 0xCBF29CE484222325ull;  // FNV-1a
+    for (unsigned char c : name) h = (h ^ c) * 0x100000001B3ull;
+    return h;
+}
+// A collection by the names on its path from the root: it keeps its key when collections
+// before it in the list come or go.
+uint64_t collection_key(const SceneDesc& scene, int c) {
+    uint64_t k = 0xC011EC7ull;
+    std::vector<int> path;
+    for (int a = c; a >= 0; a = scene.clusters()[a].parent) path.push_back(a);
+    for (auto it = path.rbegin(); it != path.rend(); ++it) k = Hierarchy::mix(k, name_hash(scene.clusters()[*it].name));
+    return k;
+}
+uint64_t object_tree_key(uint64_t object_key) { return Hierarchy::mix(0x0B1EC7ull, object_key); }
 
 // Splits one Blender polygon into convex planar triangles/quads, keeping the corner each
 // vertex came from. Quads stay quads only when planar and convex (the quadtree and the
@@ -83,6 +103,23 @@ void split_polygon(const ObjectDesc& o, int f, double min_area, const Hierarchy&
 
 }  // namespace
 
+std::vector<int> Hierarchy::make_prims(const ObjectDesc& o, int oi) {
+    const double min_area = 1e-14;
+    std::vector<int> ids;
+    for (size_t f = 0; f < o.polygon_count(); ++f) {
+        const size_t first = prims.size();
+        split_polygon(o, int(f), min_area, *this, prims, skipped_polygons);
+        for (size_t p = first; p < prims.size(); ++p) {
+            prims[p].object = oi;
+            prims[p].local = int(ids.size());
+            prims[p].poly0 = prims[p].poly;
+            prims[p].back = o.two_sided[f] ? -1 : -2;  // -2 marks "no back side"
+            ids.push_back(int(p));
+        }
+    }
+    return ids;
+}
+
 void Hierarchy::add_surfaces_of_prims(const std::vector<int>& ids, int begin, int end, int parent) {
     for (int i = begin; i < end; ++i) {
         Primitive& pr = prims[ids[i]];
@@ -102,7 +139,9 @@ void Hierarchy::add_surfaces_of_prims(const std::vector<int>& ids, int begin, in
                 e.box.grow(e.poly.v[k]);
                 e.radius = std::max(e.radius, length(e.poly.v[k] - e.center));
             }
-            e.key = mix(0x5EED, uint64_t(s));
+            // By object and the primitive's place in it, not by creation order: the same
+            // surface gets the same key when other objects are added or removed.
+            e.key = mix(mix(0x5EED, object_keys_[pr.object]), uint64_t(2 * pr.local + side));
             surfaces.push_back({nid, ids[i], side == 1});
             surface_order.push_back(s);
             if (side == 0) pr.front = s; else pr.back = s;
@@ -143,9 +182,10 @@ void Hierarchy::finish_cluster(int id) {
     refresh_cluster_geometry(id);
 }
 
-int Hierarchy::build_object_tree(std::vector<int>& ids, int begin, int end, int parent, int object) {
+int Hierarchy::build_object_tree(std::vector<int>& ids, int begin, int end, int parent, int object, uint64_t key) {
     int id = new_node(NodeKind::Cluster, parent);
     nodes[id].object = object;
+    nodes[id].key = key;
     nodes[id].surf_begin = int(surface_order.size());
     if (end - begin <= 4) {
         add_surfaces_of_prims(ids, begin, end, id);
@@ -160,8 +200,8 @@ int Hierarchy::build_object_tree(std::vector<int>& ids, int begin, int end, int 
         std::nth_element(ids.begin() + begin, ids.begin() + mid, ids.begin() + end, [&](int a, int c) {
             return prims[a].poly.centroid()[axis] < prims[c].poly.centroid()[axis];
         });
-        build_object_tree(ids, begin, mid, id, object);
-        build_object_tree(ids, mid, end, id, object);
+        build_object_tree(ids, begin, mid, id, object, mix(key, 1));
+        build_object_tree(ids, mid, end, id, object, mix(key, 2));
     }
     finish_cluster(id);
     return id;
@@ -180,23 +220,21 @@ void Hierarchy::build(const SceneDesc& scene, bool use_clustering) {
         origin = world.center();
         unit = world.diagonal();
     }
-    const double min_area = 1e-14;
 
     // Primitives, with the material of their polygon.
+    object_keys_.resize(objs.size());
+    {
+        // name -> earlier objects of that name (empty ones, like removed objects' slots, not
+        // counted: they make no node)
+        std::map<std::string, int> seen;
+        for (size_t oi = 0; oi < objs.size(); ++oi)
+            object_keys_[oi] = mix(name_hash(objs[oi].name), uint64_t(objs[oi].polygon_count() ? seen[objs[oi].name]++ : 0));
+    }
     std::vector<std::vector<int>> prims_of(objs.size());
     for (size_t oi = 0; oi < objs.size(); ++oi) {
-        const ObjectDesc& o = objs[oi];
-        for (size_t f = 0; f < o.polygon_count(); ++f) {
-            size_t first = prims.size();
-            split_polygon(o, int(f), min_area, *this, prims, skipped_polygons);
-            for (size_t p = first; p < prims.size(); ++p) {
-                for (int k = 0; k < prims[p].poly.n; ++k) scene_box.grow(prims[p].poly.v[k]);
-                prims[p].object = int(oi);
-                prims[p].poly0 = prims[p].poly;
-                prims[p].back = o.two_sided[f] ? -1 : -2;  // -2 marks "no back side"
-                prims_of[oi].push_back(int(p));
-            }
-        }
+        prims_of[oi] = make_prims(objs[oi], int(oi));
+        for (int p : prims_of[oi])
+            for (int k = 0; k < prims[p].poly.n; ++k) scene_box.grow(prims[p].poly.v[k]);
     }
     scene_diag = scene_box.empty() ? 1.0 : std::max(scene_box.diagonal(), 1e-300);
     object_node.assign(objs.size(), -1);
@@ -227,7 +265,8 @@ void Hierarchy::build(const SceneDesc& scene, bool use_clustering) {
         auto build_objects = [&](const std::vector<int>& list, int parent) {
             for (int oi : list)
                 if (!prims_of[oi].empty())
-                    object_node[oi] = build_object_tree(prims_of[oi], 0, int(prims_of[oi].size()), parent, oi);
+                    object_node[oi] = build_object_tree(prims_of[oi], 0, int(prims_of[oi].size()), parent, oi,
+                                                        object_tree_key(object_keys_[oi]));
         };
         std::function<void(int, int)> build_cluster = [&](int c, int parent) {
             int id = new_node(NodeKind::Cluster, parent);
@@ -236,6 +275,7 @@ void Hierarchy::build(const SceneDesc& scene, bool use_clustering) {
             for (int s : sub[c])
                 if (nonempty[s]) build_cluster(s, id);
             build_objects(objs_in[c], id);
+            nodes[id].key = collection_key(scene, c);
             finish_cluster(id);
         };
         for (int c : top_clusters)
@@ -243,14 +283,7 @@ void Hierarchy::build(const SceneDesc& scene, bool use_clustering) {
         build_objects(top_objects, root);
     }
     // Materials of the surface roots.
-    for (const Surface& s : surfaces) {
-        Node& e = nodes[s.root];
-        const Primitive& p = prims[s.prim];
-        e.rho = objs[p.object].reflectance[p.face];
-        e.emission = objs[p.object].emission[p.face];
-        e.L = e.emission;
-        e.Lmin = e.Lmax = e.L;
-    }
+    for (size_t s = 0; s < surfaces.size(); ++s) set_surface_material(scene, int(s));
     finish_cluster(root);
     // Cluster rho_max needs the materials: recompute every cluster once.
     for (size_t i = 0; i < nodes.size(); ++i)
@@ -258,12 +291,24 @@ void Hierarchy::build(const SceneDesc& scene, bool use_clustering) {
 
 
     surface_ancestors_.assign(surfaces.size(), {});
-    for (size_t s = 0; s < surfaces.size(); ++s) {
-        std::vector<int> chain;
-        for (int p = nodes[surfaces[s].root].parent; p >= 0; p = nodes[p].parent) chain.push_back(p);
-        std::reverse(chain.begin(), chain.end());
-        surface_ancestors_[s] = std::move(chain);
-    }
+    for (size_t s = 0; s < surfaces.size(); ++s) set_surface_ancestors(int(s));
+}
+
+void Hierarchy::set_surface_material(const SceneDesc& scene, int s) {
+    Node& e = nodes[surfaces[s].root];
+    const Primitive& p = prims[surfaces[s].prim];
+    e.rho = scene.objects()[p.object].reflectance[p.face];
+    e.emission = scene.objects()[p.object].emission[p.face];
+    e.L = e.emission;
+    e.Lmin = e.Lmax = e.L;
+}
+
+void Hierarchy::set_surface_ancestors(int s) {
+    if (int(surface_ancestors_.size()) <= s) surface_ancestors_.resize(s + 1);
+    std::vector<int> chain;
+    for (int p = nodes[surfaces[s].root].parent; p >= 0; p = nodes[p].parent) chain.push_back(p);
+    std::reverse(chain.begin(), chain.end());
+    surface_ancestors_[s] = std::move(chain);
 }
 
 void Hierarchy::subdivide(int id) {
@@ -377,6 +422,123 @@ void Hierarchy::place_object(int object, const double R[9], const Vec3& t) {
         up.push_back(root);
     }
     for (int a : up) refresh_cluster_geometry(a);
+}
+
+}  // namespace radiosity
+
+namespace radiosity {
+
+uint64_t Hierarchy::object_key(const SceneDesc& scene, int object) {
+    const auto& objs = scene.objects();
+    uint64_t same = 0;
+    for (int o = 0; o < object; ++o) same += objs[o].polygon_count() > 0 && objs[o].name == objs[object].name;
+    return mix(name_hash(objs[object].name), same);
+}
+
+int Hierarchy::ensure_cluster_node(const SceneDesc& scene, int c) {
+    if (cluster_node[c] >= 0) return cluster_node[c];
+    const int pc = scene.clusters()[c].parent;
+    const int parent = pc < 0 ? root : ensure_cluster_node(scene, pc);
+    const int id = new_node(NodeKind::Cluster, parent);
+    nodes[id].key = collection_key(scene, c);
+    cluster_node[c] = id;
+    // A fresh build lists a node's collection children (by index: this one is the newest)
+    // before its object children; the order matters because surface_order follows it.
+    std::vector<int>& kids = nodes[parent].children;
+    kids.pop_back();
+    auto first_object = std::find_if(kids.begin(), kids.end(), [this](int k) { return nodes[k].object >= 0; });
+    kids.insert(first_object, id);
+    return id;
+}
+
+void Hierarchy::rebuild_surface_order() {
+    surface_order.clear();
+    std::function<void(int)> walk = [&](int id) {
+        Node& n = nodes[id];
+        if (!n.is_cluster()) {
+            surface_order.push_back(n.surface);
+            return;
+        }
+        n.surf_begin = int(surface_order.size());
+        for (int c : n.children) walk(c);
+        n.surf_end = int(surface_order.size());
+    };
+    walk(root);
+}
+
+int Hierarchy::add_object(const SceneDesc& scene, int oi, bool use_clustering) {
+    const ObjectDesc& o = scene.objects()[oi];
+    const size_t no = scene.objects().size();
+    object_node.resize(no, -1);
+    object_of_env.resize(no, 0);
+    object_of_env[oi] = o.cluster < 0;
+    cluster_node.resize(scene.clusters().size(), -1);
+    object_keys_.resize(no, 0);
+    object_keys_[oi] = object_key(scene, oi);
+    const size_t first_node = nodes.size(), first_surface = surfaces.size();
+    std::vector<int> ids = make_prims(o, oi);
+    if (ids.empty()) return -1;  // every polygon of zero area: nothing to place
+    int top = -1;
+    if (!use_clustering) {
+        add_surfaces_of_prims(ids, 0, int(ids.size()), root);
+    } else {
+        // Objects follow collections among a node's children, in object order: the new one,
+        // having the highest id, goes last, where a fresh build puts it.
+        const int parent = o.cluster < 0 ? root : ensure_cluster_node(scene, o.cluster);
+        object_node[oi] = build_object_tree(ids, 0, int(ids.size()), parent, oi, object_tree_key(object_keys_[oi]));
+        top = object_node[oi];
+        while (nodes[top].parent != root && size_t(nodes[top].parent) >= first_node) top = nodes[top].parent;
+    }
+    for (size_t s = first_surface; s < surfaces.size(); ++s) {
+        set_surface_material(scene, int(s));
+        set_surface_ancestors(int(s));
+    }
+    rebuild_surface_order();
+    // New clusters bottom-up (children have larger ids), then the existing ones above them.
+    for (size_t id = nodes.size(); id-- > first_node;)
+        if (nodes[id].is_cluster()) refresh_cluster_geometry(int(id));
+    const int above = top >= 0 ? nodes[top].parent : root;
+    for (int a = above; a >= 0; a = nodes[a].parent) refresh_cluster_geometry(a);
+    return top;
+}
+
+int Hierarchy::remove_object(int oi) {
+    const std::vector<int> ids = object_nodes(oi);
+    auto detach = [this](int id) {
+        std::vector<int>& kids = nodes[nodes[id].parent].children;
+        kids.erase(std::remove(kids.begin(), kids.end(), id), kids.end());
+    };
+    int deepest = root;
+    if (object_node[oi] >= 0) {
+        const int top = object_node[oi];
+        deepest = nodes[top].parent;
+        detach(top);
+        // Collection clusters left without any node go as well.
+        while (deepest != root && nodes[deepest].children.empty()) {
+            const int dead = deepest;
+            deepest = nodes[dead].parent;
+            detach(dead);
+            nodes[dead].dead = true;
+            for (int& c : cluster_node)
+                if (c == dead) c = -1;
+        }
+        object_node[oi] = -1;
+    } else {
+        for (int id : ids)
+            if (nodes[id].parent == root) detach(id);
+    }
+    for (int id : ids) {
+        Node& n = nodes[id];
+        n.dead = true;
+        n.sealed = false;
+        std::vector<int>().swap(n.in_links);
+        std::vector<int>().swap(n.out_links);
+    }
+    for (Primitive& p : prims)
+        if (p.object == oi) p.object = -1;
+    rebuild_surface_order();
+    for (int a = deepest; a >= 0; a = nodes[a].parent) refresh_cluster_geometry(a);
+    return deepest;
 }
 
 }  // namespace radiosity

@@ -257,6 +257,7 @@ void Solver::light_contacts() {
     const double tol = 1e-7 * h_.scene_diag;
     parallel_for(h_.surfaces.size(), settings_.threads, [&](size_t si) {
         const Node& n = h_.nodes[h_.surfaces[si].root];
+        if (n.dead) return;  // of a removed object
         Aabb b = n.box;
         b.lo -= Vec3{tol, tol, tol};
         b.hi += Vec3{tol, tol, tol};

@@ -38,6 +38,7 @@ int Solver::add_link(Link l) {
         links_[l.parent].first_child = id;
     }
     links_.push_back(l);
+    ++live_links_;
     return id;
 }
 
@@ -54,6 +55,7 @@ void Solver::kill(int id) {
     if (links_[id].dead) return;
     if (links_[id].active) deactivate(id);
     links_[id].dead = true;
+    --live_links_;
     for (int c = links_[id].first_child; c >= 0; c = links_[c].next_sibling) kill(c);
     links_[id].first_child = -1;
 }
@@ -172,8 +174,11 @@ void Solver::apply(int id, const Judgement& j, std::vector<Candidate>& next) {
     }
     // The caps are checked here, where links and elements are made, not only when judging
     // (a whole wave is judged before any of it is applied): links counted with the ones this
-    // wave has queued, so the cap is exceeded by at most one refinement.
-    if (int64_t(links_.size() + next.size()) + 4 > settings_.max_links) {
+    // wave has queued, so the cap is exceeded by at most one refinement. Dead links (killed by
+    // an update) do not count: they hold no memory beyond their slot, and counting them made
+    // later updates stop refining early (an object removed and added back came out 50 % too
+    // bright where its cluster links stayed coarse).
+    if (live_links_ + int64_t(next.size()) + 4 > settings_.max_links) {
         stats_.capped = true;
         return;
     }

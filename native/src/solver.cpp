@@ -26,6 +26,7 @@ Solver::Solver(SceneDesc scene, Settings settings) : scene_(std::move(scene)), s
         const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
         memory_limit_ = pages > 0 && page > 0 ? 0.5 * double(pages) * double(page) : 4.0 * 1073741824.0;
     }
+    removed_.assign(scene_.objects().size(), 0);
 }
 
 void Solver::check_cancel() const {
@@ -43,7 +44,9 @@ void Solver::solve(Control* control) {
     stats_ = Stats{};
     lap_t_ = t0;
     links_.clear();
+    live_links_ = 0;
     lights_ = LightState{};  // lights.cpp: the hierarchy is rebuilt
+    commit_topology();       // topology.cpp: objects removed since are left out
 
     h_.build(scene_, settings_.use_clustering);
     vis_ = std::make_unique<Visibility>();
@@ -161,6 +164,7 @@ void Solver::compute_sealed() {
     parallel_for(h_.surfaces.size(), settings_.threads, [&](size_t s) {
         Node& n = h_.nodes[h_.surfaces[s].root];
         n.sealed = false;
+        if (n.dead) return;  // of a removed object
         Rng rng(Hierarchy::mix(settings_.seed ^ 0x5EA1ED, n.key));
         Vec3 t = std::fabs(n.normal.x) > 0.5 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
         Vec3 u = normalize(cross(n.normal, t)), v = cross(n.normal, u);
@@ -226,6 +230,7 @@ void Solver::compute_reference() {
     double ae = 0, a = 0, ar = 0;
     for (const Surface& s : h_.surfaces) {
         const Node& e = h_.nodes[s.root];
+        if (e.dead) continue;  // of a removed object
         ae += e.area * e.emission.max();
         ar += e.area * e.rho.max();
         a += e.area;
@@ -240,11 +245,13 @@ void Solver::compute_stats() {
     Stats& s = stats_;
     s.input_surfaces = int64_t(scene_.polygon_count());
     s.memory_bytes = int64_t(memory_estimate());
-    s.primitives = int64_t(h_.prims.size());
+    s.primitives = 0;
+    for (const Primitive& p : h_.prims) s.primitives += p.object >= 0;  // removed objects' are -1
     s.skipped_polygons = int64_t(h_.skipped_polygons);
-    s.objects = int64_t(scene_.objects().size());
+    s.objects = 0;
+    for (size_t o = 0; o < scene_.objects().size(); ++o) s.objects += !removed(int(o));
     s.clusters = 0;
-    for (const Node& n : h_.nodes) s.clusters += n.is_cluster();
+    for (const Node& n : h_.nodes) s.clusters += n.is_cluster() && !n.dead;
     s.links = s.cluster_links = s.surface_links = s.history_links = 0;
     s.obj_env_links = s.env_env_links = s.obj_obj_links = 0;
     for (const Link& l : links_) {
@@ -266,6 +273,7 @@ void Solver::compute_stats() {
     s.elements = 0;
     std::vector<char> reached(h_.surfaces.size(), 0);
     for (size_t si = 0; si < h_.surfaces.size(); ++si) {
+        if (h_.surface_dead(int(si))) continue;  // of a removed object
         // Reached through a cluster link only if the surface faces its sender.
         bool r = false;
         const Vec3 nrm = h_.nodes[h_.surfaces[si].root].normal;

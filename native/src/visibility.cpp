@@ -2,6 +2,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -9,6 +10,15 @@
 namespace radiosity {
 
 namespace {
+// Embree takes a ray only with float coordinates within 1.8e18 (its ray.valid() check, an
+// assertion in Debian's build that ends the process); such segments are not traced.
+bool traceable(const Vec3& a, const Vec3& b) {
+    constexpr double kMax = 1e18;
+    for (int k = 0; k < 3; ++k)
+        if (!(std::fabs(a[k]) <= kMax && std::fabs(b[k]) <= kMax)) return false;
+    return true;
+}
+
 void check_device(RTCDevice d, const char* what) {
     RTCError e = rtcGetDeviceError(d);
     if (e != RTC_ERROR_NONE) throw std::runtime_error(std::string("Embree error in ") + what + ": " + std::to_string(int(e)));
@@ -67,6 +77,20 @@ void Visibility::add_object(int object, const std::vector<Vec3>& tv) {
     rtcReleaseGeometry(inst);
 }
 
+void Visibility::remove_object(int object) {
+    if (object < 0 || object >= int(instance_geom_.size())) return;
+    if (instance_geom_[object] >= 0) {
+        rtcDetachGeometry(top_, unsigned(instance_geom_[object]));
+        geom_object_[instance_geom_[object]] = -1;  // Embree may hand the id to a later object
+        instance_geom_[object] = -1;
+    }
+    if (object_scenes_[object]) {
+        rtcReleaseScene(object_scenes_[object]);
+        object_scenes_[object] = nullptr;
+    }
+    check_device(device_, "object removal");
+}
+
 void Visibility::set_object_transform(int object, const double m[12]) {
     if (object < 0 || object >= int(instance_geom_.size()) || instance_geom_[object] < 0) return;
     RTCGeometry inst = rtcGetGeometry(top_, unsigned(instance_geom_[object]));
@@ -83,6 +107,7 @@ void Visibility::commit() {
 
 bool Visibility::occluded(const Vec3& a, const Vec3& b, double near) const {
     rays_.fetch_add(1, std::memory_order_relaxed);
+    if (!traceable(a, b)) return false;
     Vec3 d = b - a;
     double len = length(d);
     if (len <= near + eps_) return false;
@@ -105,6 +130,7 @@ bool Visibility::occluded(const Vec3& a, const Vec3& b, double near) const {
 
 int Visibility::hit_object(const Vec3& a, const Vec3& b, double near, Vec3* hit, int* triangle) const {
     rays_.fetch_add(1, std::memory_order_relaxed);
+    if (!traceable(a, b)) return -1;
     Vec3 d = b - a;
     double len = length(d);
     if (len <= near) return -1;

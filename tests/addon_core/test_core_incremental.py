@@ -33,7 +33,7 @@ def test_move_is_incremental_and_matches_full(native):
     inc = _job(native, scenes_np.room((0.9, 0.5))).prepare()
     assert inc.mode == "incremental" and inc.full_reason is None
     assert inc.changes == {"moved": 1, "emission_changed": 0, "reflectance_changed": 0,
-                           "lights_changed": 0}
+                           "lights_changed": 0, "added": 0, "removed": 0, "replaced": 0}
     inc.run()
     st = inc.native_stats()
     assert st["mode"] == "incremental" and "env_env_links_recomputed" in st
@@ -53,26 +53,117 @@ def test_emission_change_is_incremental(native):
     assert _nrmse(inc.radiance(), full.radiance()) < _tol(native)
 
 
-def test_full_reasons(native):
+def _with_crate(si, collection="Crates"):
+    """The room plus a crate in a collection of its own (a new one: it did not exist)."""
+    c = si.add_cluster(collection)
+    v, st, tt, cv = scenes_np._box((2.8, 2.6, 0.3), (0.6, 0.6, 0.6))
+    crate = scenes_np.obj("crate", (v, st, tt, cv), [0.3, 0.6, 0.3], [0, 0, 0], cluster=c)
+    crate.matrix, crate.local_vertices = np.eye(4), v
+    si.objects.append(crate)
+    return si
+
+
+def test_added_and_removed_objects_are_incremental(native):
+    """Issue 4: added -> linked in, deleted -> removed, through the kept solver."""
     _job(native, scenes_np.room()).prepare().run()
-    si = scenes_np.room()
+    add = _job(native, _with_crate(scenes_np.room())).prepare()
+    assert add.mode == "incremental" and add.full_reason is None
+    assert add.changes["added"] == 1 and add.changes["removed"] == 0
+    add.run()
+    st = add.native_stats()
+    assert st["mode"] == "incremental"
+    assert st["objects"] == len(scenes_np.room().objects) + 1
+    if not getattr(native, "FAKE", False):
+        assert st["objects_added"] == 1 and st["links_created"] > 0
+    full = _job(native, _with_crate(scenes_np.room()), key=None, use_cache=False).prepare().run()
+    assert _nrmse(add.radiance(), full.radiance()) < _tol(native)
+    # Nothing changed since: the kept solution is reused as it is.
+    assert _job(native, _with_crate(scenes_np.room())).prepare().is_cached
+    # The crate deleted again (its collection goes with it): back to the room.
+    rem = _job(native, scenes_np.room()).prepare()
+    assert rem.mode == "incremental" and rem.changes["removed"] == 1
+    rem.run()
+    if not getattr(native, "FAKE", False):
+        assert rem.native_stats()["objects_removed"] == 1
+    full = _job(native, scenes_np.room(), key=None, use_cache=False).prepare().run()
+    assert _nrmse(rem.radiance(), full.radiance()) < _tol(native)
+    # A wall deleted and the crate added in one bake, the box moved as well.
+    si = _with_crate(scenes_np.room((0.5, 0.2)))
     si.objects.pop(0)
-    j = _job(native, si).prepare()
-    assert j.mode == "full" and "removed: wall0" in j.full_reason
-    # A shape change (object space) is not a move.
+    both = _job(native, si).prepare()
+    assert both.mode == "incremental"
+    assert (both.changes["added"], both.changes["removed"], both.changes["moved"]) == (1, 1, 1)
+    both.run()
+    si = _with_crate(scenes_np.room((0.5, 0.2)))
+    si.objects.pop(0)
+    full = _job(native, si, key=None, use_cache=False).prepare().run()
+    assert _nrmse(both.radiance(), full.radiance()) < _tol(native)
+    # The added crate moves like any object: relative to where it was added.
+    si = _with_crate(scenes_np.room((0.5, 0.2)))
+    si.objects.pop(0)
+    crate = si.objects[-1]
+    crate.matrix = np.eye(4)
+    crate.matrix[:3, 3] = (-1.0, 0.5, 0.0)
+    crate.vertices = crate.local_vertices + crate.matrix[:3, 3]
+    mv = _job(native, si).prepare()
+    assert mv.mode == "incremental" and mv.changes["moved"] == 1
+    mv.run()
+    full = _job(native, si, key=None, use_cache=False).prepare().run()
+    assert _nrmse(mv.radiance(), full.radiance()) < _tol(native)
+
+
+def test_refused_addition_drops_the_kept_solution(native):
+    """Bad input in an added object: the error names it, and the kept solver (changed half-way)
+    is not kept."""
+    _job(native, scenes_np.room()).prepare().run()
+    si = _with_crate(scenes_np.room())
+    si.objects[-1].reflectance[:] = 1.5      # the native module refuses it (rho >= 1)
+    with pytest.raises(ValueError, match="crate"):
+        _job(native, si).prepare()
+    assert job.cache_get("scene") is None
+    assert _job(native, scenes_np.room()).prepare().full_reason == "no kept solution"
+
+
+def test_changed_shape_or_scale_is_replaced(native):
+    """A mesh edit (object space) or a non-rigid placement is not a move: the object is removed
+    and added again under its name (``replaced``), unless that is most of the scene."""
+    def edited():
+        si = scenes_np.room()
+        b = si.objects[-1]
+        b.local_vertices = b.local_vertices * 1.01
+        b.vertices = b.local_vertices @ b.matrix[:3, :3].T + b.matrix[:3, 3]
+        return si
+
+    def scaled():
+        si = scenes_np.room()
+        b = si.objects[-1]
+        b.matrix = b.matrix @ np.diag([1.5, 1.5, 1.5, 1.0])
+        b.vertices = b.local_vertices @ b.matrix[:3, :3].T + b.matrix[:3, 3]
+        return si
+
+    for make in (edited, scaled):
+        _job(native, scenes_np.room()).prepare().run()
+        j = _job(native, make()).prepare()
+        assert j.mode == "incremental", j.full_reason
+        assert (j.changes["replaced"], j.changes["moved"]) == (1, 0)
+        j.run()
+        full = _job(native, make(), key=None, use_cache=False).prepare().run()
+        assert _nrmse(j.radiance(), full.radiance()) < _tol(native)
+        # The replacement moves like any object: relative to its new placement.
+        si = make()
+        b = si.objects[-1]
+        b.matrix = b.matrix.copy()
+        b.matrix[0, 3] += 0.5
+        b.vertices = b.vertices + (0.5, 0.0, 0.0)
+        mv = _job(native, si).prepare()
+        assert mv.mode == "incremental" and mv.changes["moved"] == 1 and mv.changes["replaced"] == 0
+    # Most of the scene changed shape: solved in full.
     _job(native, scenes_np.room()).prepare().run()
     si = scenes_np.room()
-    b = si.objects[-1]
-    b.local_vertices = b.local_vertices * 1.01
-    b.vertices = b.local_vertices @ b.matrix[:3, :3].T + b.matrix[:3, 3]
-    assert "geometry" in _job(native, si).prepare().full_reason
-    # A scaled placement is not rigid.
-    _job(native, scenes_np.room()).prepare().run()
-    si = scenes_np.room()
-    b = si.objects[-1]
-    b.matrix = b.matrix @ np.diag([1.5, 1.5, 1.5, 1.0])
-    b.vertices = b.local_vertices @ b.matrix[:3, :3].T + b.matrix[:3, 3]
-    assert "rigid" in _job(native, si).prepare().full_reason
+    for w in si.objects[:6]:
+        w.vertices = w.vertices * 1.001
+        w.local_vertices = w.vertices
+    assert "most of the scene" in _job(native, si).prepare().full_reason
     assert "requested" in _job(native, scenes_np.room(), use_cache=False).prepare().full_reason
 
 

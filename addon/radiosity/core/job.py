@@ -32,6 +32,7 @@ class CachedSolution:
     # -- what the incremental path needs (per object name) --
     settings_key: object = None
     object_ids: dict = field(default_factory=dict)       # name -> native object id
+    cluster_ids: dict = field(default_factory=dict)      # cluster path (names from the root) -> native id
     shapes: dict = field(default_factory=dict)           # name -> shape_digest
     build_matrices: dict = field(default_factory=dict)   # name -> world matrix at add_object
     matrices: dict = field(default_factory=dict)         # name -> placement last solved
@@ -125,36 +126,53 @@ class SolveJob:
         if hit.settings_key != self.settings_key:
             return "settings changed"
         names = [o.name for o in self.scene_input.objects]
-        added = sorted(set(names) - set(hit.object_ids))
+        if len(names) != len(set(names)):
+            return "duplicate object names"
+        # Objects added or deleted since the last bake are linked in / taken out by the kept
+        # solver (a deletion: hidden, excluded, or gone from the view layer).
+        added = [o for o in self.scene_input.objects if o.name not in hit.object_ids]
         removed = sorted(set(hit.object_ids) - set(names))
-        if added or removed:
+        if (added or removed) and not hasattr(hit.solver, "add_object"):
             parts = []
             if added:
-                parts.append("added: " + ", ".join(added))
+                parts.append("added: " + ", ".join(o.name for o in added))
             if removed:
                 parts.append("removed: " + ", ".join(removed))
             return ("objects added or removed since the last bake (" + "; ".join(parts)
-                    + "); the native solver cannot add or remove objects yet")
-        if len(names) != len(set(names)):
-            return "duplicate object names"
-        changed = [n for n in names if self.shapes[n] != hit.shapes[n]]
-        if changed:
+                    + "); the native module cannot add or remove objects")
+        # An object whose mesh (modifiers included) or collection changed, or that was scaled,
+        # sheared or mirrored, is replaced: removed and added again under its name.
+        can_replace = hasattr(hit.solver, "add_object")
+        changed = [n for n in names if n in hit.shapes and self.shapes[n] != hit.shapes[n]]
+        if changed and not can_replace:
             return ("geometry, modifiers or collection changed: " + ", ".join(changed[:5])
                     + (" …" if len(changed) > 5 else ""))
         # Work out every change before touching the kept solver.
         moves, emissions, reflectances = [], [], []
         for o in self.scene_input.objects:
+            if o.name not in hit.object_ids or o.name in changed:
+                continue        # added or replaced: given as it is now
             oid = hit.object_ids[o.name]
             m = scene_data.object_matrix(o)
             if not np.allclose(m, hit.matrices[o.name], rtol=0.0, atol=MATRIX_TOLERANCE):
                 rel = m @ np.linalg.inv(hit.build_matrices[o.name])
                 if not scene_data.is_rigid(rel):
-                    return f"'{o.name}' was scaled, sheared or mirrored (not a rigid move)"
+                    if not can_replace:
+                        return f"'{o.name}' was scaled, sheared or mirrored (not a rigid move)"
+                    changed.append(o.name)
+                    continue
                 moves.append((oid, np.ascontiguousarray(rel, dtype=np.float64)))
             if not np.array_equal(o.emission, hit.emission[o.name]):
                 emissions.append((oid, np.ascontiguousarray(o.emission, dtype=np.float64)))
             if not np.array_equal(o.reflectance, hit.reflectance[o.name]):
                 reflectances.append((oid, np.ascontiguousarray(o.reflectance, dtype=np.float64)))
+        # Replacing most of the scene costs more than solving it afresh.
+        polygons = {o.name: o.polygon_count for o in self.scene_input.objects}
+        if changed and 2 * sum(polygons[n] for n in changed) > self.scene_input.polygon_count:
+            return ("most of the scene changed shape, collection or scale: "
+                    + ", ".join(changed[:5]) + (" …" if len(changed) > 5 else ""))
+        by_name = {o.name: o for o in self.scene_input.objects}
+        replaced = [by_name[n] for n in changed]
         # Point/spot/sun lights and the world: the same lights (by name and kind, in order) are
         # updated in place; any other change of the light list needs a full solve.
         new_keys = [li.key() for li in self.scene_input.lights]
@@ -163,7 +181,9 @@ class SolveJob:
         light_changes = [i for i, (a, b) in enumerate(zip(new_keys, hit.lights)) if a != b]
         if light_changes and not hasattr(hit.solver, "set_light"):
             return "the native module cannot change lights"
-        if not (moves or emissions or reflectances or light_changes) and names == hit.names:
+        if not (moves or emissions or reflectances or light_changes or added or removed
+                or replaced) \
+                and names == hit.names:
             # Only something that does not affect the solve differs (e.g. which meshes can be
             # written): the kept radiance is still the answer.
             hit.fingerprint = self.fingerprint
@@ -172,6 +192,17 @@ class SolveJob:
         # From here on the kept solver no longer matches hit.fingerprint.
         hit.fingerprint = None
         try:
+            for name in removed + changed:
+                hit.solver.remove_object(hit.object_ids[name])
+                for d in (hit.object_ids, hit.shapes, hit.build_matrices):
+                    d.pop(name, None)
+            paths = scene_data.cluster_paths(self.scene_input)
+            for o in added + replaced:
+                cid = self._native_cluster(hit, o.cluster, paths)
+                hit.object_ids[o.name] = scene_data.add_native_object(hit.solver, o, cid)
+                hit.shapes[o.name] = self.shapes[o.name]
+                # Later moves are relative to the placement it was added with.
+                hit.build_matrices[o.name] = scene_data.object_matrix(o)
             for oid, rel in moves:
                 hit.solver.move_object(oid, rel)
             for oid, e in emissions:
@@ -190,10 +221,24 @@ class SolveJob:
         self.incremental = hit
         self.changes = {"moved": len(moves), "emission_changed": len(emissions),
                         "reflectance_changed": len(reflectances),
-                        "lights_changed": len(light_changes)}
+                        "lights_changed": len(light_changes),
+                        "added": len(added), "removed": len(removed),
+                        "replaced": len(replaced)}
         self.scene, self.solver = hit.scene, hit.solver
         self.object_ids = [hit.object_ids[n] for n in names]
         return None
+
+    def _native_cluster(self, hit, index, paths):
+        """Native id of SceneInput cluster `index` in the kept solver (-1: the root), made with
+        its parents when the kept solution has no such collection yet."""
+        if index < 0:
+            return -1
+        path = paths[index]
+        if path not in hit.cluster_ids:
+            c = self.scene_input.clusters[index]
+            parent = self._native_cluster(hit, c.parent, paths)
+            hit.cluster_ids[path] = hit.solver.add_cluster(c.name, parent)
+        return hit.cluster_ids[path]
 
     def _release(self, ok):
         """End of an incremental job: on failure/cancel the kept solver has no valid solution."""
@@ -325,6 +370,7 @@ class SolveJob:
                 len(si.clusters), len(si.objects), si.polygon_count,
                 settings_key=self.settings_key,
                 object_ids={o.name: oid for o, oid in zip(si.objects, self.object_ids)},
+                cluster_ids=dict(zip(scene_data.cluster_paths(si), self.cluster_ids or [])),
                 shapes=dict(self.shapes),
                 build_matrices={o.name: scene_data.object_matrix(o) for o in si.objects},
                 leaf_meshes=self._leaf_meshes)
@@ -353,6 +399,18 @@ class SolveJob:
         for obj, rad in zip(self.scene_input.objects, self.radiance()):
             if obj.target is not None:
                 out.append((obj, radiance_to_rgba(rad, obj.corner_count)))
+        return out
+
+    def srgb_bytes(self, exposure):
+        """[(ObjectInput, uint8 (C,4))] sRGB byte copies (see core.srgb) for every object with a
+        write target, all converted before the caller writes a single mesh."""
+        from .srgb import radiance_to_srgb_bytes
+        out = []
+        for obj, rad in zip(self.scene_input.objects, self.radiance()):
+            if obj.target is not None:
+                if len(rad) != obj.corner_count:
+                    raise ValueError(f"radiance has {len(rad)} corners, mesh has {obj.corner_count}")
+                out.append((obj, radiance_to_srgb_bytes(rad, exposure)))
         return out
 
     def leaf_meshes(self):

@@ -211,6 +211,28 @@ def solver_corner_order(obj):
     return obj.corner_verts[obj.corner_perm]
 
 
+def add_native_object(target, obj, cluster_id):
+    """Hand one object to a native Scene or Solver (both have add_object); returns its id.
+
+    Native ValueErrors (they name object and polygon) propagate to the caller unchanged.
+    """
+    extra = {}      # only when not the default: older modules / the stand-in lack them
+    if obj.two_sided is not None:
+        extra["two_sided"] = np.ascontiguousarray(obj.two_sided, dtype=np.uint8)
+    if not obj.occluder:
+        extra["occluder"] = False
+    return target.add_object(
+        obj.name, cluster_id,
+        np.ascontiguousarray(obj.vertices, dtype=np.float64),
+        np.ascontiguousarray(obj.loop_starts, dtype=np.int32),
+        np.ascontiguousarray(obj.loop_totals, dtype=np.int32),
+        np.ascontiguousarray(solver_corner_order(obj), dtype=np.int32),
+        np.ascontiguousarray(obj.reflectance, dtype=np.float32),
+        np.ascontiguousarray(obj.emission, dtype=np.float32),
+        **extra,
+    )
+
+
 def build_native_scene(native, scene_input):
     """Create the native Scene; returns (scene, cluster_ids, object_ids).
 
@@ -224,21 +246,7 @@ def build_native_scene(native, scene_input):
     object_ids = []
     for o in scene_input.objects:
         cluster = cluster_ids[o.cluster] if o.cluster >= 0 else -1
-        extra = {}      # only when not the default: older modules / the stand-in lack them
-        if o.two_sided is not None:
-            extra["two_sided"] = np.ascontiguousarray(o.two_sided, dtype=np.uint8)
-        if not o.occluder:
-            extra["occluder"] = False
-        object_ids.append(scene.add_object(
-            o.name, cluster,
-            np.ascontiguousarray(o.vertices, dtype=np.float64),
-            np.ascontiguousarray(o.loop_starts, dtype=np.int32),
-            np.ascontiguousarray(o.loop_totals, dtype=np.int32),
-            np.ascontiguousarray(solver_corner_order(o), dtype=np.int32),
-            np.ascontiguousarray(o.reflectance, dtype=np.float32),
-            np.ascontiguousarray(o.emission, dtype=np.float32),
-            **extra,
-        ))
+        object_ids.append(add_native_object(scene, o, cluster))
     if scene_input.lights:
         from . import lights as core_lights
         for li in scene_input.lights:

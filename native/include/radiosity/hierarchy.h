@@ -70,6 +70,7 @@ struct Primitive {
     Poly poly0;                     // as given (internal frame); moves map poly0 -> poly
     std::array<int, 4> corner{};    // Blender corner index of each vertex
     int front = -1, back = -1;      // oriented surface ids (back = -1 when one-sided)
+    int local = -1;                 // index among its object's primitives (part of its surfaces' keys)
 };
 
 struct Surface {
@@ -93,6 +94,21 @@ public:
     void place_object(int object, const double R[9], const Vec3& t);
     // Nodes of an object (its cluster subtree, or its surfaces' quadtrees when unclustered).
     std::vector<int> object_nodes(int object) const;
+
+    // --- Objects added to or removed from a built hierarchy (dynamic environments).
+    // Builds object `object` of `scene` (already appended there) into the tree where a fresh
+    // build of the whole scene would put it: its primitives (in the existing internal frame),
+    // surfaces, cluster subtree and any collection cluster it needs. Node keys do not depend
+    // on build order, so the new nodes get the keys a fresh build gives them. surface_order,
+    // the clusters' surface ranges and the geometry of the clusters above are rebuilt.
+    // Returns the topmost node created (-1: no cluster was made, e.g. unclustered or no surface).
+    int add_object(const SceneDesc& scene, int object, bool use_clustering);
+    // Takes an object out: its nodes die and leave the tree, so do collection clusters left
+    // empty (a fresh build makes no node for them), and its primitives belong to no object any
+    // more (object -1). Returns the deepest surviving cluster that held it (the root at worst).
+    int remove_object(int object);
+    // Surfaces of removed objects keep their slot (ids stay stable) with a dead root.
+    bool surface_dead(int s) const { return nodes[surfaces[s].root].dead; }
     // Bounding box of an object's current placement.
     Aabb object_box(int object) const;
     static uint64_t mix(uint64_t a, uint64_t b);
@@ -126,10 +142,22 @@ public:
 
 private:
     int new_node(NodeKind kind, int parent);
-    int build_object_tree(std::vector<int>& prim_ids, int begin, int end, int parent, int object);
+    int build_object_tree(std::vector<int>& prim_ids, int begin, int end, int parent, int object, uint64_t key);
     void add_surfaces_of_prims(const std::vector<int>& prim_ids, int begin, int end, int parent);
     void finish_cluster(int node);
+    // The object's polygons as primitives appended to `prims`; returns their ids.
+    std::vector<int> make_prims(const ObjectDesc& o, int object);
+    // Per object a key from its name (and how many earlier objects share it): an object keeps
+    // its key when others are added or removed, so a fresh build casts the same rays.
+    static uint64_t object_key(const SceneDesc& scene, int object);
+    // The node of collection cluster c, made (with its parents) when missing.
+    int ensure_cluster_node(const SceneDesc& scene, int c);
+    // surface_order and every cluster's [surf_begin, surf_end) from a walk of the tree.
+    void rebuild_surface_order();
+    void set_surface_ancestors(int s);
+    void set_surface_material(const SceneDesc& scene, int s);
     std::vector<std::vector<int>> surface_ancestors_;
+    std::vector<uint64_t> object_keys_;
 };
 
 }  // namespace radiosity

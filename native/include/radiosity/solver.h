@@ -55,6 +55,19 @@ public:
     // Per polygon (or one value for the whole object).
     void set_emission(int object, const std::vector<Rgb>& values);
     void set_reflectance(int object, const std::vector<Rgb>& values);
+    // Objects added and removed (topology.cpp), applied by the next update() like moves: an
+    // addition is linked into the kept solution, a removal's links and nodes go; env-env links
+    // whose rays pass through the object's box are re-evaluated. Ids stay stable: a new object
+    // gets the next id, a removed one keeps its slot (empty: no corners) and is never reused.
+    // Validates like SceneDesc::add_object (InputError); vertices in world space, placed as
+    // given (later moves are relative to that). The cluster may be one made by add_cluster.
+    int add_object(ObjectDesc object);
+    // InputError for an unknown id or an object removed already.
+    void remove_object(int object);
+    // A new collection cluster (for objects added later); InputError for an unknown parent.
+    int add_cluster(const std::string& name, int parent = -1);
+    bool removed(int object) const { return object >= 0 && size_t(object) < removed_.size() && removed_[object]; }
+
     // Incremental update of the kept solution (a full solve if there is none).
     void update(Control* control = nullptr);
 
@@ -121,6 +134,31 @@ private:
     void collect_receivers();
     // adjust.cpp
     struct Pose { double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}; Vec3 t; };
+    // What an update changed in the geometry (adjust.cpp for moves, topology.cpp for
+    // additions and removals); the AdjustSystem then works from it alone.
+    struct Change {
+        std::vector<Aabb> clips;               // old and new boxes of every changed object
+        std::vector<char> inX;                 // per node: its geometry changed (its links are remade)
+        std::vector<char> moved;               // per object: moved rigidly (links inside it only turn)
+        std::vector<std::vector<int>> chains;  // root-first cluster paths, relinked against their siblings
+        std::vector<Candidate> seeds;          // links to make besides (an added object's own links)
+    };
+    // The AdjustSystem proper: classifies every live link against `ch` (remade, turned, pruned
+    // by outcodes and the per-ray dry run, re-evaluated), links the changed clusters anew and
+    // re-decides the enclosure of leaves whose escape rays meet a changed box.
+    void adjust_links(Change& ch, std::vector<int>& recheck_history);
+    // topology.cpp
+    void check_live(int object, const char* what) const;
+    void blank_object(int object);           // the scene slot of a removed object, emptied
+    void commit_topology();                  // before a full solve: pending changes into scene_
+    // Whether pending additions or removals change the scene's size a lot: the internal frame
+    // and the tolerances relative to it would then differ from a fresh solve's.
+    bool changes_outgrow_frame() const;
+    // Applies pending removals and additions to the hierarchy, Embree and `ch`.
+    void apply_topology(Change& ch);
+    // Re-derives which surfaces are sealed; false when a surviving surface changed (its links
+    // would be wrong: the caller solves in full).
+    bool reseal(size_t known_surfaces);
     void set_material(int object, const std::vector<Rgb>& values, bool emission);
     void apply_materials();
     void unrefine(int link_id);
@@ -185,6 +223,7 @@ private:
     Hierarchy h_;
     std::unique_ptr<Visibility> vis_;
     std::vector<Link> links_;
+    int64_t live_links_ = 0;       // links_ that are not dead (what the max_links cap counts)
     std::vector<int> receivers_;   // nodes with active incoming links
     std::vector<int> leaves_;      // leaf elements (rebuilt with receivers_)
     GatherPlan plan_;              // invalidated by collect_receivers, built by ensure_plan
@@ -193,6 +232,8 @@ private:
     double L_ref_ = 0, threshold_ = 0, min_area_ = 0;
     bool solved_ = false;
     std::map<int, Pose> pending_moves_;
+    std::vector<int> pending_adds_, pending_removes_;
+    std::vector<char> removed_;    // per object: removed (its slot stays, empty)
     std::vector<Pose> poses_;      // per object, current placement (internal frame)
     bool materials_changed_ = false;
     std::chrono::steady_clock::time_point lap_t_;

@@ -30,6 +30,9 @@ struct Stats {
     int64_t obj_env_links_removed = 0;     // active links of moved objects dropped before re-linking
     int64_t links_created = 0;             // links made by the update (incl. occluded/history)
     int64_t history_reactivated = 0;       // history links brought back (un-refinement, 3.4)
+    int64_t objects_added = 0;             // objects linked in by the last update
+    int64_t objects_removed = 0;           // objects taken out by the last update
+    int64_t links_removed = 0;             // ... and their active links that went with them
     bool mode_incremental = false;
     double seconds_adjust = 0;             // link update (AdjustSystem) of the last update
     int64_t rays = 0;

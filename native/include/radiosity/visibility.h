@@ -22,6 +22,9 @@ public:
 
     // Triangles in world space; an object with no triangle gets no instance.
     void add_object(int object, const std::vector<Vec3>& tri_vertices);
+    // Detaches and releases an object's instance (rays pass where it was); its id is not
+    // reused. Takes effect at the next commit().
+    void remove_object(int object);
     // Placement of an object relative to where its triangles were given (row-major 3x4).
     void set_object_transform(int object, const double m[12]);
     void commit();

@@ -150,6 +150,25 @@ class Solver:
                 "corner_verts": o["cv"].astype(np.int32), "values": rad[o["ls"]].astype(np.float32),
                 "source_face": np.arange(len(o["ls"]), dtype=np.int32)}
 
+    def add_object(self, name, cluster, vertices, loop_starts, loop_totals, corner_verts,
+                   reflectance, emission, two_sided=None, occluder=True):
+        oid = self.scene.add_object(name, cluster, vertices, loop_starts, loop_totals,
+                                    corner_verts, reflectance, emission, two_sided, occluder)
+        self._base.append(self.scene.objects[oid]["v"].copy())
+        return oid
+
+    def remove_object(self, object_id):
+        if not 0 <= object_id < len(self.scene.objects) or self.scene.objects[object_id].get("removed"):
+            raise ValueError(f"remove_object: unknown or removed object {object_id}")
+        o = self.scene.objects[object_id]
+        # An empty slot: ids stay stable, and the solve draws the rays a scene without it draws.
+        o.update(removed=True, v=np.zeros((0, 3)), ls=np.zeros(0, np.int64), lt=np.zeros(0, np.int64),
+                 cv=np.zeros(0, np.int64), rho=np.zeros((0, 3)), em=np.zeros((0, 3)))
+        self._base[object_id] = o["v"]
+
+    def add_cluster(self, name, parent=-1):
+        return self.scene.add_cluster(name, parent)
+
     def move_object(self, object_id, matrix):
         m = np.asarray(matrix, dtype=np.float64)
         if m.shape != (4, 4) or not np.isfinite(m).all():
@@ -254,7 +273,8 @@ class Solver:
                     out[o["ls"][p]:o["ls"][p] + o["lt"][p]] = B[k]
                 k += 1
             self._corner.append(out)
-        self._stats = {"fake": True, "objects": len(self.scene.objects),
+        self._stats = {"fake": True,
+                       "objects": sum(not o.get("removed") for o in self.scene.objects),
                        "clusters": len(self.scene.clusters),
                        "input_surfaces": self.scene.polygon_count,
                        "elements": sum(p is not None for p in polys),

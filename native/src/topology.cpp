@@ -1,0 +1,191 @@
+// Objects added to and removed from a solved scene (dynamic environments beyond the paper's
+// rigid moves). A removal is a move to nowhere: its links die, its Embree instance goes, its
+// nodes leave the cluster tree. An addition is a move from nowhere: new primitives, surfaces
+// and nodes where a fresh build would put them, a new Embree instance, and links made from the
+// clusters above it down, as for a moved object. In both cases the clusters that held the
+// object changed shape, so their links are made anew, and env-env links whose rays may pass
+// through the object's box are re-evaluated (adjust.cpp does both for all kinds of change).
+#include <algorithm>
+#include <cmath>
+
+#include "radiosity/solver.h"
+
+namespace radiosity {
+
+void Solver::check_live(int object, const char* what) const {
+    if (object < 0 || object >= int(scene_.objects().size()))
+        throw InputError(std::string(what) + ": unknown object " + std::to_string(object));
+    if (removed(object))
+        throw InputError(std::string(what) + ": object '" + scene_.objects()[object].name + "' (id " +
+                         std::to_string(object) + ") was removed");
+}
+
+int Solver::add_cluster(const std::string& name, int parent) { return scene_.add_cluster(name, parent); }
+
+int Solver::add_object(ObjectDesc object) {
+    const int id = scene_.add_object(std::move(object));  // validates: InputError names the problem
+    removed_.resize(scene_.objects().size(), 0);
+    // Before a first solve (or after a cancelled one) the next solve builds it with the rest.
+    if (solved_) pending_adds_.push_back(id);
+    return id;
+}
+
+void Solver::remove_object(int object) {
+    check_live(object, "remove_object");
+    removed_[object] = 1;
+    pending_moves_.erase(object);
+    auto it = std::find(pending_adds_.begin(), pending_adds_.end(), object);
+    if (it != pending_adds_.end()) {  // added and removed before an update: never built
+        pending_adds_.erase(it);
+        blank_object(object);
+        return;
+    }
+    if (solved_) pending_removes_.push_back(object);
+    else blank_object(object);
+}
+
+void Solver::blank_object(int object) {
+    ObjectDesc& o = scene_.objects_mut()[object];
+    ObjectDesc empty;
+    empty.name = o.name;
+    empty.cluster = o.cluster;
+    empty.occluder = o.occluder;
+    o = std::move(empty);
+    if (size_t(object) < poses_.size()) poses_[object] = Pose{};
+}
+
+void Solver::commit_topology() {
+    removed_.resize(scene_.objects().size(), 0);
+    for (int r : pending_removes_) blank_object(r);
+    pending_removes_.clear();
+    pending_adds_.clear();  // already in scene_: the full solve builds them
+}
+
+bool Solver::changes_outgrow_frame() const {
+    if (pending_adds_.empty() && pending_removes_.empty()) return false;
+    // The frame a full solve would derive (hierarchy.cpp: the box of every corner-used vertex
+    // as given, placements aside) against the one this solution was built in.
+    Aabb all;
+    for (size_t oi = 0; oi < scene_.objects().size(); ++oi) {
+        if (removed(int(oi))) continue;
+        const ObjectDesc& d = scene_.objects()[oi];
+        for (int32_t c : d.corner_verts) all.grow(d.vertices[c]);
+    }
+    if (all.empty()) return false;  // nothing left: the update handles an empty scene
+    // More than twice as coarse or as fine: the minimum element area and the ray offsets,
+    // relative to the frame, would differ that much from a fresh solve's. Far-off vertices
+    // (1e30) end here too, before they reach Embree as rays it refuses (fuzzer finding).
+    const double d = all.diagonal();
+    return !std::isfinite(d) || d > 2.0 * h_.unit || d < 0.5 * h_.unit;
+}
+
+void Solver::apply_topology(Change& ch) {
+    Stats& s = stats_;
+    ch.inX.resize(h_.nodes.size(), 0);
+    // Cluster paths root-first up to `deepest`: relinked against their siblings, as the
+    // clusters above a moved object are; they changed shape (not the root: it has no links).
+    auto chain_to = [&](int deepest) {
+        std::vector<int> chain;
+        for (int a = deepest; a >= 0; a = h_.nodes[a].parent) chain.push_back(a);
+        std::reverse(chain.begin(), chain.end());
+        for (int a : chain)
+            if (a != h_.root) ch.inX[a] = 1;
+        return chain;
+    };
+
+    // Removals: the nodes leave the tree, then every link with a dead end goes (the object's
+    // own, and those of collection clusters it left empty) with the history below it.
+    if (!pending_removes_.empty()) {
+        for (int r : pending_removes_) {
+            const Aabb b = h_.object_box(r);
+            if (!b.empty()) ch.clips.push_back(b);
+            for (int id : h_.object_nodes(r))
+                if (!h_.nodes[id].is_cluster()) --stats_.element_nodes;
+            ch.chains.push_back(chain_to(h_.remove_object(r)));
+            vis_->remove_object(r);
+            if (size_t(r) < tri_prim_.size()) tri_prim_[r].clear();
+            blank_object(r);
+            ++s.objects_removed;
+        }
+        std::vector<int> doomed;
+        for (size_t i = 0; i < links_.size(); ++i) {
+            const Link& l = links_[i];
+            if (l.dead || !(h_.nodes[l.src].dead || h_.nodes[l.rcv].dead)) continue;
+            if (l.active) ++s.links_removed;
+            doomed.push_back(int(i));
+        }
+        for (int i : doomed) kill(i);  // dead nodes' link lists are empty already: no harm
+        pending_removes_.clear();
+    }
+
+    // Additions.
+    const size_t no = scene_.objects().size();
+    poses_.resize(no);
+    tri_prim_.resize(no);
+    removed_.resize(no, 0);
+    const size_t first_new_node = h_.nodes.size();
+    for (int a : pending_adds_) {
+        const size_t first_prim = h_.prims.size(), first_surface = h_.surfaces.size();
+        const int top = h_.add_object(scene_, a, settings_.use_clustering);
+        stats_.element_nodes += int64_t(h_.surfaces.size() - first_surface);
+        ch.inX.resize(h_.nodes.size(), 0);
+        // Its own Embree instance, placed as given (identity pose).
+        std::vector<Vec3> tv;
+        for (size_t pi = first_prim; pi < h_.prims.size(); ++pi) {
+            const Primitive& p = h_.prims[pi];
+            tv.insert(tv.end(), {p.poly.v[0], p.poly.v[1], p.poly.v[2]});
+            tri_prim_[a].push_back(int(pi));
+            if (p.poly.n == 4) {
+                tv.insert(tv.end(), {p.poly.v[0], p.poly.v[2], p.poly.v[3]});
+                tri_prim_[a].push_back(int(pi));
+            }
+        }
+        if (!scene_.objects()[a].occluder) tv.clear();  // lights.h: area lights cast no shadow
+        vis_->add_object(a, tv);
+        const Aabb b = h_.object_box(a);
+        if (!b.empty()) ch.clips.push_back(b);
+        ++s.objects_added;
+        if (h_.surfaces.size() == first_surface) continue;  // only zero-area polygons
+        if (h_.object_node[a] >= 0) {
+            // Linked like a moved object, cluster pairs first, from where it hangs; its
+            // inside (what the root's self-link gives it in a full solve) from its own
+            // self-link, or that of the new collection cluster it came with.
+            ch.chains.push_back(chain_to(h_.object_node[a]));
+            ch.seeds.push_back({top, top, -1});
+        } else {
+            // Unclustered: each new surface with every other surface below the root.
+            std::vector<int> fresh;
+            for (size_t si = first_surface; si < h_.surfaces.size(); ++si) fresh.push_back(h_.surfaces[si].root);
+            for (int r : fresh)
+                for (int c : h_.nodes[h_.root].children) {
+                    if (c == r) continue;
+                    ch.seeds.push_back({c, r, -1});
+                    if (size_t(c) < first_new_node) ch.seeds.push_back({r, c, -1});
+                }
+        }
+    }
+    pending_adds_.clear();
+    ch.inX.resize(h_.nodes.size(), 0);
+    for (size_t id = first_new_node; id < h_.nodes.size(); ++id) ch.inX[id] = 1;
+    // A later removal in this update may have taken a cluster of an earlier chain with it.
+    for (auto& chain : ch.chains) {
+        auto dead = std::find_if(chain.begin(), chain.end(), [this](int a) { return h_.nodes[a].dead; });
+        chain.erase(dead, chain.end());
+    }
+    // The direct light of every leaf may have a new shadow (or lost one), as after a move;
+    // contacts refer to surfaces that may be gone.
+    std::fill(lights_.have.begin(), lights_.have.end(), 0);
+    lights_.recheck = true;
+    lights_.contacts.clear();
+}
+
+bool Solver::reseal(size_t known) {
+    std::vector<char> was(known, 0);
+    for (size_t s = 0; s < known; ++s) was[s] = !h_.surface_dead(int(s)) && h_.nodes[h_.surfaces[s].root].sealed;
+    compute_sealed();
+    for (size_t s = 0; s < known; ++s)
+        if (!h_.surface_dead(int(s)) && was[s] != char(h_.nodes[h_.surfaces[s].root].sealed)) return false;
+    return true;
+}
+
+}  // namespace radiosity

@@ -405,17 +405,33 @@ void Solver::adjust_links(Change& ch, std::vector<int>& recheck_history) {
     // cluster pairs first (this also links an object where it had no link before).
     std::set<std::pair<int, int>> pairs;
     std::vector<Candidate> wave;
+    // A self-link seed (an added subtree) makes every pair of siblings inside its node when
+    // link_from expands it: a pair made again from a chain, or a seed inside another seed's
+    // subtree, would transport the same light twice (several objects added into one new
+    // collection diverged: sums of couplings above 1).
+    std::vector<char> seeded(h_.nodes.size(), 0);
+    for (const Candidate& c : ch.seeds)
+        if (c.src == c.rcv) seeded[c.src] = 1;
+    auto inside_seed = [&](int n) {
+        for (int a = n; a >= 0; a = h_.nodes[a].parent)
+            if (seeded[a]) return true;
+        return false;
+    };
     for (const auto& chain : ch.chains)
-        for (size_t i = 0; i + 1 < chain.size(); ++i)
+        for (size_t i = 0; i + 1 < chain.size(); ++i) {
+            if (inside_seed(chain[i])) continue;
             for (int sib : h_.nodes[chain[i]].children) {
                 if (sib == chain[i + 1]) continue;
                 if (pairs.insert({sib, chain[i + 1]}).second) wave.push_back({sib, chain[i + 1], -1});
                 if (pairs.insert({chain[i + 1], sib}).second) wave.push_back({chain[i + 1], sib, -1});
             }
+        }
     // Added objects: their own inside (a self-link, expanded by link_from) and, unclustered,
     // their surfaces with every other one.
-    for (const Candidate& c : ch.seeds)
+    for (const Candidate& c : ch.seeds) {
+        if (c.src == c.rcv && h_.nodes[c.src].parent >= 0 && inside_seed(h_.nodes[c.src].parent)) continue;
         if (pairs.insert({c.src, c.rcv}).second) wave.push_back(c);
+    }
     // Unclustered scenes have no object cluster: link each moved surface with the rest.
     for (auto& [obj, pose] : pending_moves_) {
         (void)pose;

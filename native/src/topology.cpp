@@ -172,6 +172,22 @@ void Solver::apply_topology(Change& ch) {
         auto dead = std::find_if(chain.begin(), chain.end(), [this](int a) { return h_.nodes[a].dead; });
         chain.erase(dead, chain.end());
     }
+    // The scene's size changed (changes_outgrow_frame() allows up to 2x): the tolerances a fresh
+    // solve derives from it (smallest element area, ray offsets) follow, so refinement from here
+    // on stops where a fresh solve's does (the frame itself stays). Many objects added at once
+    // to a small scene made 33 % more links than a fresh solve without this.
+    Aabb box;
+    for (const Primitive& p : h_.prims)
+        if (p.object >= 0)
+            for (int k = 0; k < p.poly.n; ++k) box.grow(p.poly.v[k]);
+    if (!box.empty() && box.diagonal() > 0) {
+        h_.scene_box = box;
+        h_.scene_diag = box.diagonal();
+        min_area_ = settings_.min_area_fraction * h_.scene_diag * h_.scene_diag;
+        double mag = 0;
+        for (int k = 0; k < 3; ++k) mag = std::max({mag, std::fabs(box.lo[k]), std::fabs(box.hi[k])});
+        vis_->set_epsilon(std::max(1e-6 * h_.scene_diag, 4e-7 * mag));  // as solve() sets it
+    }
     // The direct light of every leaf may have a new shadow (or lost one), as after a move;
     // contacts refer to surfaces that may be gone.
     std::fill(lights_.have.begin(), lights_.have.end(), 0);

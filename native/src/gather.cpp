@@ -127,20 +127,26 @@ void Solver::pull_up_clusters() {
 // A leaf decides with its own escape rays the first time it is a leaf in a closure pass;
 // its children inherit the answer (and the decider) when it splits.
 void Solver::compute_closure() {
-    if (settings_.closure_rays <= 0) return;
     for (int pass = 0;; ++pass) {
         collect_receivers();
         std::vector<double> fsum(h_.nodes.size(), 0.0);
         sweep(true, &fsum);
         parallel_for(leaves_.size(), settings_.threads, [&](size_t i) {
             Node& n = h_.nodes[leaves_[i]];
-            n.closure = 1.0;
-            double f = fsum[leaves_[i]];
+            const double f = fsum[leaves_[i]];
+            // Guard, open or closed: the iteration contracts only if every leaf reflects less
+            // than it gathers (rho * sum of couplings < 1). Sums above 1 (coincident faces, a
+            // pair linked twice) at reflectance near 1 diverged (fuzzer: 5e22, then inf after
+            // a move); such a leaf is scaled back to a gain just below 1.
+            constexpr double kMaxGain = 0.9995;
+            const double gain = n.rho.max() * f;
+            n.closure = gain > kMaxGain ? kMaxGain / gain : 1.0;
+            if (settings_.closure_rays <= 0) return;
             if (!(f > 0.25 && f < 4.0)) return;  // far off 1 (DRAFT can be): a missing link, not a small error
             if (n.enclosed < 0) decide_enclosed(leaves_[i], nullptr);
             if (n.enclosed == 1) n.closure = 1.0 / f;
         }, 32);
-        if (pass >= settings_.closure_refine_passes || !closure_refine(fsum)) break;
+        if (settings_.closure_rays <= 0 || pass >= settings_.closure_refine_passes || !closure_refine(fsum)) break;
     }
 }
 

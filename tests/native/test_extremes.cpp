@@ -998,9 +998,9 @@ TEST(Extremes, RadianceAtFarOrNonFinitePoints) {
 // fanned into coincident triangles facing each other) with reflectance 0.999 next to a 1e6
 // emitter. Its couplings sum above 1 where the closure correction does not apply, so the
 // gathering diverges: the first solve ends at 5e22 (finite, wrong), the update after a rigid
-// move overflows to inf. A fresh solve of the moved scene converges (max 1e6). Disabled until
-// the gathering guards against couplings summing above 1 / rho (gather.cpp).
-TEST(Extremes, DISABLED_SelfOverlappingPolygonNearOneDoesNotDiverge) {
+// move overflows to inf. A fresh solve of the moved scene converges (max 1e6). Fixed by the
+// guard in compute_closure (gather.cpp): no leaf's couplings sum above 1.
+TEST(Extremes, SelfOverlappingPolygonNearOneDoesNotDiverge) {
     SceneDesc s;
     ObjectDesc a;
     a.name = "obj0";

@@ -29,6 +29,21 @@ Solver::Solver(SceneDesc scene, Settings settings) : scene_(std::move(scene)), s
     removed_.assign(scene_.objects().size(), 0);
 }
 
+void Solver::add_object_geometry(int o, const std::vector<int>& prims) {
+    std::vector<Vec3> tv;
+    for (int pi : prims) {
+        const Primitive& p = h_.prims[size_t(pi)];
+        tv.insert(tv.end(), {p.poly.v[0], p.poly.v[1], p.poly.v[2]});
+        tri_prim_[size_t(o)].push_back(pi);
+        if (p.poly.n == 4) {
+            tv.insert(tv.end(), {p.poly.v[0], p.poly.v[2], p.poly.v[3]});
+            tri_prim_[size_t(o)].push_back(pi);
+        }
+    }
+    if (!scene_.objects()[size_t(o)].occluder) tv.clear();  // lights.h: area lights cast no shadow
+    vis_->add_object(o, tv);
+}
+
 void Solver::check_cancel() const {
     if (control_ && control_->cancel.load(std::memory_order_relaxed)) throw Cancelled();
 }
@@ -56,23 +71,11 @@ void Solver::solve(Control* control) {
     for (int k = 0; k < 3; ++k)
         mag = std::max({mag, std::fabs(h_.scene_box.lo[k]), std::fabs(h_.scene_box.hi[k])});
     vis_->set_epsilon(std::max(1e-6 * h_.scene_diag, 4e-7 * mag));
-    std::vector<std::vector<int>> tri_prim(scene_.objects().size());
-    for (size_t o = 0; o < scene_.objects().size(); ++o) {
-        std::vector<Vec3> tv;
-        for (size_t pi = 0; pi < h_.prims.size(); ++pi) {
-            const Primitive& p = h_.prims[pi];
-            if (p.object != int(o)) continue;
-            tv.insert(tv.end(), {p.poly.v[0], p.poly.v[1], p.poly.v[2]});
-            tri_prim[o].push_back(int(pi));
-            if (p.poly.n == 4) {
-                tv.insert(tv.end(), {p.poly.v[0], p.poly.v[2], p.poly.v[3]});
-                tri_prim[o].push_back(int(pi));
-            }
-        }
-        if (!scene_.objects()[o].occluder) tv.clear();  // lights.h: area lights cast no shadow
-        vis_->add_object(int(o), tv);
-    }
-    tri_prim_ = std::move(tri_prim);
+    std::vector<std::vector<int>> prims_of(scene_.objects().size());
+    for (size_t pi = 0; pi < h_.prims.size(); ++pi)
+        if (h_.prims[pi].object >= 0) prims_of[size_t(h_.prims[pi].object)].push_back(int(pi));  // -1: skipped
+    tri_prim_.assign(scene_.objects().size(), {});
+    for (size_t o = 0; o < scene_.objects().size(); ++o) add_object_geometry(int(o), prims_of[o]);
     stats_.element_nodes = int64_t(h_.surfaces.size());
     min_area_ = settings_.min_area_fraction * h_.scene_diag * h_.scene_diag;
 

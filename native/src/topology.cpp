@@ -130,18 +130,9 @@ void Solver::apply_topology(Change& ch) {
         stats_.element_nodes += int64_t(h_.surfaces.size() - first_surface);
         ch.inX.resize(h_.nodes.size(), 0);
         // Its own Embree instance, placed as given (identity pose).
-        std::vector<Vec3> tv;
-        for (size_t pi = first_prim; pi < h_.prims.size(); ++pi) {
-            const Primitive& p = h_.prims[pi];
-            tv.insert(tv.end(), {p.poly.v[0], p.poly.v[1], p.poly.v[2]});
-            tri_prim_[a].push_back(int(pi));
-            if (p.poly.n == 4) {
-                tv.insert(tv.end(), {p.poly.v[0], p.poly.v[2], p.poly.v[3]});
-                tri_prim_[a].push_back(int(pi));
-            }
-        }
-        if (!scene_.objects()[a].occluder) tv.clear();  // lights.h: area lights cast no shadow
-        vis_->add_object(a, tv);
+        std::vector<int> prims(h_.prims.size() - first_prim);
+        for (size_t k = 0; k < prims.size(); ++k) prims[k] = int(first_prim + k);
+        add_object_geometry(a, prims);
         const Aabb b = h_.object_box(a);
         if (!b.empty()) ch.clips.push_back(b);
         ++s.objects_added;

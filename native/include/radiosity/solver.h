@@ -213,6 +213,8 @@ private:
     void compute_sealed();
     bool move_breaks_seal() const;
     void check_cancel() const;
+    // An object's triangles (its primitives, quads as two) into Embree and tri_prim_.
+    void add_object_geometry(int object, const std::vector<int>& prims);
     void set_progress(double f) const;
     void compute_stats();
     // Adds the time since the previous lap to the named phase of stats_.phases.

@@ -116,6 +116,7 @@ void Solver::refresh(int id, const Link& f) {
     l.vis = f.vis;
     l.partial = f.partial;
     l.must_refine = f.must_refine;
+    l.blocked = f.blocked;
     l.samples = f.samples;
     l.settled = false;
     l.stale = false;
@@ -386,7 +387,7 @@ void Solver::adjust_links(Change& ch, std::vector<int>& recheck_history) {
         const bool changed = f.K != l.K || f.partial != l.partial;
         refresh(recompute[k], f);
         l.rejudge = true;
-        const bool transports = f.must_refine || f.K > 0;
+        const bool transports = f.must_refine || f.K > 0 || f.blocked;
         if (l.active && !transports) {
             deactivate(recompute[k]);  // newly fully occluded: a new shadow
             l.occluded = true;

@@ -99,6 +99,10 @@ Solver::Judgement Solver::judge(const Link& l) const {
         double geo = std::min(8.0, std::max(std::min(1.0, 2.0 * (P.radius + Q.radius) / l.dist), (l.dist / gap) * (l.dist / gap) - 1.0));
         double visterm = l.partial ? 2.0 * std::min(l.vis, 1.0 - l.vis) + 0.25 : 0.0;
         err_rcv = rho * Lp * l.K_unoccluded * (geo + visterm);
+        // All rays blocked: what may have been missed is about the visible fraction that n
+        // rays fail to see with 95 % confidence (the rule of three, 3 / n), at the
+        // point model's coupling (larger in the near field).
+        if (l.blocked) err_rcv = rho * Lp * l.K_unoccluded * std::max(1.0, geo) * 3.0 / settings_.rays_per_link;
         err_src = rho * l.K * dLp;
     }
     if (std::max(err_rcv, err_src) <= threshold_) return j;
@@ -227,7 +231,7 @@ void Solver::link_from(std::vector<Candidate> wave) {
         std::vector<int> ids;
         for (size_t i = 0; i < made.size(); ++i) {
             Link& l = made[i];
-            if (!l.must_refine && l.K <= 0) {
+            if (!l.must_refine && !l.blocked && l.K <= 0) {
                 // Geometrically possible but fully occluded: kept aside (not gathered) so that
                 // a move that opens the view can bring it back (paper 3.3, created links).
                 if (l.K_unoccluded > 0) {

@@ -28,6 +28,10 @@ struct Link {
     bool settled = false;  // the 3.5 criterion found the receiver's form factor converged
     bool must_refine = false;  // bounding spheres overlap: the point model is invalid
     bool occluded = false; // fully occluded: kept (not gathered) so a move can reopen it
+    // A cluster link whose rays were all blocked. It stays active with K = 0 so that the
+    // oracle weighs the light the rays may have missed (refine.cpp) instead of splitting it
+    // down to element pairs unconditionally.
+    bool blocked = false;
     bool dead = false;     // removed by a dynamic update or an un-refinement
     bool rejudge = false;  // re-evaluated by an update: the oracle must look at it again
     // A history link whose rays a move crossed, not re-evaluated yet (lazily, when the

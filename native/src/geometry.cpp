@@ -61,14 +61,18 @@ Poly Poly::child(int k) const {
     return c;
 }
 
-Vec3 Poly::sample(double u1, double u2) const {
+double Poly::first_share() const {
+    if (n == 3) return 1.0;
+    double a1 = tri_area(v[0], v[1], v[2]), a2 = tri_area(v[0], v[2], v[3]);
+    return (a1 + a2) > 0 ? a1 / (a1 + a2) : 0.5;
+}
+
+Vec3 Poly::sample(double f, double u1, double u2) const {
     auto in_tri = [](const Vec3& a, const Vec3& b, const Vec3& c, double s, double t) {
         double su = std::sqrt(s);
         return a * (1 - su) + b * (su * (1 - t)) + c * (su * t);
     };
     if (n == 3) return in_tri(v[0], v[1], v[2], u1, u2);
-    double a1 = tri_area(v[0], v[1], v[2]), a2 = tri_area(v[0], v[2], v[3]);
-    double f = (a1 + a2) > 0 ? a1 / (a1 + a2) : 0.5;
     if (u1 < f) return in_tri(v[0], v[1], v[2], u1 / f, u2);
     return in_tri(v[0], v[2], v[3], (u1 - f) / (1 - f), u2);
 }

@@ -292,6 +292,7 @@ void Hierarchy::build(const SceneDesc& scene, bool use_clustering) {
 
     surface_ancestors_.assign(surfaces.size(), {});
     for (size_t s = 0; s < surfaces.size(); ++s) set_surface_ancestors(int(s));
+    refresh_surface_geom();
 }
 
 void Hierarchy::set_surface_material(const SceneDesc& scene, int s) {
@@ -422,6 +423,7 @@ void Hierarchy::place_object(int object, const double R[9], const Vec3& t) {
         up.push_back(root);
     }
     for (int a : up) refresh_cluster_geometry(a);
+    refresh_surface_geom();
 }
 
 }  // namespace radiosity
@@ -451,6 +453,37 @@ int Hierarchy::ensure_cluster_node(const SceneDesc& scene, int c) {
     return id;
 }
 
+void Hierarchy::refresh_surface_geom() {
+    surface_geom.resize(surface_order.size());
+    for (size_t i = 0; i < surface_order.size(); ++i) {
+        const int r = surfaces[surface_order[i]].root;
+        const Node& e = nodes[r];
+        SurfaceGeom& g = surface_geom[i];
+        g.poly = e.poly;
+        g.normal = e.normal;
+        g.area = e.area;
+        g.share = e.poly.first_share();
+        g.root = r;
+        g.object = e.object;
+        g.sealed = e.sealed;
+    }
+}
+
+bool Hierarchy::surface_geom_current() const {
+    if (surface_geom.size() != surface_order.size()) return false;
+    for (size_t i = 0; i < surface_order.size(); ++i) {
+        const int r = surfaces[surface_order[i]].root;
+        const Node& e = nodes[r];
+        const SurfaceGeom& g = surface_geom[i];
+        if (g.root != r || g.object != e.object || g.sealed != e.sealed || g.area != e.area || g.poly.n != e.poly.n)
+            return false;
+        for (int k = 0; k < e.poly.n; ++k)
+            if (g.poly.v[k].x != e.poly.v[k].x || g.poly.v[k].y != e.poly.v[k].y || g.poly.v[k].z != e.poly.v[k].z)
+                return false;
+    }
+    return true;
+}
+
 void Hierarchy::rebuild_surface_order() {
     surface_order.clear();
     std::function<void(int)> walk = [&](int id) {
@@ -464,6 +497,7 @@ void Hierarchy::rebuild_surface_order() {
         n.surf_end = int(surface_order.size());
     };
     walk(root);
+    refresh_surface_geom();
 }
 
 int Hierarchy::add_object(const SceneDesc& scene, int oi, bool use_clustering) {

@@ -216,6 +216,7 @@ void Solver::compute_sealed() {
         h_.nodes[h_.surfaces[s].root].sealed = cand[s] != 0;
         if (!cand[s]) sealed_box_[s] = Aabb{};
     }
+    h_.refresh_surface_geom();
 }
 
 void Solver::lap(const char* phase) {

@@ -122,21 +122,30 @@ Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
 }
 
 // Picks surfaces of a node in proportion to their projected area toward d: the surfaces
-// that can take part in a transfer along d are the ones worth a ray.
+// that can take part in a transfer along d are the ones worth a ray. A cluster's surfaces
+// come from the contiguous Hierarchy::surface_geom range; the buffers are the thread's own
+// (a link evaluation is too short for two allocations each).
 class FacingSampler {
 public:
+    struct Buffers {
+        std::vector<int> ids;
+        std::vector<double> cdf;
+    };
     // Sealed surfaces take part only when the other end belongs to their own object.
-    FacingSampler(const Hierarchy& h, int node, const Vec3& d, int other_object) : h_(h) {
+    FacingSampler(const Hierarchy& h, int node, const Vec3& d, int other_object, Buffers& buf)
+        : h_(h), ids_(buf.ids), cdf_(buf.cdf) {
+        ids_.clear();
+        cdf_.clear();
         const Node& n = h.nodes[node];
-        auto take = [other_object](const Node& e) { return !e.sealed || e.object == other_object; };
+        auto take = [other_object](bool sealed, int object) { return !sealed || object == other_object; };
         if (!n.is_cluster()) {
-            if (take(n)) add(node, n.area * std::max(0.0, dot(n.normal, d)));
+            single_ = {n.poly, n.normal, n.area, n.poly.first_share(), node, n.object, n.sealed};
+            if (take(n.sealed, n.object)) add(-1, n.area * std::max(0.0, dot(n.normal, d)));
             return;
         }
         for (int i = n.surf_begin; i < n.surf_end; ++i) {
-            int r = h.surfaces[h.surface_order[i]].root;
-            const Node& e = h.nodes[r];
-            if (take(e)) add(r, e.area * std::max(0.0, dot(e.normal, d)));
+            const SurfaceGeom& g = h.surface_geom[i];
+            if (take(g.sealed, g.object)) add(i, g.area * std::max(0.0, dot(g.normal, d)));
         }
     }
     double total() const { return cdf_.empty() ? 0.0 : cdf_.back(); }
@@ -145,22 +154,23 @@ public:
         double u = rng.next() * total();
         size_t i = size_t(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin());
         i = std::min(i, ids_.size() - 1);
-        const Node& e = h_.nodes[ids_[i]];
-        *normal = e.normal;
-        *root = ids_[i];
+        const SurfaceGeom& g = ids_[i] < 0 ? single_ : h_.surface_geom[ids_[i]];
+        *normal = g.normal;
+        *root = g.root;
         double u1 = rng.next(), u2 = rng.next();
-        return e.poly.sample(u1, u2);
+        return g.poly.sample(g.share, u1, u2);
     }
 
 private:
-    void add(int id, double w) {
+    void add(int i, double w) {
         if (w <= 0) return;
-        ids_.push_back(id);
+        ids_.push_back(i);
         cdf_.push_back(total() + w);
     }
     const Hierarchy& h_;
-    std::vector<int> ids_;
-    std::vector<double> cdf_;
+    std::vector<int>& ids_;
+    std::vector<double>& cdf_;
+    SurfaceGeom single_;  // an element end
 };
 
 // Whether every surface below P and Q lies in one plane (either side of it). Stops at the
@@ -170,25 +180,25 @@ bool coplanar(const Hierarchy& h, const Node& P, const Node& Q) {
     Vec3 n0;
     double d0 = 0;
     bool have = false;
-    auto on_plane = [&](const Node& e) {
+    auto on_plane = [&](const Poly& poly, const Vec3& normal) {
         if (!have) {
-            n0 = e.normal;
-            d0 = dot(n0, e.poly.v[0]);
+            n0 = normal;
+            d0 = dot(n0, poly.v[0]);
             have = length2(n0) > 0;
             if (!have) return false;
         }
-        if (std::fabs(std::fabs(dot(e.normal, n0)) - 1.0) > 1e-9) return false;
-        for (int k = 0; k < e.poly.n; ++k)
-            if (std::fabs(dot(n0, e.poly.v[k]) - d0) > tol) return false;
+        if (std::fabs(std::fabs(dot(normal, n0)) - 1.0) > 1e-9) return false;
+        for (int k = 0; k < poly.n; ++k)
+            if (std::fabs(dot(n0, poly.v[k]) - d0) > tol) return false;
         return true;
     };
     for (const Node* c : {&P, &Q}) {
         if (!c->is_cluster()) {
-            if (!on_plane(*c)) return false;
+            if (!on_plane(c->poly, c->normal)) return false;
             continue;
         }
         for (int i = c->surf_begin; i < c->surf_end; ++i)
-            if (!on_plane(h.nodes[h.surfaces[h.surface_order[i]].root])) return false;
+            if (!on_plane(h.surface_geom[i].poly, h.surface_geom[i].normal)) return false;
     }
     return have;
 }
@@ -197,22 +207,22 @@ bool coplanar(const Hierarchy& h, const Node& P, const Node& Q) {
 bool may_face(const Hierarchy& h, const Node& n, const Vec3& d, double s) {
     if (!n.is_cluster()) return dot(n.normal, d) > -s;
     for (int i = n.surf_begin; i < n.surf_end; ++i)
-        if (dot(h.nodes[h.surfaces[h.surface_order[i]].root].normal, d) > -s) return true;
+        if (dot(h.surface_geom[i].normal, d) > -s) return true;
     return false;
 }
 
 // Whether some surface below n has part of `box` strictly in front of its plane: a
 // necessary condition for n to send light into the box (or receive light from it).
 bool faces_box(const Hierarchy& h, const Node& n, const Aabb& box, double eps) {
-    auto front = [&](const Node& e) {
+    auto front = [&](const Poly& poly, const Vec3& normal) {
         const Vec3 c = box.center(), half = box.extent() * 0.5;
-        double reach = dot(c - e.poly.v[0], e.normal);
-        for (int a = 0; a < 3; ++a) reach += std::fabs(e.normal[a]) * half[a];
+        double reach = dot(c - poly.v[0], normal);
+        for (int a = 0; a < 3; ++a) reach += std::fabs(normal[a]) * half[a];
         return reach > eps;
     };
-    if (!n.is_cluster()) return front(n);
+    if (!n.is_cluster()) return front(n.poly, n.normal);
     for (int i = n.surf_begin; i < n.surf_end; ++i)
-        if (front(h.nodes[h.surfaces[h.surface_order[i]].root])) return true;
+        if (front(h.surface_geom[i].poly, h.surface_geom[i].normal)) return true;
     return false;
 }
 
@@ -247,7 +257,8 @@ Link cluster_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
         return l;
     }
     l.dir = d / r;
-    FacingSampler ps(h, src, l.dir, Q.object), qs(h, rcv, -l.dir, P.object);
+    thread_local FacingSampler::Buffers buf[2];
+    FacingSampler ps(h, src, l.dir, Q.object, buf[0]), qs(h, rcv, -l.dir, P.object, buf[1]);
     const double pa = ps.total();
     double rcv_cos = Q.is_cluster() ? 1.0 : std::max(0.0, dot(Q.normal, -l.dir));
     l.K_unoccluded = pa * rcv_cos / (kPi * r * r);

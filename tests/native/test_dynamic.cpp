@@ -77,6 +77,8 @@ TEST(Dynamic, TwoObjectsAtOnce) {
     inc.move_object(2, translation({35.6, 60.8, 0}).data());
     inc.move_object(3, translation({-100, -150, 0}).data());
     inc.update();
+    // The samplers' compact surface table follows the moved surfaces.
+    EXPECT_TRUE(inc.hierarchy().surface_geom_current());
     SceneDesc s = room({35.6, 60.8, 0});
     // Box2 moved too: rebuild it at its new place.
     SceneDesc f;

@@ -203,6 +203,8 @@ TEST(Topology, AddAndRemoveInOneUpdate) {
     inc.update();
     EXPECT_EQ(inc.stats().objects_added, 1);
     EXPECT_EQ(inc.stats().objects_removed, 1);
+    // The samplers' compact surface table follows additions and removals.
+    EXPECT_TRUE(inc.hierarchy().surface_geom_current());
     Solver full(room(false, true, true), settings());
     full.solve();
     EXPECT_LE(nrmse(corners_by_name(inc, kAll), corners_by_name(full, kAll)), kTol);

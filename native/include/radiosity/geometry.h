@@ -21,7 +21,11 @@ struct Poly {
     // leaf at an input corner is found by always descending into the same child index.
     Poly child(int k) const;
     // Uniformly distributed point for (u1,u2) in [0,1)^2.
-    Vec3 sample(double u1, double u2) const;
+    Vec3 sample(double u1, double u2) const { return sample(first_share(), u1, u2); }
+    // The same with a quad's first_share() computed once (samplers draw many points).
+    Vec3 sample(double share, double u1, double u2) const;
+    // Quads: the share of the area in triangle (v0, v1, v2); 1 for a triangle.
+    double first_share() const;
 };
 
 // The part of a polygon in front of a plane (a convex polygon of up to 5 vertices), sampled

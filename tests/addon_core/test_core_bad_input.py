@@ -79,3 +79,18 @@ def test_a_lone_object_at_any_scale_is_accepted():
                                 [0.5] * 3, [1, 1, 1])]
     scene_data.validate(si)
     assert np.isfinite(si.objects[0].vertices).all()
+
+
+def test_an_update_the_solver_runs_in_full_is_reported_as_full(native):
+    if getattr(native, "FAKE", False):
+        pytest.skip("the stand-in's update never decides to solve in full")
+    # A dark scene lit afterwards: the native update solves in full (adjust.cpp), and its
+    # counters start again from zero, so nothing is subtracted.
+    _job(native, scenes_np.room(light=0.0)).prepare().run()
+    lit = _job(native, scenes_np.room(light=10.0)).prepare()
+    assert lit.mode == "incremental"        # queued on the kept solver...
+    lit.run()
+    assert lit.mode == "full"               # ...which solved in full
+    assert lit.full_reason.startswith("the solver solved in full"), lit.full_reason
+    st = lit.native_stats()
+    assert "rays_cumulative" not in st and st["rays"] > 0

@@ -337,7 +337,9 @@ class SolveJob:
         if native_stats.get("mode") == "full":
             self.native_full = True
             why = [w for w in native_stats.get("warnings", None) or [] if "in full" in w]
-            self.full_reason = "the solver solved in full: " + (why[0] if why else "(no reason given)")
+            # The one silent case (native adjust.cpp): the scene is dark now or was dark.
+            self.full_reason = "the solver solved in full: " + (
+                why[0] if why else "the scene has, or had, no light")
             return native_stats
         for key, before in self._work_before.items():
             if key in native_stats:

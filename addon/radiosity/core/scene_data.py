@@ -173,6 +173,7 @@ def check_extent(scene_input):
     centre = np.median([0.5 * (a + b) for _, a, b in boxes], axis=0)
     far = max(boxes, key=lambda b: float(np.linalg.norm(0.5 * (b[1] + b[2]) - centre)))
     where = 0.5 * (far[1] + far[2])
+    vanish = [n for n in vanish if n != far[0]] or vanish   # the culprit may be tiny itself
     listed = ", ".join(f"'{n}'" for n in vanish[:5]) + (" …" if len(vanish) > 5 else "")
     raise InputError(
         f"object '{far[0]}' lies too far from the rest of the scene (at "

@@ -249,7 +249,8 @@ def _gather_light(obj, cluster, si, warnings):
             name=name, cluster=cluster, vertices=verts, loop_starts=starts, loop_totals=totals,
             corner_verts=cverts, reflectance=np.zeros((len(starts), 3), np.float32),
             emission=np.tile(np.asarray(rad, np.float32), (len(starts), 1)), target=None,
-            matrix=mat, local_vertices=core_lights.transform(verts, np.linalg.pinv(mat)),  # scale 0: singular
+            # pinv: a light scaled to 0 has a singular matrix (inv raised LinAlgError)
+            matrix=mat, local_vertices=core_lights.transform(verts, np.linalg.pinv(mat)),
             two_sided=np.zeros(len(starts), np.uint8), occluder=False))
         return
     pos = tuple(mat[:3, 3])

@@ -112,9 +112,10 @@ def test_non_finite_lights_and_world_are_errors_negative_power_is_zero(run_blend
     assert_refused(r["nan_world"], "world", "NaN")
     for k in ("nan_energy", "nan_location", "nan_world"):
         assert not any(r[k]["written"].values()), k
-    neg = r["negative_energy"]
+    neg = r["negative_energy"]      # with an area light 'Panel' scaled to 0 beside it
     assert_baked(neg)
     assert any("'Lamp'" in w and "negative" in w for w in _warnings(neg)), neg["reports"]
+    assert neg["stats"]["lights"] == 1 and neg["stats"]["objects"] == 4, neg["stats"]
 
 
 def test_non_finite_materials_are_errors_naming_object_and_material(run_blender):

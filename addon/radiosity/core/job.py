@@ -87,7 +87,7 @@ class SolveJob:
         self.changes = {}
         self.full_reason = None
         self._native_stats = None
-        self.native_full = False    # the native update chose to solve in full (its warning says why)
+        self.native_full = False    # the native update solved in full (its warning says why)
         self._work_before = {}      # cumulative native work counters before an update
 
     # -- setup -------------------------------------------------------------------------------

@@ -198,6 +198,10 @@ def case_lights():
     out["nan_world"] = attempt()
     rt.black_world()
     lamp.data.energy = -100.0
+    # An area light scaled to nothing: a singular matrix (no area, no light), not an error.
+    panel = rt.link(bpy.data.objects.new("Panel", bpy.data.lights.new("Panel", "AREA")))
+    panel.location = (0.0, 1.0, 1.5)
+    panel.scale = (0.0, 0.0, 0.0)
     update()
     out["negative_energy"] = attempt()
     return out

@@ -64,7 +64,11 @@ class BakeRun:
         if not props.attribute_name.strip():
             raise BakeError("the attribute name is empty")
         native = load_native()
-        si, self.matrices, warnings = gather.gather(self.scene, self.view_layer, self.depsgraph)
+        try:
+            si, self.matrices, warnings = gather.gather(self.scene, self.view_layer,
+                                                        self.depsgraph)
+        except InputError as exc:       # NaN/inf in a matrix or material: names the object
+            raise BakeError(str(exc)) from exc
         self.warnings.extend(warnings)
         si.lighting_only = bool(getattr(props, "lighting_only", False))
         si.adaptive_mesh = bool(getattr(props, "adaptive_mesh", False))
@@ -72,8 +76,11 @@ class BakeRun:
             raise BakeError("nothing to bake: no visible, renderable mesh object with faces "
                             "in the view layer")
         if not any(o.target is not None for o in si.objects):
-            raise BakeError("nothing to bake: no visible mesh object can receive colours "
-                            "(see the warnings)")
+            # The operator reports only this error (no run to report warnings from), so the
+            # reasons go into the message itself.
+            why = "; ".join(w for w in warnings if any(f"'{n}'" in w for n in si.unwritable))
+            raise BakeError("nothing to bake: no visible mesh object can receive colours"
+                            + (f" ({why})" if why else ""))
         key = scene_key(self.scene)
         if self.full:
             core_job.cache_drop(key)
@@ -156,6 +163,11 @@ class BakeRun:
             extra["byte_copy"] = byte_name
             extra["exposure"] = float(self.props.exposure)
         extra["lights"] = len(self.job.scene_input.lights)
+        if self.job.scene_input.unwritable:
+            # Took part in the solve (they cast and reflect light) but got no colours: linked
+            # library data, Edit Mode, topology-changing modifiers, shared meshes (warnings say
+            # which reason).
+            extra["unwritten_objects"] = list(self.job.scene_input.unwritable)
         self.result = stats.make_stats(
             mode, time.perf_counter() - self.t0, native_stats,
             self.job.fallback_counts(), extra)

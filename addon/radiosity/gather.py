@@ -83,8 +83,8 @@ def _write_target(obj, corner_verts, first_user, warnings):
         return None     # curves/text/metaballs take part in the solve but have no corners to write
     me = obj.data
     if obj.library is not None or me.library is not None:
-        warnings.append(f"object '{obj.name}': mesh '{me.name}' comes from a linked library "
-                        f"(read-only); it lights the scene but is not written")
+        warnings.append(f"object '{obj.name_full}': mesh '{me.name_full}' comes from a linked "
+                        f"library (read-only); it lights the scene but is not written")
         return None
     if obj.mode == "EDIT":
         warnings.append(f"object '{obj.name}' is in Edit Mode; leave Edit Mode to bake it")
@@ -102,6 +102,20 @@ def _write_target(obj, corner_verts, first_user, warnings):
         return None
     first_user[me.name_full] = obj.name
     return WriteTarget(obj.name_full, me.name_full)
+
+
+def _check_material_values(obj, rho, emission, mat_index, slot_names):
+    """NaN/inf in a used material's colours or strengths (or a colour x strength past float
+    range) refuse the bake, naming the object and the material."""
+    for label, arr in (("colour", rho), ("emission (colour x strength)", emission)):
+        bad = ~np.isfinite(arr).all(axis=1)
+        if bad.any():
+            face = int(np.argmax(bad))
+            slot = int(np.clip(mat_index[face], 0, max(len(slot_names) - 1, 0)))
+            name = slot_names[slot] if slot_names else "(none)"
+            raise scene_data.InputError(
+                f"object '{obj.name_full}': material '{name}' has a NaN or infinite {label} "
+                f"({int(bad.sum())} faces)")
 
 
 def gather(scene, view_layer, depsgraph):
@@ -152,13 +166,21 @@ def gather(scene, view_layer, depsgraph):
             continue
         try:
             if len(me.polygons) == 0:
-                continue            # edges/points only, or an empty curve: nothing to light
+                # Edges/points only, an empty curve, or a modifier (Mask, Weld, Boolean...) left
+                # nothing: nothing to light, and it costs nothing.
+                continue
             co, starts, totals, mat_index, corner_verts = _mesh_arrays(me)
             mat = np.array(obj_eval.matrix_world, dtype=np.float64)
             rho_slots, emis_slots = _slot_values(obj_eval, materials)
+            slot_names = [s.material.name if s.material is not None else "(empty slot)"
+                          for s in obj_eval.material_slots]
         finally:
             obj_eval.to_mesh_clear()
 
+        if not np.isfinite(mat).all():
+            raise scene_data.InputError(
+                f"object '{obj.name_full}': its world matrix (location, rotation or scale, its "
+                f"own or a parent's) has a NaN or infinite value")
         world = co.astype(np.float64) @ mat[:3, :3].T + mat[:3, 3]
         # A mirroring matrix would flip the winding-derived normal; Blender keeps the visible
         # side, so hand the solver the reversed winding and map results back afterwards.
@@ -169,9 +191,13 @@ def gather(scene, view_layer, depsgraph):
             scene_data.face_table(rho_slots, mat_index, [scene_data.DEFAULT_REFLECTANCE] * 3))
         emission = scene_data.clamp_emission(
             scene_data.face_table(emis_slots, mat_index, [0.0, 0.0, 0.0]))
+        _check_material_values(obj, rho, emission, mat_index, slot_names)
         target = _write_target(obj, corner_verts, first_user, warnings)
+        if target is None and obj.type == "MESH":
+            si.unwritable.append(obj.name_full)
+        # name_full: a linked object may share its name with a local one.
         si.objects.append(ObjectInput(
-            name=obj.name, cluster=object_cluster(obj), vertices=world, loop_starts=starts,
+            name=obj.name_full, cluster=object_cluster(obj), vertices=world, loop_starts=starts,
             loop_totals=totals, corner_verts=corner_verts, reflectance=rho, emission=emission,
             corner_perm=perm, target=target, matrix=mat, local_vertices=co))
         matrices[obj.name_full] = mat
@@ -194,13 +220,22 @@ def _gather_light(obj, cluster, si, warnings):
     mat = np.array(obj.matrix_world, dtype=np.float64)
     factor = _diffuse_factor(obj, light)
     color = tuple(light.color)
+    name = obj.name_full
+    if not np.isfinite(mat).all():
+        raise scene_data.InputError(
+            f"light '{name}': its world matrix (location, rotation or scale, its own or a "
+            f"parent's) has a NaN or infinite value")
+    power = float(light.energy)
+    if power < 0.0:
+        # Cycles would subtract light; a radiosity solution has no negative light.
+        warnings.append(f"light '{name}': negative power {power:g} is treated as 0")
+        power = 0.0
     version = tuple(bpy.app.version)
     cyc = getattr(light, "cycles", None)
     if cyc is not None and getattr(cyc, "is_portal", False):
         return      # a portal guides sampling; it emits nothing
     if cyc is not None and not getattr(cyc, "cast_shadow", True):
-        warnings.append(f"light '{obj.name}': 'Cast Shadow' off is not supported; it casts shadows")
-    name = obj.name
+        warnings.append(f"light '{name}': 'Cast Shadow' off is not supported; it casts shadows")
     if light.type == "AREA":
         sy = light.size_y if light.shape in ("RECTANGLE", "ELLIPSE") else light.size
         verts, starts, totals, cverts, area = core_lights.area_light_mesh(
@@ -209,29 +244,30 @@ def _gather_light(obj, cluster, si, warnings):
         if spread < np.pi - 1e-4:
             warnings.append(f"light '{name}': spread {np.degrees(spread):.0f} deg is not supported; "
                             f"it emits as a Lambertian surface (180 deg)")
-        rad = core_lights.area_radiance(light.energy, color, area, version, factor)
+        rad = core_lights.area_radiance(power, color, area, version, factor)
         si.objects.append(scene_data.ObjectInput(
             name=name, cluster=cluster, vertices=verts, loop_starts=starts, loop_totals=totals,
             corner_verts=cverts, reflectance=np.zeros((len(starts), 3), np.float32),
             emission=np.tile(np.asarray(rad, np.float32), (len(starts), 1)), target=None,
-            matrix=mat, local_vertices=core_lights.transform(verts, np.linalg.inv(mat)),
+            # pinv: a light scaled to 0 has a singular matrix (inv raised LinAlgError)
+            matrix=mat, local_vertices=core_lights.transform(verts, np.linalg.pinv(mat)),
             two_sided=np.zeros(len(starts), np.uint8), occluder=False))
         return
     pos = tuple(mat[:3, 3])
     if light.type == "POINT":
         si.lights.append(core_lights.LightInput(
-            name, core_lights.POINT, core_lights.point_intensity(light.energy, color, factor),
+            name, core_lights.POINT, core_lights.point_intensity(power, color, factor),
             position=pos, radius=float(light.shadow_soft_size)))
     elif light.type == "SPOT":
         si.lights.append(core_lights.LightInput(
-            name, core_lights.SPOT, core_lights.point_intensity(light.energy, color, factor),
+            name, core_lights.SPOT, core_lights.point_intensity(power, color, factor),
             position=pos, direction=core_lights.direction_of(mat),
             radius=float(light.shadow_soft_size), spot_size=float(light.spot_size),
             spot_blend=float(light.spot_blend),
             spot_cos_falloff=core_lights.spot_cos_falloff(version)))
     elif light.type == "SUN":
         si.lights.append(core_lights.LightInput(
-            name, core_lights.SUN, core_lights.sun_irradiance(light.energy, color, factor),
+            name, core_lights.SUN, core_lights.sun_irradiance(power, color, factor),
             direction=core_lights.direction_of(mat), angle=float(light.angle)))
 
 
@@ -260,6 +296,13 @@ def _gather_world(scene, si, warnings):
             if c_in.is_linked or s_in.is_linked:
                 warnings.append(f"world '{world.name}': a node tree drives the background; "
                                 f"using its unlinked colour x strength as a uniform sky")
-    rad = tuple(float(strength) * np.asarray(color[:3], float))
+    rad = float(strength) * np.asarray(color[:3], float)
+    if not np.isfinite(rad).all():
+        raise scene_data.InputError(f"world '{world.name}': the background colour x strength has "
+                                    f"a NaN or infinite value")
+    if (rad < 0).any():
+        warnings.append(f"world '{world.name}': negative background {tuple(rad)} is treated as 0")
+        rad = np.maximum(rad, 0.0)
+    rad = tuple(float(x) for x in rad)
     if max(rad) > 0:
         si.lights.append(core_lights.LightInput(world.name, core_lights.SKY, rad))

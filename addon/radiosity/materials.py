@@ -12,7 +12,7 @@ Cycles does.
 import bpy
 import numpy as np
 
-from .core.scene_data import DEFAULT_REFLECTANCE
+from .core.scene_data import DEFAULT_REFLECTANCE, MAX_REFLECTANCE
 
 _ZERO = np.zeros(3, dtype=np.float64)
 
@@ -148,4 +148,29 @@ class MaterialTable:
             hit = self._values[key] = (rho, emission)
             if warning:
                 self.warnings.append(warning)
+            self._check_range(mat, rho, emission)
         return hit
+
+    def _check_range(self, mat, rho, emission):
+        """One warning per material whose values the bake changes (README "Materials"): the
+        clamps keep the solve convergent, but Cycles would render these differently. NaN/inf
+        are not handled here: the object using the material is refused (gather.py)."""
+        if mat is None:
+            return
+        with np.errstate(invalid="ignore"):
+            if (emission < 0.0).any():
+                self.warnings.append(
+                    f"material '{mat.name}': negative emission {_fmt(emission)} is treated as 0 "
+                    f"(no negative light)")
+            # rho = 1 (a white material) is clamped silently: 0.999 is what a user means.
+            if (rho > 1.0).any():
+                self.warnings.append(
+                    f"material '{mat.name}': reflectance {_fmt(rho)} above 1 (it would create "
+                    f"light) is clamped to {MAX_REFLECTANCE}")
+            if (rho < 0.0).any():
+                self.warnings.append(
+                    f"material '{mat.name}': negative reflectance {_fmt(rho)} is treated as 0")
+
+
+def _fmt(rgb):
+    return "(" + ", ".join(f"{float(x):.4g}" for x in rgb) + ")"

@@ -42,8 +42,10 @@ def write_mesh(me, name, rgba):
 def resolve(target: WriteTarget):
     """Look the mesh up again by name (the bpy references taken at gather time may be stale
     after a modal job ran for a while)."""
-    obj = bpy.data.objects.get(target.object_name)
-    me = bpy.data.meshes.get(target.mesh_name)
+    # Targets are local data (linked library meshes are never written); the (name, None) key
+    # asks for the local ID even when a linked one has the same name.
+    obj = bpy.data.objects.get((target.object_name, None))
+    me = bpy.data.meshes.get((target.mesh_name, None))
     if obj is None or me is None or obj.data != me:
         return None
     return me

@@ -88,16 +88,33 @@ void split_polygon(const ObjectDesc& o, int f, double min_area, const Hierarchy&
             return;
         }
     }
-    // Fan from the vertex whose fan has only positively oriented triangles, if any.
-    int apex = 0;
-    for (int a = 0; a < n; ++a) {
-        bool ok = true;
-        for (int k = 1; k + 1 < n && ok; ++k) {
-            Vec3 p0 = P(a), p1 = P((a + k) % n), p2 = P((a + k + 1) % n);
-            if (dot(cross(p1 - p0, p2 - p0), nrm) <= 0) ok = false;
+    // Fan from the vertex whose fan has only positively oriented triangles, if any. Testing
+    // every vertex is O(n^2): a 100k-corner polygon with one reflex corner near its end took
+    // minutes (issue 6), so the tests get a budget of O(n). Small polygons are searched in full
+    // as before; when a large one exhausts the budget, its reflex corners are tried (a polygon
+    // with a single notch fans from the notch), then the fan from 0 stands, as when no apex works.
+    const int64_t budget0 = 32 * int64_t(n) + 1024;
+    int64_t budget = budget0;
+    auto fans_from = [&](int a) {
+        const Vec3 p0 = P(a);
+        for (int k = 1; k + 1 < n; ++k) {
+            if (--budget < 0) return false;
+            Vec3 p1 = P((a + k) % n), p2 = P((a + k + 1) % n);
+            if (dot(cross(p1 - p0, p2 - p0), nrm) <= 0) return false;
         }
-        if (ok) { apex = a; break; }
+        return true;
+    };
+    int apex = -1;
+    for (int a = 0; a < n && budget > 0 && apex < 0; ++a)
+        if (fans_from(a)) apex = a;
+    if (apex < 0 && budget <= 0) {
+        budget = budget0;
+        for (int a = 0; a < n && budget > 0 && apex < 0; ++a) {
+            Vec3 e1 = P(a) - P((a + n - 1) % n), e2 = P((a + 1) % n) - P(a);
+            if (dot(cross(e1, e2), nrm) <= 0 && fans_from(a)) apex = a;
+        }
     }
+    if (apex < 0) apex = 0;
     for (int k = 1; k + 1 < n; ++k) emit_tri(apex, (apex + k) % n, (apex + k + 1) % n);
 }
 

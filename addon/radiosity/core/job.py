@@ -17,6 +17,8 @@ IDLE, RUNNING, DONE, CANCELLED, FAILED = "IDLE", "RUNNING", "DONE", "CANCELLED",
 
 
 MATRIX_TOLERANCE = 1e-7
+# Native stats that count work since the last full solve (not per update).
+CUMULATIVE_WORK = ("rays", "links_evaluated")
 
 
 @dataclass
@@ -85,6 +87,8 @@ class SolveJob:
         self.changes = {}
         self.full_reason = None
         self._native_stats = None
+        self.native_full = False    # the native update solved in full (its warning says why)
+        self._work_before = {}      # cumulative native work counters before an update
 
     # -- setup -------------------------------------------------------------------------------
     def prepare(self):
@@ -251,7 +255,7 @@ class SolveJob:
 
     @property
     def mode(self):
-        return "incremental" if self.incremental is not None else "full"
+        return "incremental" if self.incremental is not None and not self.native_full else "full"
 
     @property
     def is_cached(self):
@@ -264,6 +268,11 @@ class SolveJob:
             self.state = DONE
             return False
         self.state = RUNNING
+        if self.incremental is not None:
+            # The native solver counts rays and link evaluations from its last full solve on;
+            # last_stats reports what this update did (see _per_update_work).
+            before = self.solver.stats()
+            self._work_before = {k: int(before.get(k, 0)) for k in CUMULATIVE_WORK}
         try:
             (incremental_call if self.incremental is not None else full_call)()
         except Exception as exc:
@@ -316,6 +325,29 @@ class SolveJob:
             self._finish()
         return finished
 
+    def _per_update_work(self, native_stats):
+        """Native stats of an incremental job with the work counters of this update only.
+
+        The native counters are cumulative since the kept solver's last full solve (the native
+        tests and benches take differences), so an update would otherwise report the rays of
+        the first solve plus every update since. When the native update solved in full instead
+        (stats "mode" is "full", a warning says why) its counters start from zero already."""
+        if self.incremental is None:
+            return native_stats
+        if native_stats.get("mode") == "full":
+            self.native_full = True
+            why = [w for w in native_stats.get("warnings", None) or [] if "in full" in w]
+            # The one silent case (native adjust.cpp): the scene is dark now or was dark.
+            self.full_reason = "the solver solved in full: " + (
+                why[0] if why else "the scene has, or had, no light")
+            return native_stats
+        for key, before in self._work_before.items():
+            if key in native_stats:
+                total = int(native_stats[key])
+                native_stats[key + "_cumulative"] = total
+                native_stats[key] = max(total - before, 0)
+        return native_stats
+
     def cancel(self):
         if self.state == RUNNING:
             self.solver.cancel()
@@ -344,7 +376,7 @@ class SolveJob:
                     # Solver order -> Blender order (the permutation is its own inverse).
                     rad = rad[obj.corner_perm]
                 self._radiance.append(rad)
-            native_stats = dict(self.solver.stats())
+            native_stats = self._per_update_work(dict(self.solver.stats()))
         except Exception as exc:
             self.state, self.error = FAILED, exc
             self._release(False)

@@ -10,6 +10,12 @@ import numpy as np
 
 DEFAULT_REFLECTANCE = 0.8      # objects without material: Blender's default grey
 MAX_REFLECTANCE = 0.999        # rho = 1 makes the system singular (no convergence); clamp below
+# The native solver works in the scene's frame (its bounding-box diagonal) snapped to a 2^-36
+# grid (README "Scale"): an object smaller than this fraction of the scene's size collapses to
+# zero-area polygons. One object placed absurdly far away (Blender stores an infinite location
+# as 3.4e38) would make every other object vanish and the bake come out black with a misleading
+# "no emitter" warning, so such a scene is refused with the objects named.
+MIN_OBJECT_FRACTION = 1e-10
 
 
 class InputError(ValueError):
@@ -62,6 +68,9 @@ class SceneInput:
     lights: list = field(default_factory=list)     # core.lights.LightInput (point/spot/sun/sky)
     lighting_only: bool = False    # output irradiance / pi instead of radiance (see README)
     adaptive_mesh: bool = False    # also return the leaf elements as meshes
+    # Names of mesh objects that take part but cannot receive colours (linked library data,
+    # Edit Mode, a topology-changing modifier, a shared mesh): reported, never written.
+    unwritable: list = field(default_factory=list)
 
     def add_cluster(self, name, parent=-1):
         self.clusters.append(ClusterInput(name, parent))
@@ -126,11 +135,61 @@ def validate_object(obj):
             raise InputError(f"object '{name}': polygon {p} has a non-finite {label}")
 
 
+def validate_light(li):
+    """Lights reach the native module as plain numbers: NaN/inf there would light nothing (or
+    everything) silently, and a NaN intensity would even pass for "no emitter"."""
+    fields = (("intensity", li.intensity), ("position", li.position),
+              ("direction", li.direction), ("radius", (li.radius,)), ("angle", (li.angle,)),
+              ("spot size", (li.spot_size,)), ("spot blend", (li.spot_blend,)))
+    for label, values in fields:
+        if not np.isfinite(np.asarray(values, dtype=np.float64)).all():
+            raise InputError(f"light '{li.name}': its {label} has a NaN or infinite value "
+                             f"({tuple(float(x) for x in np.ravel(values))})")
+
+
+def _length(v):
+    """Euclidean length without overflow of the squares (coordinates up to float64's range)."""
+    m = float(np.max(np.abs(v)))
+    return m * float(np.linalg.norm(np.asarray(v) / m)) if m > 0 else 0.0
+
+
+def check_extent(scene_input):
+    """Refuse a scene in which some object is too small to exist in the solver's frame because
+    another one is absurdly far away (see MIN_OBJECT_FRACTION)."""
+    boxes = []
+    for o in scene_input.objects:
+        if len(o.vertices):
+            boxes.append((o.name, o.vertices.min(axis=0), o.vertices.max(axis=0)))
+    if len(boxes) < 2:
+        return      # one object alone is always representable (results are scale invariant)
+    lo = np.min([b[1] for b in boxes], axis=0)
+    hi = np.max([b[2] for b in boxes], axis=0)
+    diag = _length(hi - lo)
+    sizes = {n: _length(b - a) for n, a, b in boxes}
+    vanish = [n for n, s in sizes.items() if 0.0 < s < MIN_OBJECT_FRACTION * diag]
+    if not vanish:
+        return
+    # The culprit: the object farthest from where most of the scene is.
+    centre = np.median([0.5 * (a + b) for _, a, b in boxes], axis=0)
+    far = max(boxes, key=lambda b: float(np.linalg.norm(0.5 * (b[1] + b[2]) - centre)))
+    where = 0.5 * (far[1] + far[2])
+    vanish = [n for n in vanish if n != far[0]] or vanish   # the culprit may be tiny itself
+    listed = ", ".join(f"'{n}'" for n in vanish[:5]) + (" …" if len(vanish) > 5 else "")
+    raise InputError(
+        f"object '{far[0]}' lies too far from the rest of the scene (at "
+        f"({where[0]:.3g}, {where[1]:.3g}, {where[2]:.3g}); the scene spans {diag:.3g}): "
+        f"{listed} would be smaller than the solver's resolution ({MIN_OBJECT_FRACTION:g} of the "
+        f"scene's size); move '{far[0]}' closer, or hide it from render")
+
+
 def validate(scene_input):
     if not scene_input.objects:
         raise InputError("nothing to bake: no visible, renderable mesh object with faces")
     for obj in scene_input.objects:
         validate_object(obj)
+    for li in scene_input.lights:
+        validate_light(li)
+    check_extent(scene_input)
 
 
 def fingerprint(scene_input, settings_key):

@@ -197,8 +197,11 @@ class Solver:
         self._set(object_id, reflectance, "rho")
 
     def update(self):
+        # Like the real module, rays count from the last full solve on (cumulative).
+        before = int(self._stats.get("rays", 0))
         self._done = False
         self.solve()
+        self._stats["rays"] += before
         self._stats.update(mode="incremental", env_env_links_recomputed=0,
                            env_env_links_tested=0, env_env_links_rejected=0,
                            obj_env_links_removed=0, links_created=0, history_reactivated=0,

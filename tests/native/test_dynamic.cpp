@@ -91,7 +91,9 @@ TEST(Dynamic, TwoObjectsAtOnce) {
     scenes::add_box(f, "Box2", c2, {100, 50, 0}, {160, 100, 60}, 2, Rgb{0.2, 0.4, 0.7}, {});
     Solver full(f, settings());
     full.solve();
-    EXPECT_LE(nrmse(inc.all_corner_radiance(), full.all_corner_radiance()), 0.02);
+    const double e = nrmse(inc.all_corner_radiance(), full.all_corner_radiance());
+    std::printf("[ figure ] two objects moved at once: incremental vs full NRMSE %.4f\n", e);
+    EXPECT_LE(e, 0.005);  // the equivalence goal
 }
 
 TEST(Dynamic, PruningNeverMissesAChangedLink) {

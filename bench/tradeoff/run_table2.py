@@ -169,6 +169,7 @@ def main():
     command = "python3 bench/tradeoff/run_table2.py " + " ".join(sys.argv[1:])
     if not a.report_only:
         t0 = time.perf_counter()
+        commit = bt_run.git_commit()
         for s in scenes:
             print(f"== {s} ({bt_run.machine()})", flush=True)
             bt_run.run(os.path.join(REPO, "example_blends", f"{s}.blend"), "table2_scene.py",
@@ -176,6 +177,7 @@ def main():
                         "--preset", preset, "--runs", a.runs, "--drag-steps", drag,
                         "--drag-preset", a.drag_preset or preset],
                        log_path=os.path.join(data_dir, f"{s}.log"))
+            bt_run.stamp(os.path.join(data_dir, f"{s}.json"), commit=commit)
         print(f"all scenes: {time.perf_counter() - t0:.0f} s", flush=True)
     data = [json.load(open(os.path.join(data_dir, f"{s}.json"))) for s in scenes
             if os.path.exists(os.path.join(data_dir, f"{s}.json"))]

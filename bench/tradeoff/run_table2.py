@@ -44,6 +44,18 @@ def med(xs):
     return statistics.median(xs)
 
 
+def update_mode(inc):
+    """The add-on's mode, and whether the native update fell back to a full solve (it does when
+    a move changes a closed pocket, adjust.cpp; the add-on still says "incremental" then, its
+    only trace a solver warning): no env–env link tested and no link update at all."""
+    mode = inc.get("mode") or "?"
+    if inc.get("full_reason"):
+        return f"{mode} ({inc['full_reason']})"
+    if mode == "incremental" and not inc.get("env_env_links_tested") and not inc.get("seconds_adjust"):
+        return "incremental requested, solved in full by the native update (no env–env link tested)"
+    return mode
+
+
 def report(data, out_dir, command):
     rows = [
         ("input surfaces (paper-style / polygons)",
@@ -94,12 +106,16 @@ def report(data, out_dir, command):
          lambda d: f"{med(m['ratio'] for m in d['moves']):.3f}; "
                    f"{med(m['ratio_native'] for m in d['moves']):.3f}",
          lambda p: f"{p['update'] / p['time']:.3f} (link update / full)"),
+        ("update mode", lambda d: "; ".join(sorted({update_mode(m["incremental"]) for m in d["moves"]})),
+         lambda p: ""),
         ("NRMSE incremental vs full", lambda d: f"{med(m['nrmse_inc_vs_full'] for m in d['moves']):.4f}",
          lambda p: ""),
         ("drag: preset, steps, median step s / full s = ratio",
          lambda d: (f"{d['drag'].get('preset', d['preset'])}, {d['drag']['steps']}, "
                     f"{d['drag']['median_step_seconds']:.2f} / "
                     f"{d['drag']['full_seconds']:.2f} = {d['drag']['ratio']:.3f}") if "drag" in d else "–",
+         lambda p: ""),
+        ("drag: step modes", lambda d: ", ".join(d["drag"].get("modes", [])) if "drag" in d else "–",
          lambda p: ""),
         ("drag: NRMSE after the last step vs full",
          lambda d: f"{d['drag']['nrmse_vs_full']:.4f}" if "drag" in d else "–", lambda p: ""),
@@ -125,7 +141,11 @@ def report(data, out_dir, command):
     md = ["# Table 2 on the example scenes (issue 5)", "",
           "Command (from the repository root, after the build; one headless run, Debian's Blender "
           "3.4):", "", f"    {command.strip()}", "",
-          f"{data[0]['date']}; {bt_run.machine()} at the end. Runs per measurement: "
+          f"{data[0]['date']}; commit measured: "
+          f"{', '.join(sorted({d.get('commit', 'not recorded') for d in data}))}; "
+          "machine after each scene: "
+          f"{'; '.join(d['scene'] + ': ' + d.get('machine_after', 'not recorded') for d in data)}. "
+          "Runs per measurement: "
           f"{data[0]['runs']} (medians); the drag is one run. **The incremental update is being "
           "sped up on another branch: these update figures will change; rerun the command.**", "",
           "Where each figure comes from: counts and the operator's seconds are the add-on's "
@@ -177,10 +197,13 @@ def main():
                         "--preset", preset, "--runs", a.runs, "--drag-steps", drag,
                         "--drag-preset", a.drag_preset or preset],
                        log_path=os.path.join(data_dir, f"{s}.log"))
-            bt_run.stamp(os.path.join(data_dir, f"{s}.json"), commit=commit)
+            bt_run.stamp(os.path.join(data_dir, f"{s}.json"), commit=commit,
+                         machine_after=bt_run.machine())
         print(f"all scenes: {time.perf_counter() - t0:.0f} s", flush=True)
     data = [json.load(open(os.path.join(data_dir, f"{s}.json"))) for s in scenes
             if os.path.exists(os.path.join(data_dir, f"{s}.json"))]
+    if not data:
+        raise SystemExit(f"no results in {data_dir}: run without --report-only first")
     report(data, out_dir, command)
     print(f"results in {out_dir}/table2_examples.md")
 

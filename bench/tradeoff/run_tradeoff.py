@@ -80,7 +80,8 @@ def main():
             print(f"== {s} ({bt_run.machine()})", flush=True)
             bt_run.run(blend, "tradeoff_scene.py", args,
                        log_path=os.path.join(data_dir, f"{s}.log"))
-            bt_run.stamp(os.path.join(data_dir, f"{s}.json"), commit=commit)
+            bt_run.stamp(os.path.join(data_dir, f"{s}.json"), commit=commit,
+                         machine_after=bt_run.machine())
         print(f"all scenes: {time.perf_counter() - t0:.0f} s", flush=True)
     subprocess.run([sys.executable, os.path.join(HERE, "report_tradeoff.py"), "--data", data_dir,
                     "--out-dir", out_dir, "--command", command, "--scenes", *scenes], check=True)

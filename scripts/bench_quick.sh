@@ -6,10 +6,14 @@
 # never over bench/results/ or the cached references. Needs the build (scripts/build.sh) and
 # the dependencies (scripts/install_deps.sh: matplotlib for the plots).
 #   bash scripts/bench_quick.sh            (from anywhere; .ci/run calls it after the tests)
+#   RADIOSITY_BUILD_DIR=build-x bash scripts/bench_quick.sh    (another build directory)
 set -uo pipefail
 cd "$(dirname "$0")/.."
 PY=${PYTHON:-python3}
-B=build/bench
+BUILD=${RADIOSITY_BUILD_DIR:-build}
+B=$BUILD/bench
+export RADIOSITY_NATIVE_DIR=$BUILD/native   # update_examples.py, add_remove_examples.py
+ZIP=$BUILD/radiosity.zip
 benches=(
   "$B/bench_static --quick"
   "$B/bench_gather --quick"
@@ -17,9 +21,9 @@ benches=(
   "$B/bench_light_move --quick"
   "$PY bench/update_examples.py --quick"
   "$PY bench/add_remove_examples.py --quick"
-  "$PY bench/tradeoff/run_scaling.py --quick"
-  "$PY bench/tradeoff/run_tradeoff.py --quick"
-  "$PY bench/tradeoff/run_table2.py --quick"
+  "$PY bench/tradeoff/run_scaling.py --quick --exe $B/bench_scaling"
+  "$PY bench/tradeoff/run_tradeoff.py --quick --zip $ZIP"
+  "$PY bench/tradeoff/run_table2.py --quick --zip $ZIP"
 )
 passed=0
 failed=()

@@ -81,7 +81,11 @@ def git_commit():
     def git(*args):
         return subprocess.run(["git", "-C", REPO, *args], capture_output=True, text=True).stdout.strip()
     head = git("rev-parse", "--short", "HEAD") or "unknown"
-    return head + (" + local changes" if git("status", "--porcelain", "--", "native", "addon") else "")
+    code = git("log", "-1", "--format=%h", "--", "native", "addon") or "unknown"
+    dirty = " + local changes" if git("status", "--porcelain", "--", "native", "addon") else ""
+    # A benchmark branch's HEAD differs from main's by bench scripts only: the solver and add-on
+    # commit says which code was measured.
+    return f"{head} (solver and add-on as of {code}{dirty})"
 
 
 def stamp(json_path, **fields):

@@ -5,7 +5,10 @@ with a fresh solve of the scene without it, then added back (Solver.add_object +
 compared with a fresh solve of the whole scene. Prints wall-time ratios (one process, same
 load), link evaluations and rays of each update against the full solve, and the link counts.
 
-    python3 bench/add_remove_examples.py [--preset MEDIUM] SCENE.npz ...
+    python3 bench/add_remove_examples.py [--quick] [--preset MEDIUM] SCENE.npz ...
+
+--quick (CI smoke run, no timing judged): DRAFT, and without scenes given the Cornell box exported
+from example_blends/cornell_box.blend into a temporary file (bench/quick_scene.py).
 """
 import argparse
 import os
@@ -64,11 +67,19 @@ def report(what, t_upd, t_full, e, su, w, sf):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--preset", default="MEDIUM")
-    ap.add_argument("scenes", nargs="+")
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--preset")
+    ap.add_argument("scenes", nargs="*")
     a = ap.parse_args()
+    a.preset = a.preset or ("DRAFT" if a.quick else "MEDIUM")
     st = rn.Settings.preset(a.preset)
-    for p in a.scenes:
+    paths = a.scenes
+    if a.quick and not paths:
+        import quick_scene
+        paths = [quick_scene.export_example("cornell_box")]
+    if not paths:
+        ap.error("no scenes given (export them with bench/export_scene.py)")
+    for p in paths:
         z = np.load(p)
         n = len(z["objects"])
         obj = int(z["move_ids"][0])

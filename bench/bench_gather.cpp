@@ -8,8 +8,9 @@
 // times a plan build, its radiometric part, a unit sweep (with the plan and straight from the
 // hierarchy) and a sweep in isolation (the fastest of 15 repetitions, so other jobs on the
 // machine do not count).
-// Usage: bench_gather [--runs N] [--threads N] [--micro] [--save FILE | --compare FILE]
+// Usage: bench_gather [--quick] [--runs N] [--threads N] [--micro] [--save FILE | --compare FILE]
 //                     [box_room|cornell|furnace] [eps ...]
+// --quick (CI smoke run, no timing judged): one run, --micro, threshold 0.2 unless given.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -81,9 +82,11 @@ int main(int argc, char** argv) {
     bool do_micro = false;
     std::string name = "box_room", save, compare;
     std::vector<double> eps;
+    bool quick = false;
     for (int i = 1; i < argc; ++i) {
         std::string a = argv[i];
-        if (a == "--runs" && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
+        if (a == "--quick") quick = true, runs = 1, do_micro = true;
+        else if (a == "--runs" && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
         else if (a == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
         else if (a == "--micro") do_micro = true;
         else if (a == "--save" && i + 1 < argc) save = argv[++i];
@@ -91,7 +94,7 @@ int main(int argc, char** argv) {
         else if (a == "box_room" || a == "cornell" || a == "furnace") name = a;
         else eps.push_back(std::atof(a.c_str()));
     }
-    if (eps.empty()) eps = {0.05, 0.02};
+    if (eps.empty()) eps = quick ? std::vector<double>{0.2} : std::vector<double>{0.05, 0.02};
     SceneDesc scene = name == "cornell" ? scenes::cornell_box(8)
                       : name == "furnace" ? scenes::furnace_cube(0.5, 1.0, 4)
                                           : scenes::box_room(8);

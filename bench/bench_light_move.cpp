@@ -3,8 +3,10 @@
 // the moved scene: NRMSE between them, the update / full time ratio (median over --runs runs,
 // both timed in the same run), and the counts behind it (rays cast, links evaluated, elements,
 // links). The update's counts are the difference of the solver's running totals.
-// Usage: bench_light_move [--runs N] [--preset DRAFT|MEDIUM|HIGH] [x y z ...]
+// Usage: bench_light_move [--quick] [--runs N] [--preset DRAFT|MEDIUM|HIGH] [x y z ...]
 //   (destinations of the light; default: the Blender test's move and a few others)
+//   --quick (CI smoke run, no timing judged): DRAFT, one run, only the Blender test's move
+//   unless destinations are given; options after it override it.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -33,8 +35,10 @@ int main(int argc, char** argv) {
     int runs = 3;
     std::string preset = "HIGH";
     std::vector<double> xyz;
+    bool quick = false;
     for (int i = 1; i < argc; ++i) {
-        if (!std::strcmp(argv[i], "--runs") && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
+        if (!std::strcmp(argv[i], "--quick")) quick = true, runs = 1, preset = "DRAFT";
+        else if (!std::strcmp(argv[i], "--runs") && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
         else if (!std::strcmp(argv[i], "--preset") && i + 1 < argc) preset = argv[++i];
         else xyz.push_back(std::atof(argv[i]));
     }
@@ -43,6 +47,7 @@ int main(int argc, char** argv) {
     if (moves.empty())
         moves = {{0.9, -0.6, 1.3}, {-1.0, 1.0, 1.2}, {1.0, 1.5, 1.0}, {-1.5, -1.5, 2.0}, {0.3, -1.0, 1.0},
                  {1.6, 1.6, 0.6}, {-0.2, 0.3, 1.0}, {-0.4, -0.3, 1.5}};
+    if (quick && xyz.empty()) moves.resize(1);
     const Vec3 from{-0.5, -0.3, 1.5};
     const Settings st = Settings::preset(preset);
     std::printf("point light from (%g, %g, %g), preset %s, %d runs (time ratio: median of per-run ratios)\n\n", from.x,

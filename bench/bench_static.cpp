@@ -1,6 +1,7 @@
 // Static-solve benchmark and native demo: solves a built-in scene at several error
 // thresholds and prints elements, links, rays and seconds per phase (a markdown table).
-// Usage: bench_static [box_room|cornell|furnace] [eps ...]
+// Usage: bench_static [--quick] [box_room|cornell|furnace] [eps ...]
+//   --quick (CI smoke run, no timing judged): threshold 0.2 only unless given.
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -12,10 +13,24 @@
 using namespace radiosity;
 
 int main(int argc, char** argv) {
-    std::string name = argc > 1 ? argv[1] : "box_room";
+    std::string name = "box_room";
     std::vector<double> eps;
-    for (int i = 2; i < argc; ++i) eps.push_back(std::atof(argv[i]));
-    if (eps.empty()) eps = {0.2, 0.1, 0.05, 0.02, 0.01};
+    bool quick = false;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--quick") quick = true;
+        else if (a == "box_room" || a == "cornell" || a == "furnace") name = a;
+        else {
+            char* end = nullptr;
+            const double e = std::strtod(a.c_str(), &end);
+            if (end == a.c_str() || *end != '\0' || !(e > 0)) {
+                std::fprintf(stderr, "bench_static: not a scene or a positive threshold: %s\n", a.c_str());
+                return 2;
+            }
+            eps.push_back(e);
+        }
+    }
+    if (eps.empty()) eps = quick ? std::vector<double>{0.2} : std::vector<double>{0.2, 0.1, 0.05, 0.02, 0.01};
     SceneDesc scene = name == "cornell" ? scenes::cornell_box(8)
                       : name == "furnace" ? scenes::furnace_cube(0.5, 1.0, 4)
                                           : scenes::box_room(8);

@@ -2,7 +2,10 @@
 (no Blender): scenes exported by bench/export_scene.py. Prints per scene: full solve time of
 the moved scene, update time, ratio, NRMSE between them, the update's phases and link counts.
 
-    python3 bench/update_examples.py [--preset MEDIUM] [--runs 3] SCENE.npz ...
+    python3 bench/update_examples.py [--quick] [--preset MEDIUM] [--runs 3] SCENE.npz ...
+
+--quick (CI smoke run, no timing judged): DRAFT, one run, and without scenes given the Cornell box
+exported from example_blends/cornell_box.blend into a temporary file (bench/quick_scene.py).
 """
 import argparse
 import glob
@@ -44,11 +47,19 @@ def nrmse(a, b):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--preset", default="MEDIUM")
-    ap.add_argument("--runs", type=int, default=1)
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--preset")
+    ap.add_argument("--runs", type=int)
     ap.add_argument("scenes", nargs="*")
     a = ap.parse_args()
+    a.preset = a.preset or ("DRAFT" if a.quick else "MEDIUM")
+    a.runs = max(1, a.runs or 1)
     paths = a.scenes or sorted(glob.glob("/tmp/*_room.npz"))
+    if a.quick and not a.scenes:
+        import quick_scene
+        paths = [quick_scene.export_example("cornell_box")]
+    if not paths:
+        raise SystemExit("no scenes: export them with bench/export_scene.py (see its docstring)")
     for p in paths:
         z = np.load(p)
         n = len(z["objects"])

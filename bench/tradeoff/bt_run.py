@@ -73,3 +73,25 @@ def machine():
     except OSError:
         load = (float("nan"),) * 3
     return f"{os.cpu_count()} cores, load average {load[0]:.2f}/{load[1]:.2f}/{load[2]:.2f}"
+
+
+def git_commit():
+    """The commit measured, for the results files: HEAD, marked when the solver or the add-on
+    (native/, addon/) differ from it in the work tree."""
+    def git(*args):
+        return subprocess.run(["git", "-C", REPO, *args], capture_output=True, text=True).stdout.strip()
+    head = git("rev-parse", "--short", "HEAD") or "unknown"
+    code = git("log", "-1", "--format=%h", "--", "native", "addon") or "unknown"
+    dirty = " + local changes" if git("status", "--porcelain", "--", "native", "addon") else ""
+    # A benchmark branch's HEAD differs from main's by bench scripts only: the solver and add-on
+    # commit says which code was measured.
+    return f"{head} (solver and add-on as of {code}{dirty})"
+
+
+def stamp(json_path, **fields):
+    """Adds FIELDS (e.g. the commit) to a scene's saved JSON."""
+    with open(json_path) as f:
+        data = json.load(f)
+    data.update(fields)
+    with open(json_path, "w") as f:
+        json.dump(data, f, indent=1)

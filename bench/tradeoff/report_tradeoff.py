@@ -172,8 +172,8 @@ def main():
           "cached in `bench/tradeoff/refs/SCENE_cycles.npz` with its settings and the .blend's "
           "sha256, so reruns reuse it). Then, round-robin over the repetitions so the shared "
           "machine's slow phases hit everything alike: our `bpy.ops.radiosity.bake(full=True)` "
-          "at each preset and CUSTOM ε (CUSTOM = MEDIUM with that ε), and Cycles at 16, 64, 256, "
-          "1024 spp (seeds 101, 102, …: never the reference's). Seconds are wall time of the "
+          "at each preset and CUSTOM ε (CUSTOM = MEDIUM with that ε), and Cycles at the sample "
+          "counts in each scene's rows (seeds 101, 102, …: never the reference's). Seconds are wall time of the "
           "operator call (ours: gather, solve, write; Cycles: sync, BVH, bake, write), medians of "
           "the runs counted in `runs` (a configuration whose first run took more than "
           "`once_above` s ran once). Errors over all corners except emitters' and those the "
@@ -182,17 +182,21 @@ def main():
           "medians over its seeds. \"Speed-up\" is Cycles' time at our error (log–log interpolation "
           "on its curve) over ours; \"extrap.\" means our error lies outside Cycles' measured range "
           "and the nearest segment was extended (Cycles error ∝ spp^-½, so this is a fair guess). "
-          "The reference is itself noisy: its estimated share (Cycles' 1024-spp error × "
-          "√(1024/(1024+N_ref))) is given per scene; errors near it cannot be resolved.", ""]
-    summary = ["| scene | preset | seconds (wall) | CPU s | elements | rRMSE | NRMSE | speed-up vs "
-               "Cycles at equal rRMSE (wall; CPU) |", "|---|---|---|---|---|---|---|---|"]
+          "The reference is itself noisy: its estimated share (Cycles' error at its largest N × "
+          "√(N/(N+N_ref))) is given per scene; errors near it cannot be resolved.", ""]
+    summary = ["| scene | preset | seconds (wall) | CPU s | elements | rRMSE | NRMSE | Cycles spp at "
+               "that rRMSE | speed-up vs Cycles at equal rRMSE (wall; CPU) |",
+               "|---|---|---|---|---|---|---|---|---|"]
+    by_preset = {}  # preset -> per scene (rRMSE, NRMSE, CPU s, CPU speed-up, CPU s / MEDIUM's)
     for d in data:
         cyc = [p for p in d["points"] if p["kind"] == "cycles"]
         png = f"tradeoff_{d['scene']}.png"
         plot(d, os.path.join(a.out_dir, png))
         ref = d["reference"]
         md += [f"## {d['scene']}", "",
-               f"{d['date']}, Blender {d['blender']}. {d['corners']:,} corners: "
+               f"{d['date']}, Blender {d['blender']}, commit {d.get('commit', 'not recorded')}; "
+               f"machine after the run: {d.get('machine_after', 'not recorded')}. "
+               f"{d['corners']:,} corners: "
                f"{d['emitter_corners']:,} emitter, {d['covered_corners']:,} covered, "
                f"{d['judged_corners']:,} judged. Reference: {ref['samples']} spp, "
                f"{ref['seconds']:.0f} s when made ({ref.get('made', '?')}), cached "
@@ -211,11 +215,37 @@ def main():
                 tc, ext = cycles_time_at(cyc, p["rrmse"], "rrmse")
                 tcpu, _ = cycles_time_at(cyc, p["rrmse"], "rrmse", "cpu_seconds")
                 our_cpu = p.get("cpu_seconds") or float("nan")
+                spp, exts = cycles_time_at(cyc, p["rrmse"], "rrmse", "spp")
                 summary.append(f"| {d['scene']} | {p['preset']} | {p['seconds']:.2f} | {cpu(p)} | "
                                f"{p['stats']['elements']:,} | {p['rrmse']:.3f} | "
-                               f"{p['nrmse']:.3f} | {tc / p['seconds']:.2f}×; {tcpu / our_cpu:.2f}×"
+                               f"{p['nrmse']:.3f} | ≈ {spp:.0f}{' (extrap.)' if exts else ''} | "
+                               f"{tc / p['seconds']:.2f}×; {tcpu / our_cpu:.2f}×"
                                f"{' (extrap.)' if ext else ''} |")
-    md += ["## Presets: what each costs and what error to expect", "", "\n".join(summary), ""]
+                medium = [q for q in d["points"] if q["kind"] == "ours" and q["preset"] == "MEDIUM"]
+                rel = our_cpu / (medium[0].get("cpu_seconds") or float("nan")) if medium else float("nan")
+                by_preset.setdefault(p["preset"], []).append(
+                    (p["rrmse"], p["nrmse"], our_cpu, tcpu / our_cpu, rel, spp))
+    def span(vals, fmt):
+        vals = [v for v in vals if v == v]
+        if not vals:
+            return "–"
+        lo, hi = min(vals), max(vals)
+        return fmt.format(lo) if fmt.format(lo) == fmt.format(hi) else f"{fmt.format(lo)}–{fmt.format(hi)}"
+
+    overall = ["| preset | scenes | rRMSE to expect | NRMSE to expect | CPU s | CPU s ÷ MEDIUM's | "
+               "Cycles spp at that rRMSE | speed-up vs Cycles at equal rRMSE (CPU) |",
+               "|---|---|---|---|---|---|---|---|"]
+    for preset in ("DRAFT", "MEDIUM", "HIGH"):
+        r = by_preset.get(preset)
+        if r:
+            overall.append(f"| {preset} | {len(r)} | {span([x[0] for x in r], '{:.2f}')} | "
+                           f"{span([x[1] for x in r], '{:.2f}')} | {span([x[2] for x in r], '{:.1f}')} | "
+                           f"{span([x[4] for x in r], '{:.1f}')} | {span([x[5] for x in r], '{:.0f}')} | "
+                           f"{span([x[3] for x in r], '{:.2f}')}× |")
+    md += ["## Presets: what each costs and what error to expect", "",
+           "Over the scenes above (ranges: smallest–largest; spp and speed-ups read off Cycles' "
+           "curve, some extrapolated: see the per-scene rows):", "", "\n".join(overall), "",
+           "Per scene:", "", "\n".join(summary), ""]
     with open(os.path.join(a.out_dir, "tradeoff.md"), "w") as f:
         f.write("\n".join(md) + "\n")
 

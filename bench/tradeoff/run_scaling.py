@@ -5,7 +5,7 @@
 
 bench_scaling runs every size in a fresh process (peak memory per size) and prints the table and
 the log-log exponents; this wrapper saves its output as OUT/scaling.md (with the command), the
-raw rows as OUT/scaling_data.jsonl and plots OUT/scaling.png (matplotlib). --quick: 1k and 4k
+raw rows as OUT/scaling_data.jsonl and plots OUT/scaling.png (matplotlib). --quick: 1k and 2k
 triangles only, output to a temporary directory unless --out-dir is given (CI smoke run).
 """
 import argparse

@@ -9,8 +9,9 @@ Per scene Debian's Blender runs table2_scene.py (full bake; native full solves w
 the 3.5 strategy; the stored move: incremental re-bake vs a full bake of the moved scene; a drag
 of --drag-steps incremental steps); JSON in OUT/table2_data/, table in OUT/table2_examples.md.
 Cheap to rerun (the incremental update is being sped up: its figures will change); --quick
-(CI smoke run, no timing judged): box_room only, DRAFT, a 3-step drag, output to a temporary
-directory unless --out-dir is given.
+(CI smoke run, no timing judged): the Cornell box only (it has a stored move too and bakes 4-5×
+faster than the box room: ~25 s in all), DRAFT, a 3-step drag, output to a temporary directory
+unless --out-dir is given.
 """
 import argparse
 import json
@@ -42,6 +43,18 @@ PAPER = {
 
 def med(xs):
     return statistics.median(xs)
+
+
+def update_mode(inc):
+    """The add-on's mode, and whether the native update fell back to a full solve (it does when
+    a move changes a closed pocket, adjust.cpp; the add-on still says "incremental" then, its
+    only trace a solver warning): no env–env link tested and no link update at all."""
+    mode = inc.get("mode") or "?"
+    if inc.get("full_reason"):
+        return f"{mode} ({inc['full_reason']})"
+    if mode == "incremental" and not inc.get("env_env_links_tested") and not inc.get("seconds_adjust"):
+        return "incremental requested, solved in full by the native update (no env–env link tested)"
+    return mode
 
 
 def report(data, out_dir, command):
@@ -94,12 +107,16 @@ def report(data, out_dir, command):
          lambda d: f"{med(m['ratio'] for m in d['moves']):.3f}; "
                    f"{med(m['ratio_native'] for m in d['moves']):.3f}",
          lambda p: f"{p['update'] / p['time']:.3f} (link update / full)"),
+        ("update mode", lambda d: "; ".join(sorted({update_mode(m["incremental"]) for m in d["moves"]})),
+         lambda p: ""),
         ("NRMSE incremental vs full", lambda d: f"{med(m['nrmse_inc_vs_full'] for m in d['moves']):.4f}",
          lambda p: ""),
         ("drag: preset, steps, median step s / full s = ratio",
          lambda d: (f"{d['drag'].get('preset', d['preset'])}, {d['drag']['steps']}, "
                     f"{d['drag']['median_step_seconds']:.2f} / "
                     f"{d['drag']['full_seconds']:.2f} = {d['drag']['ratio']:.3f}") if "drag" in d else "–",
+         lambda p: ""),
+        ("drag: step modes", lambda d: ", ".join(d["drag"].get("modes", [])) if "drag" in d else "–",
          lambda p: ""),
         ("drag: NRMSE after the last step vs full",
          lambda d: f"{d['drag']['nrmse_vs_full']:.4f}" if "drag" in d else "–", lambda p: ""),
@@ -125,7 +142,11 @@ def report(data, out_dir, command):
     md = ["# Table 2 on the example scenes (issue 5)", "",
           "Command (from the repository root, after the build; one headless run, Debian's Blender "
           "3.4):", "", f"    {command.strip()}", "",
-          f"{data[0]['date']}; {bt_run.machine()} at the end. Runs per measurement: "
+          f"{data[0]['date']}; commit measured: "
+          f"{', '.join(sorted({d.get('commit', 'not recorded') for d in data}))}; "
+          "machine after each scene: "
+          f"{'; '.join(d['scene'] + ': ' + d.get('machine_after', 'not recorded') for d in data)}. "
+          "Runs per measurement: "
           f"{data[0]['runs']} (medians); the drag is one run. **The incremental update is being "
           "sped up on another branch: these update figures will change; rerun the command.**", "",
           "Where each figure comes from: counts and the operator's seconds are the add-on's "
@@ -159,7 +180,7 @@ def main():
     p.add_argument("--out-dir")
     p.add_argument("--report-only", action="store_true")
     a = p.parse_args()
-    scenes = a.scenes or (["box_room"] if a.quick else list(SCENES))
+    scenes = a.scenes or (["cornell_box"] if a.quick else list(SCENES))
     preset = a.preset or ("DRAFT" if a.quick else "MEDIUM")
     drag = a.drag_steps if a.drag_steps is not None else (3 if a.quick else 30)
     out_dir = a.out_dir or (tempfile.mkdtemp(prefix="table2-quick-") if a.quick
@@ -169,6 +190,7 @@ def main():
     command = "python3 bench/tradeoff/run_table2.py " + " ".join(sys.argv[1:])
     if not a.report_only:
         t0 = time.perf_counter()
+        commit = bt_run.git_commit()
         for s in scenes:
             print(f"== {s} ({bt_run.machine()})", flush=True)
             bt_run.run(os.path.join(REPO, "example_blends", f"{s}.blend"), "table2_scene.py",
@@ -176,9 +198,13 @@ def main():
                         "--preset", preset, "--runs", a.runs, "--drag-steps", drag,
                         "--drag-preset", a.drag_preset or preset],
                        log_path=os.path.join(data_dir, f"{s}.log"))
+            bt_run.stamp(os.path.join(data_dir, f"{s}.json"), commit=commit,
+                         machine_after=bt_run.machine())
         print(f"all scenes: {time.perf_counter() - t0:.0f} s", flush=True)
     data = [json.load(open(os.path.join(data_dir, f"{s}.json"))) for s in scenes
             if os.path.exists(os.path.join(data_dir, f"{s}.json"))]
+    if not data:
+        raise SystemExit(f"no results in {data_dir}: run without --report-only first")
     report(data, out_dir, command)
     print(f"results in {out_dir}/table2_examples.md")
 

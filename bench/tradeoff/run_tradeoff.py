@@ -57,6 +57,7 @@ def main():
         if not os.path.exists(a.zip):
             raise SystemExit(f"no add-on zip at {a.zip}: build first (see README)")
         t0 = time.perf_counter()
+        commit = bt_run.git_commit()
         for s in scenes:
             ref = os.path.join(a.ref_dir, f"{s}_cycles.npz")
             args = ["--zip", a.zip, "--out", os.path.join(data_dir, f"{s}.json"),
@@ -79,6 +80,8 @@ def main():
             print(f"== {s} ({bt_run.machine()})", flush=True)
             bt_run.run(blend, "tradeoff_scene.py", args,
                        log_path=os.path.join(data_dir, f"{s}.log"))
+            bt_run.stamp(os.path.join(data_dir, f"{s}.json"), commit=commit,
+                         machine_after=bt_run.machine())
         print(f"all scenes: {time.perf_counter() - t0:.0f} s", flush=True)
     subprocess.run([sys.executable, os.path.join(HERE, "report_tradeoff.py"), "--data", data_dir,
                     "--out-dir", out_dir, "--command", command, "--scenes", *scenes], check=True)

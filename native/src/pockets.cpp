@@ -135,6 +135,13 @@ void Solver::compute_pockets() {
         }
     }
     if (open_area >= main_area) main_pocket_ = 0;
+    stats_.closed_pockets = stats_.pocket_surfaces = 0;
+    for (size_t s : live) {
+        const int c = sets.find(int(s));
+        if (open[size_t(c)] || c + 1 == main_pocket_) continue;
+        stats_.closed_pockets += size_t(c) == s;
+        ++stats_.pocket_surfaces;
+    }
     h_.set_pocket_sets();
 }
 

@@ -85,6 +85,7 @@ def main():
         print("   env-env tested/rejected/rays-clear/recomputed", su["env_env_links_tested"], su["env_env_links_rejected"],
               su["env_env_links_rays_clear"], su["env_env_links_recomputed"], "| iterations", su["iterations"], "rounds",
               su["refine_rounds"])
+        print("   update mode:", su["mode"], "| warnings:", "; ".join(su["warnings"]) or "none")
         print("   update phases:", " ".join(f"{k} {v:.3f}" for k, v in su["phases"].items()))
         print("   full phases:  ", " ".join(f"{k} {v:.3f}" for k, v in sf["phases"].items()), "| iterations", sf["iterations"])
 

@@ -276,33 +276,6 @@ std::vector<float> Solver::judging_radiance(const std::vector<float>& snap) cons
     return v;
 }
 
-bool Solver::move_breaks_seal() const {
-    for (const auto& [obj, pose] : pending_moves_) {
-        // The object's box after the move, from its given geometry and the new pose.
-        Aabb nb;
-        for (const Primitive& p : h_.prims)
-            if (p.object == obj)
-                for (int k = 0; k < p.poly0.n; ++k) {
-                    const Vec3& q = p.poly0.v[k];
-                    nb.grow(Vec3{pose.R[0] * q.x + pose.R[1] * q.y + pose.R[2] * q.z + pose.t.x,
-                                 pose.R[3] * q.x + pose.R[4] * q.y + pose.R[5] * q.z + pose.t.y,
-                                 pose.R[6] * q.x + pose.R[7] * q.y + pose.R[8] * q.z + pose.t.z});
-                }
-        for (size_t s = 0; s < h_.surfaces.size(); ++s) {
-            const Node& n = h_.nodes[h_.surfaces[s].root];
-            if (!n.sealed) continue;
-            const bool own = n.object == obj;
-            // Another object's pocket now holding this one, or this one's pocket (moving with
-            // it) now holding another object: judged by boxes, conservatively.
-            const Aabb& pocket = sealed_box_[s];
-            bool overlap = true;
-            for (int a = 0; a < 3; ++a) overlap &= nb.lo[a] <= pocket.hi[a] && nb.hi[a] >= pocket.lo[a];
-            if (!own && overlap) return true;
-        }
-    }
-    return false;
-}
-
 void Solver::adjust_links(Change& ch, std::vector<int>& recheck_history) {
     Stats& s = stats_;
     // Classify every live link.
@@ -489,12 +462,6 @@ void Solver::update(Control* control) {
         solve(control);
         if (why) stats_.warnings.push_back(why);
     };
-    if (move_breaks_seal()) {
-        // An object moved into (or carrying) a closed pocket: which faces are sealed changes,
-        // and with it which links may exist. Rare; solve again in full.
-        solve_in_full("a move changed a closed pocket: solved in full");
-        return;
-    }
     if (changes_outgrow_frame()) {  // topology.cpp
         solve_in_full("objects added or removed changed the scene's size: solved in full (the scene's frame "
                       "changes)");
@@ -552,14 +519,17 @@ void Solver::update(Control* control) {
         }
         vis_->commit();
         lap("place");
+        // Closed pockets (pockets.cpp) decide which links may exist at all: when a move, an
+        // addition or a removal changes which pocket a surface that stays is in, or puts new
+        // surfaces into a closed pocket, solve in full (rare: an object put into or taken out
+        // of a closed crate).
+        if (!reseal(known_surfaces)) {
+            solve_in_full(topology ? "an object added or removed changed a closed pocket: solved in full"
+                                   : "a move changed a closed pocket: solved in full");
+            return;
+        }
+        lap("pockets");
         if (topology) {
-            // Whether faces are sealed (the inside of a closed box) decides which links may
-            // exist at all: when an addition or removal changes that for a face that stays,
-            // solve in full (rare: an object put into or taken out of a closed pocket).
-            if (!reseal(known_surfaces)) {
-                solve_in_full("an object added or removed changed a closed pocket: solved in full");
-                return;
-            }
             // Area and emission changed: the reference radiance, and with it the oracle's
             // threshold. Beyond the tolerance changed_senders() uses, every link is judged again.
             const double old_threshold = threshold_;

@@ -42,13 +42,14 @@ void unit_push_down(const Hierarchy& h, const std::vector<Link>& links, int id, 
 
 void coupling_sums(const Hierarchy& h, const std::vector<Link>& links, std::vector<double>& fsum, int threads) {
     parallel_for(h.surfaces.size(), threads, [&](size_t s) {
-        const Vec3 nrm = h.nodes[size_t(h.surfaces[s].root)].normal;
+        const Node& root = h.nodes[size_t(h.surfaces[s].root)];
+        const Vec3 nrm = root.normal;
         Rgb acc;  // through the cluster links above the surface, times its cosine toward each
         for (int a : h.ancestors_of_surface(int(s)))
             for (int li : h.nodes[size_t(a)].in_links) {
                 const Link& l = links[size_t(li)];
                 const double c = -dot(nrm, l.dir);
-                if (c > 0) acc += (Rgb::all(1.0) * l.K) * c;
+                if (c > 0 && h.holds_pocket(l.src, root.pocket)) acc += (Rgb::all(1.0) * l.K) * c;
             }
         unit_push_down(h, links, h.surfaces[s].root, acc, fsum);
     }, 64);
@@ -170,7 +171,8 @@ void GatherPlan::build(const Hierarchy& h, const std::vector<Link>& links, int t
     cvalue_.assign(plinks_.size() - size_t(cluster_links_from_), Rgb{});
 
     // Flux through cluster links, per group of surfaces that receive the same: the same
-    // ancestor chain (the same deepest ancestor) and the same normal. Terms in the order the
+    // ancestor chain (the same deepest ancestor), the same normal and the same pocket (a link
+    // brings nothing to surfaces in pockets its sender has none in). Terms in the order the
     // ancestors (root first) and their in_links come, as a per-surface walk would add them.
     // Keyed by the normal's bits: exact equality, and a NaN normal (never expected) cannot
     // upset the map's ordering.
@@ -179,14 +181,15 @@ void GatherPlan::build(const Hierarchy& h, const std::vector<Link>& links, int t
         std::memcpy(&b, &x, sizeof b);
         return b;
     };
-    std::map<std::tuple<int, uint64_t, uint64_t, uint64_t>, int32_t> groups;
+    std::map<std::tuple<int, uint64_t, uint64_t, uint64_t, int>, int32_t> groups;
     s_group_.assign(ns, 0);
     g_begin_.clear();
     flux_.clear();
     for (size_t s = 0; s < ns; ++s) {
         const std::vector<int>& anc = h.ancestors_of_surface(int(s));
         const Vec3 nrm = h.nodes[size_t(h.surfaces[s].root)].normal;
-        const auto key = std::make_tuple(anc.empty() ? -1 : anc.back(), bits(nrm.x), bits(nrm.y), bits(nrm.z));
+        const int pocket = h.nodes[size_t(h.surfaces[s].root)].pocket;
+        const auto key = std::make_tuple(anc.empty() ? -1 : anc.back(), bits(nrm.x), bits(nrm.y), bits(nrm.z), pocket);
         auto it = groups.find(key);
         if (it != groups.end()) {
             s_group_[s] = it->second;
@@ -202,8 +205,9 @@ void GatherPlan::build(const Hierarchy& h, const std::vector<Link>& links, int t
             if (first < 0) continue;  // no links into it
             const std::vector<int>& in = h.nodes[size_t(a)].in_links;
             for (size_t k = 0; k < in.size(); ++k) {
-                const double c = -dot(nrm, links[size_t(in[k])].dir);
-                if (c > 0) flux_.push_back({first + int32_t(k), c});
+                const Link& l = links[size_t(in[k])];
+                const double c = -dot(nrm, l.dir);
+                if (c > 0 && h.holds_pocket(l.src, pocket)) flux_.push_back({first + int32_t(k), c});
             }
         }
     }

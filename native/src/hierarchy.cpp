@@ -353,7 +353,7 @@ void Hierarchy::subdivide(int id) {
         e.closure = p.closure;
         e.enclosed = p.enclosed;
         e.decider = p.decider;
-        e.sealed = p.sealed;
+        e.pocket = p.pocket;
         e.key = mix(p.key, uint64_t(k + 1));
     }
 }
@@ -482,7 +482,7 @@ void Hierarchy::refresh_surface_geom() {
         g.share = e.poly.first_share();
         g.root = r;
         g.object = e.object;
-        g.sealed = e.sealed;
+        g.pocket = e.pocket;
     }
 }
 
@@ -492,7 +492,7 @@ bool Hierarchy::surface_geom_current() const {
         const int r = surfaces[surface_order[i]].root;
         const Node& e = nodes[r];
         const SurfaceGeom& g = surface_geom[i];
-        if (g.root != r || g.object != e.object || g.sealed != e.sealed || g.area != e.area || g.poly.n != e.poly.n)
+        if (g.root != r || g.object != e.object || g.pocket != e.pocket || g.area != e.area || g.poly.n != e.poly.n)
             return false;
         for (int k = 0; k < e.poly.n; ++k)
             if (g.poly.v[k].x != e.poly.v[k].x || g.poly.v[k].y != e.poly.v[k].y || g.poly.v[k].z != e.poly.v[k].z)
@@ -515,6 +515,38 @@ void Hierarchy::rebuild_surface_order() {
     };
     walk(root);
     refresh_surface_geom();
+}
+
+void Hierarchy::set_pocket_sets() {
+    pocket_sets.clear();
+    for (size_t id = 0; id < nodes.size(); ++id) {
+        Node& c = nodes[id];
+        if (!c.is_cluster()) continue;
+        c.pocket_set = -1;
+        if (c.dead) continue;
+        std::vector<int> v;
+        for (int i = c.surf_begin; i < c.surf_end; ++i) v.push_back(nodes[size_t(surfaces[size_t(surface_order[size_t(i)])].root)].pocket);
+        std::sort(v.begin(), v.end());
+        v.erase(std::unique(v.begin(), v.end()), v.end());
+        c.pocket_set = int(pocket_sets.size());
+        pocket_sets.push_back(std::move(v));
+    }
+}
+
+bool Hierarchy::share_pocket(int a, int b) const {
+    const Node& na = nodes[size_t(a)];
+    const Node& nb = nodes[size_t(b)];
+    if (!na.is_cluster()) return holds_pocket(b, na.pocket);
+    if (!nb.is_cluster()) return holds_pocket(a, nb.pocket);
+    if (na.pocket_set < 0 || nb.pocket_set < 0) return false;
+    const std::vector<int>& u = pocket_sets[size_t(na.pocket_set)];
+    const std::vector<int>& v = pocket_sets[size_t(nb.pocket_set)];
+    for (size_t i = 0, j = 0; i < u.size() && j < v.size();) {  // both sorted
+        if (u[i] == v[j]) return true;
+        if (u[i] < v[j]) ++i;
+        else ++j;
+    }
+    return false;
 }
 
 int Hierarchy::add_object(const SceneDesc& scene, int oi, bool use_clustering) {
@@ -581,7 +613,8 @@ int Hierarchy::remove_object(int oi) {
     for (int id : ids) {
         Node& n = nodes[id];
         n.dead = true;
-        n.sealed = false;
+        n.pocket = 0;
+        n.pocket_set = -1;
         std::vector<int>().swap(n.in_links);
         std::vector<int>().swap(n.out_links);
     }

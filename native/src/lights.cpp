@@ -587,7 +587,7 @@ Rgb Solver::leaf_irradiance(int id) const {
         for (int li : h_.nodes[a].in_links) {
             const Link& l = links_[li];
             double c = -dot(n.normal, l.dir);
-            if (c > 0) acc += l.value * c;
+            if (c > 0 && h_.holds_pocket(l.src, n.pocket)) acc += l.value * c;  // gather_plan.cpp's rule
         }
     return acc * n.closure + light_direct(id);
 }

@@ -90,7 +90,7 @@ void Solver::solve(Control* control) {
         vis_->set_object_transform(int(o), m);
     }
     vis_->commit();
-    compute_sealed();
+    compute_pockets();  // pockets.cpp
     compute_reference();
     stats_.seconds_build = since(t0);
     lap("build");
@@ -150,73 +150,6 @@ void Solver::solve(Control* control) {
     set_progress(1.0);
     solved_ = true;
     control_ = nullptr;
-}
-
-// A surface is sealed when every escape ray hits its own object, the pocket those hits
-// span (shrunk a hair, so objects merely touching it do not count) holds no other object, and
-// every surface side its rays hit is sealed too: the inside faces of a closed box. That last
-// rule matters: 16 rays from a room's corner can all hit the nearby walls and span a pocket
-// that misses the lamp, but the walls they hit see the rest of the room. Such faces cost no
-// link to the rest of the scene.
-void Solver::compute_sealed() {
-    sealed_box_.assign(h_.surfaces.size(), Aabb{});
-    const double far = 4.0 * h_.scene_diag, lift = 1e-5 * h_.scene_diag, shrink = 1e-6 * h_.scene_diag;
-    const int nr = 16;
-    std::vector<std::vector<int>> hits(h_.surfaces.size());  // surface sides hit (-1: none)
-    std::vector<char> cand(h_.surfaces.size(), 0);
-    parallel_for(h_.surfaces.size(), settings_.threads, [&](size_t s) {
-        Node& n = h_.nodes[h_.surfaces[s].root];
-        n.sealed = false;
-        if (n.dead) return;  // of a removed object
-        Rng rng(Hierarchy::mix(settings_.seed ^ 0x5EA1ED, n.key));
-        Vec3 t = std::fabs(n.normal.x) > 0.5 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
-        Vec3 u = normalize(cross(n.normal, t)), v = cross(n.normal, u);
-        Aabb pocket = n.box;
-        for (int r = 0; r < nr; ++r) {
-            double phi = 2 * kPi * rng.next(), r2 = rng.next(), sr = std::sqrt(r2);
-            Vec3 d = u * (std::cos(phi) * sr) + v * (std::sin(phi) * sr) + n.normal * std::sqrt(1 - r2);
-            Vec3 o = n.poly.sample(rng.next(), rng.next()) + n.normal * lift;
-            Vec3 hit;
-            int tri = -1;
-            if (vis_->hit_object(o, o + d * far, 0.0, &hit, &tri) != n.object) return;
-            pocket.grow(hit);
-            // The side the ray arrived at: the front when it travels against the normal.
-            const auto& tp = tri_prim_[n.object];
-            const Primitive& hp = h_.prims[tp[std::min<size_t>(size_t(std::max(tri, 0)), tp.size() - 1)]];
-            const int side = dot(d, h_.nodes[h_.surfaces[hp.front].root].normal) < 0 ? hp.front : hp.back;
-            hits[s].push_back(side);
-        }
-        pocket.lo += Vec3{shrink, shrink, shrink};
-        pocket.hi -= Vec3{shrink, shrink, shrink};
-        // Any surface of another object inside the pocket? Walk the cluster tree by boxes.
-        std::vector<int> stack{h_.root};
-        while (!stack.empty()) {
-            const Node& m = h_.nodes[stack.back()];
-            stack.pop_back();
-            if (!pocket.overlaps(m.box)) continue;
-            if (!m.is_cluster()) {
-                if (m.object != n.object) return;
-                continue;
-            }
-            for (int c : m.children) stack.push_back(c);
-        }
-        cand[s] = 1;
-        sealed_box_[s] = pocket;
-    }, 32);
-    // Sealed only if everything its rays hit is sealed: drop candidates until that holds.
-    for (bool changed = true; changed;) {
-        changed = false;
-        for (size_t s = 0; s < cand.size(); ++s) {
-            if (!cand[s]) continue;
-            for (int hs : hits[s])
-                if (hs < 0 || !cand[hs]) { cand[s] = 0; changed = true; break; }
-        }
-    }
-    for (size_t s = 0; s < cand.size(); ++s) {
-        h_.nodes[h_.surfaces[s].root].sealed = cand[s] != 0;
-        if (!cand[s]) sealed_box_[s] = Aabb{};
-    }
-    h_.refresh_surface_geom();
 }
 
 void Solver::lap(const char* phase) {
@@ -280,9 +213,10 @@ void Solver::compute_stats() {
         if (h_.surface_dead(int(si))) continue;  // of a removed object
         // Reached through a cluster link only if the surface faces its sender.
         bool r = false;
-        const Vec3 nrm = h_.nodes[h_.surfaces[si].root].normal;
+        const Node& sr = h_.nodes[h_.surfaces[si].root];
         for (int a : h_.ancestors_of_surface(int(si)))
-            for (int li : h_.nodes[a].in_links) r |= links_[li].K > 0 && dot(nrm, links_[li].dir) < 0;
+            for (int li : h_.nodes[a].in_links)
+                r |= links_[li].K > 0 && dot(sr.normal, links_[li].dir) < 0 && h_.holds_pocket(links_[li].src, sr.pocket);
         std::vector<int> stack{h_.surfaces[si].root};
         int64_t leaves = 0;
         while (!stack.empty()) {

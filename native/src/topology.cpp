@@ -186,13 +186,5 @@ void Solver::apply_topology(Change& ch) {
     lights_.contacts.clear();
 }
 
-bool Solver::reseal(size_t known) {
-    std::vector<char> was(known, 0);
-    for (size_t s = 0; s < known; ++s) was[s] = !h_.surface_dead(int(s)) && h_.nodes[h_.surfaces[s].root].sealed;
-    compute_sealed();
-    for (size_t s = 0; s < known; ++s)
-        if (!h_.surface_dead(int(s)) && was[s] != char(h_.nodes[h_.surfaces[s].root].sealed)) return false;
-    return true;
-}
 
 }  // namespace radiosity

@@ -55,7 +55,7 @@ template <class Vis>
 Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node& Q, int rays, uint64_t seed) {
     Link l;
     const double eps = 1e-7 * h.scene_diag;
-    if ((P.sealed || Q.sealed) && P.object != Q.object) return l;  // a closed pocket: nothing gets in
+    if (P.pocket != Q.pocket) return l;  // closed pockets (compute_pockets): nothing gets in or out
     if (!can_face(P.poly, P.normal, Q.poly, Q.normal, eps)) return l;
     Cubature cub = cubature(Q.poly);
     const int per_point = std::max(1, rays / cub.n);
@@ -131,21 +131,22 @@ public:
         std::vector<int> ids;
         std::vector<double> cdf;
     };
-    // Sealed surfaces take part only when the other end belongs to their own object.
-    FacingSampler(const Hierarchy& h, int node, const Vec3& d, int other_object, Buffers& buf)
+    // Only surfaces in a pocket the other end has surfaces in take part: the rest cannot see it
+    // (the inside of a closed crate, seen from the room).
+    FacingSampler(const Hierarchy& h, int node, const Vec3& d, int other, Buffers& buf)
         : h_(h), ids_(buf.ids), cdf_(buf.cdf) {
         ids_.clear();
         cdf_.clear();
         const Node& n = h.nodes[node];
-        auto take = [other_object](bool sealed, int object) { return !sealed || object == other_object; };
+        auto take = [&h, other](int pocket) { return h.holds_pocket(other, pocket); };
         if (!n.is_cluster()) {
-            single_ = {n.poly, n.normal, n.area, n.poly.first_share(), node, n.object, n.sealed};
-            if (take(n.sealed, n.object)) add(-1, n.area * std::max(0.0, dot(n.normal, d)));
+            single_ = {n.poly, n.normal, n.area, n.poly.first_share(), node, n.object, n.pocket};
+            if (take(n.pocket)) add(-1, n.area * std::max(0.0, dot(n.normal, d)));
             return;
         }
         for (int i = n.surf_begin; i < n.surf_end; ++i) {
             const SurfaceGeom& g = h.surface_geom[i];
-            if (take(g.sealed, g.object)) add(i, g.area * std::max(0.0, dot(g.normal, d)));
+            if (take(g.pocket)) add(i, g.area * std::max(0.0, dot(g.normal, d)));
         }
     }
     double total() const { return cdf_.empty() ? 0.0 : cdf_.back(); }
@@ -203,11 +204,14 @@ bool coplanar(const Hierarchy& h, const Node& P, const Node& Q) {
     return have;
 }
 
-// Whether some surface of node n faces direction d within a cone of sine s.
-bool may_face(const Hierarchy& h, const Node& n, const Vec3& d, double s) {
+// Whether some surface of node n in a pocket of node `other` faces direction d within a cone
+// of sine s.
+bool may_face(const Hierarchy& h, const Node& n, const Vec3& d, double s, int other) {
     if (!n.is_cluster()) return dot(n.normal, d) > -s;
-    for (int i = n.surf_begin; i < n.surf_end; ++i)
-        if (dot(h.surface_geom[i].normal, d) > -s) return true;
+    for (int i = n.surf_begin; i < n.surf_end; ++i) {
+        const SurfaceGeom& g = h.surface_geom[i];
+        if (dot(g.normal, d) > -s && h.holds_pocket(other, g.pocket)) return true;
+    }
     return false;
 }
 
@@ -241,6 +245,9 @@ Link cluster_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
                   int src, int rcv) {
     Link l;
     l.cluster = true;
+    // No pocket has surfaces at both ends: no light passes, at any level below either (the
+    // room and the inside of a closed crate in it). Not even worth a refinement.
+    if (!h.share_pocket(src, rcv)) return l;
     Vec3 d = Q.center - P.center;
     double r = length(d);
     l.dist = r;
@@ -258,7 +265,7 @@ Link cluster_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
     }
     l.dir = d / r;
     thread_local FacingSampler::Buffers buf[2];
-    FacingSampler ps(h, src, l.dir, Q.object, buf[0]), qs(h, rcv, -l.dir, P.object, buf[1]);
+    FacingSampler ps(h, src, l.dir, rcv, buf[0]), qs(h, rcv, -l.dir, src, buf[1]);
     const double pa = ps.total();
     double rcv_cos = Q.is_cluster() ? 1.0 : std::max(0.0, dot(Q.normal, -l.dir));
     l.K_unoccluded = pa * rcv_cos / (kPi * r * r);
@@ -270,7 +277,7 @@ Link cluster_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
         // dark). When some surface of each end faces within the ends' angular size, refine
         // until the exact element kernel decides.
         const double s = std::min(1.0, (P.radius + Q.radius) / r);
-        if (may_face(h, P, l.dir, s) && may_face(h, Q, -l.dir, s) && may_exchange(h, P, Q)) l.must_refine = true;
+        if (may_face(h, P, l.dir, s, rcv) && may_face(h, Q, -l.dir, s, src) && may_exchange(h, P, Q)) l.must_refine = true;
         return l;
     }
     // Visibility of the transfer, estimated with pairs of points drawn by projected area

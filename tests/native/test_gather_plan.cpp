@@ -75,8 +75,10 @@ struct ReferenceSweep {
             Rgb acc;
             for (int a : h.ancestors_of_surface(int(s)))
                 for (int li : h.nodes[size_t(a)].in_links) {
+                    // Only to surfaces in a pocket the sender has surfaces in (closed pockets).
                     double c = -dot(n, links[size_t(li)].dir);
-                    if (c > 0) acc += links[size_t(li)].value * c;
+                    if (c > 0 && h.holds_pocket(links[size_t(li)].src, h.nodes[size_t(root)].pocket))
+                        acc += links[size_t(li)].value * c;
                 }
             push_down(root, acc, unit, fsum, delta);
         }

@@ -315,8 +315,9 @@ TEST(Topology, ExtremeChangesStaySafe) {
 }
 
 TEST(Topology, AddingIntoAClosedPocketSolvesInFull) {
-    // A closed box (its inner faces are sealed: they exchange light with the box only) gets an
-    // emitter inside it: which faces are sealed changes, so the update solves in full and says so.
+    // A closed box (its inner faces are a closed pocket: they exchange light with each other
+    // only) gets an emitter inside it: new surfaces join that pocket, so the update solves in
+    // full and says so.
     SceneDesc s;
     scenes::add_grid(s, "floor", -1, {Vec3{-5, -5, 0}, Vec3{5, -5, 0}, Vec3{5, 5, 0}, Vec3{-5, 5, 0}}, 4, 4, Rgb::all(0.5), {});
     scenes::add_grid(s, "lamp", -1, {Vec3{-1, -1, 4}, Vec3{-1, 1, 4}, Vec3{1, 1, 4}, Vec3{1, -1, 4}}, 1, 1, {}, Rgb::all(5.0));

@@ -2,6 +2,7 @@
 // root cluster -> collection clusters -> object clusters -> automatic spatial sub-clusters
 // -> oriented surfaces (one per side of an input polygon) -> element quadtrees.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -52,9 +53,13 @@ struct Node {
     int decider = -1;
     int8_t escape_ray = -1;
     bool dead = false;               // un-refined away (the slot is not reused)
-    // Elements: the surface faces into a pocket of its own object that holds nothing else
-    // (the inside of a closed box): it exchanges light with its own object only.
-    bool sealed = false;
+    // Elements: the pocket the surface faces into (Solver::compute_pockets): a set of surfaces,
+    // across objects, whose escape rays meet only each other -- the inside of a closed crate and
+    // the outside of what lies in it. Light passes only between surfaces of one pocket. Every
+    // surface that sees open space shares pocket 0.
+    int pocket = 0;
+    // Clusters: index into Hierarchy::pocket_sets (the pockets of the surfaces below).
+    int pocket_set = -1;
     uint64_t key = 0;                // stable identity (seeds link jitter independent of creation order)
     std::vector<int> in_links, out_links;
 
@@ -84,7 +89,7 @@ struct SurfaceGeom {
     double share = 1;  // Poly::first_share()
     int root = -1;
     int object = -1;
-    bool sealed = false;
+    int pocket = 0;  // Node::pocket
 };
 
 struct Surface {
@@ -126,6 +131,20 @@ public:
     // Bounding box of an object's current placement.
     Aabb object_box(int object) const;
     static uint64_t mix(uint64_t a, uint64_t b);
+    // The pockets of the surfaces below each cluster (set_pocket_sets), sorted.
+    std::vector<std::vector<int>> pocket_sets;
+    // Every cluster's pocket set from its surfaces' pockets; after those change.
+    void set_pocket_sets();
+    // Whether some surface below `node` (or the element itself) lies in pocket p.
+    bool holds_pocket(int node, int p) const {
+        const Node& n = nodes[size_t(node)];
+        if (!n.is_cluster()) return n.pocket == p;
+        if (n.pocket_set < 0) return false;
+        const std::vector<int>& v = pocket_sets[size_t(n.pocket_set)];
+        return std::binary_search(v.begin(), v.end(), p);
+    }
+    // Whether light can pass between a and b at all: some pocket has surfaces below both.
+    bool share_pocket(int a, int b) const;
     // Node ids of the clusters strictly above a surface root, root first.
     const std::vector<int>& ancestors_of_surface(int s) const { return surface_ancestors_[s]; }
 
@@ -133,8 +152,8 @@ public:
     std::vector<Primitive> prims;
     std::vector<Surface> surfaces;
     std::vector<int> surface_order;   // surface ids; each cluster's are contiguous
-    // Parallel to surface_order. Refreshed wherever surface roots move, change their sealed
-    // flag or surface_order changes (refresh_surface_geom()).
+    // Parallel to surface_order. Refreshed wherever surface roots move, change their pocket
+    // or surface_order changes (refresh_surface_geom()).
     std::vector<SurfaceGeom> surface_geom;
     void refresh_surface_geom();
     // Whether surface_geom matches the nodes (tests).

@@ -156,9 +156,6 @@ private:
     bool changes_outgrow_frame() const;
     // Applies pending removals and additions to the hierarchy, Embree and `ch`.
     void apply_topology(Change& ch);
-    // Re-derives which surfaces are sealed; false when a surviving surface changed (its links
-    // would be wrong: the caller solves in full).
-    bool reseal(size_t known_surfaces);
     void set_material(int object, const std::vector<Rgb>& values, bool emission);
     void apply_materials();
     void unrefine(int link_id);
@@ -210,8 +207,14 @@ private:
     std::vector<float> corner_values(int object, const std::function<Rgb(int)>& leaf_value) const;
     // solver.cpp
     void compute_reference();
-    void compute_sealed();
-    bool move_breaks_seal() const;
+    // pockets.cpp: every surface's closed pocket (Node::pocket) and the clusters' pocket sets.
+    void compute_pockets();
+    // Appends the side of the surface each of `rays` escape rays of surface s hits (-1: none).
+    void pocket_rays(int s, int rays, uint64_t stream, std::vector<int>& hits) const;
+    // Pockets again after placements or topology changed; false when a surviving surface
+    // changed pocket or a new one landed in a closed pocket of old ones (which links may exist
+    // changed: the caller solves in full).
+    bool reseal(size_t known_surfaces);
     void check_cancel() const;
     // An object's triangles (its primitives, quads as two) into Embree and tri_prim_.
     void add_object_geometry(int object, const std::vector<int>& prims);
@@ -239,7 +242,7 @@ private:
     std::vector<Pose> poses_;      // per object, current placement (internal frame)
     bool materials_changed_ = false;
     std::chrono::steady_clock::time_point lap_t_;
-    std::vector<Aabb> sealed_box_;  // per surface: the pocket a sealed surface faces
+    int main_pocket_ = 0;  // the pocket of the largest space (open space, or a closed room)
     std::vector<std::vector<int>> tri_prim_;  // per object: Embree triangle -> primitive
 };
 

@@ -13,6 +13,8 @@ struct Stats {
     int64_t skipped_polygons = 0;   // zero-area input polygons
     int64_t objects = 0;
     int64_t clusters = 0;           // cluster nodes (collections, objects, automatic)
+    int64_t closed_pockets = 0;     // closed pockets besides the main space (pockets.cpp)
+    int64_t pocket_surfaces = 0;    // oriented surfaces in them (a closed object's inner faces too)
     int64_t elements = 0;           // leaf elements of surfaces that receive light
     int64_t element_nodes = 0;      // all element nodes (inner ones included)
     int64_t links = 0;              // active links

@@ -1,0 +1,165 @@
+// Closed pockets: sets of surfaces that see only each other -- the inside of a closed crate
+// together with the outside of a cube lying in it. Light passes only between surfaces of one
+// pocket (transfer.cpp, gather_plan.cpp): a cluster link from the room into the crate's cluster
+// then neither samples nor lights the crate's inner faces or the cube, which the oracle's
+// cosine sharing otherwise did under its threshold (issue 6: 9 % of L_ref at DRAFT).
+//
+// Which surfaces see which is sampled with escape rays: a surface's rays that hit another
+// surface join the two (sight is mutual, so the graph is undirected); the connected
+// components are the pockets. A component with a ray that escapes (hit nothing, or the back of
+// a one-sided polygon, which lets nothing through) is open: every open surface shares pocket
+// 0. A closed room is a closed component too, with everything in it: its furniture's outer
+// faces meet its walls' rays, so the room is never cut off from its contents. A closed
+// component is confirmed with more rays (all but the largest, the room, whose confirmation
+// would cost the most and change nothing): one ray through a gap merges it with what it
+// sees, so a false pocket needs every confirmation ray to miss the gap.
+#include <cmath>
+#include <numeric>
+
+#include "radiosity/parallel.h"
+#include "radiosity/solver.h"
+
+namespace radiosity {
+
+namespace {
+
+constexpr int kPocketRays = 16;   // per surface
+constexpr int kConfirmRays = 64;  // per surface of a closed component that is not the largest
+
+struct DisjointSets {
+    std::vector<int> up;
+    explicit DisjointSets(size_t n) : up(n) { std::iota(up.begin(), up.end(), 0); }
+    int find(int a) {
+        while (up[size_t(a)] != a) a = up[size_t(a)] = up[size_t(up[size_t(a)])];
+        return a;
+    }
+    void unite(int a, int b) {
+        a = find(a), b = find(b);
+        if (a != b) up[size_t(std::max(a, b))] = std::min(a, b);
+    }
+};
+
+}  // namespace
+
+void Solver::pocket_rays(int s, int rays, uint64_t stream, std::vector<int>& hits) const {
+    const Node& n = h_.nodes[size_t(h_.surfaces[size_t(s)].root)];
+    const double far = 4.0 * h_.scene_diag, lift = 1e-5 * h_.scene_diag;
+    Rng rng(Hierarchy::mix(settings_.seed ^ 0x5EA1ED ^ stream, n.key));
+    const Vec3 t = std::fabs(n.normal.x) > 0.5 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
+    const Vec3 u = normalize(cross(n.normal, t)), v = cross(n.normal, u);
+    for (int r = 0; r < rays; ++r) {
+        // Cosine-distributed: the directions that carry the most light are tried most.
+        const double phi = 2 * kPi * rng.next(), r2 = rng.next(), sr = std::sqrt(r2);
+        const Vec3 d = u * (std::cos(phi) * sr) + v * (std::sin(phi) * sr) + n.normal * std::sqrt(1 - r2);
+        const Vec3 o = n.poly.sample(rng.next(), rng.next()) + n.normal * lift;
+        int tri = -1;
+        const int obj = vis_->hit_object(o, o + d * far, 0.0, nullptr, &tri);
+        int side = -1;
+        if (obj >= 0 && size_t(obj) < tri_prim_.size() && !tri_prim_[size_t(obj)].empty()) {
+            const auto& tp = tri_prim_[size_t(obj)];
+            const Primitive& hp = h_.prims[size_t(tp[std::min<size_t>(size_t(std::max(tri, 0)), tp.size() - 1)])];
+            // The side the ray arrived at: the front when it travels against the normal.
+            side = dot(d, h_.nodes[size_t(h_.surfaces[size_t(hp.front)].root)].normal) < 0 ? hp.front : hp.back;
+            if (side >= 0 && h_.surface_dead(side)) side = -1;
+        }
+        hits.push_back(side);
+    }
+}
+
+void Solver::compute_pockets() {
+    const size_t ns = h_.surfaces.size();
+    std::vector<std::vector<int>> hits(ns);
+    parallel_for(ns, settings_.threads, [&](size_t s) {
+        if (!h_.surface_dead(int(s))) pocket_rays(int(s), kPocketRays, 0, hits[s]);
+    }, 32);
+    DisjointSets sets(ns);
+    std::vector<char> escaped(ns, 0);
+    auto join = [&](const std::vector<size_t>& which) {
+        for (size_t s : which)
+            for (int t : hits[s]) {
+                if (t < 0) escaped[s] = 1;
+                else sets.unite(int(s), t);
+            }
+    };
+    std::vector<size_t> live;
+    for (size_t s = 0; s < ns; ++s)
+        if (!h_.surface_dead(int(s))) live.push_back(s);
+    join(live);
+    // Per component (its representative): open, area.
+    auto components = [&](std::vector<char>& open, std::vector<double>& area) {
+        open.assign(ns, 0);
+        area.assign(ns, 0.0);
+        for (size_t s : live) {
+            const int c = sets.find(int(s));
+            open[size_t(c)] |= escaped[s];
+            area[size_t(c)] += h_.nodes[size_t(h_.surfaces[s].root)].area;
+        }
+    };
+    std::vector<char> open;
+    std::vector<double> area;
+    components(open, area);
+    int largest = -1;
+    for (size_t s : live)
+        if (size_t(sets.find(int(s))) == s && !open[s] && (largest < 0 || area[s] > area[size_t(largest)])) largest = int(s);
+    // Confirmation of the smaller closed components.
+    std::vector<size_t> confirm;
+    for (size_t s : live) {
+        const int c = sets.find(int(s));
+        if (!open[size_t(c)] && c != largest) confirm.push_back(s);
+    }
+    if (!confirm.empty()) {
+        parallel_for(confirm.size(), settings_.threads, [&](size_t k) {
+            hits[confirm[k]].clear();
+            pocket_rays(int(confirm[k]), kConfirmRays, 0xC0F1A3, hits[confirm[k]]);
+        }, 8);
+        join(confirm);
+        components(open, area);
+    }
+    // Labels: 0 for open space, else 1 + the component's smallest surface id (the
+    // representative): the same set of surfaces gets the same label after an update.
+    double open_area = 0, main_area = -1;
+    main_pocket_ = 0;
+    for (size_t s : live) {
+        const int c = sets.find(int(s));
+        const int label = open[size_t(c)] ? 0 : c + 1;
+        if (size_t(c) == s) {
+            if (open[s]) open_area += area[s];
+            else if (area[s] > main_area) main_area = area[s], main_pocket_ = label;
+        }
+        std::vector<int> stack{h_.surfaces[s].root};  // the element tree below the surface too
+        while (!stack.empty()) {
+            Node& e = h_.nodes[size_t(stack.back())];
+            stack.pop_back();
+            e.pocket = label;
+            stack.insert(stack.end(), e.children.begin(), e.children.end());
+        }
+    }
+    if (open_area >= main_area) main_pocket_ = 0;
+    stats_.closed_pockets = stats_.pocket_surfaces = 0;
+    for (size_t s : live) {
+        const int c = sets.find(int(s));
+        if (open[size_t(c)] || c + 1 == main_pocket_) continue;
+        stats_.closed_pockets += size_t(c) == s;
+        ++stats_.pocket_surfaces;
+    }
+    h_.set_pocket_sets();
+    h_.refresh_surface_geom();  // the samplers' copy of each surface's pocket
+}
+
+bool Solver::reseal(size_t known) {
+    std::vector<int> was(known, 0);
+    for (size_t s = 0; s < known; ++s)
+        if (!h_.surface_dead(int(s))) was[s] = h_.nodes[size_t(h_.surfaces[s].root)].pocket;
+    compute_pockets();
+    for (size_t s = 0; s < h_.surfaces.size(); ++s) {
+        if (h_.surface_dead(int(s))) continue;
+        const int p = h_.nodes[size_t(h_.surfaces[s].root)].pocket;
+        if (s < known && was[s] != p) return false;
+        // A new surface in a closed pocket that holds old ones (an object put into a closed
+        // crate), unless that is the scene's main space (furniture added to a closed room).
+        if (s >= known && p != 0 && p != main_pocket_ && size_t(p - 1) < known) return false;
+    }
+    return true;
+}
+
+}  // namespace radiosity

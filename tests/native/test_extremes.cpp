@@ -920,24 +920,45 @@ void expect_disc_power(const Solver& s, const std::vector<Vec3>& rim, const std:
                 s.radiance_at(0, 0, {0.01, 0, 0}).g, h.prims.size() - 1);
     EXPECT_NEAR(got, exact, 0.05 * exact) << what;
 }
-}  // namespace
-
-TEST(Extremes, HundredThousandVertexConvexNgon) {
-    // scene.h takes Blender's polygon layout, so n-gons are accepted and fan-split natively.
-    const int n = 100000;
-    std::vector<Vec3> v(n);
-    std::vector<int> f(n);
+// A unit disc of n corners (one polygon) as vertices and corner list.
+void unit_disc(int n, std::vector<Vec3>& v, std::vector<int>& f) {
+    v.resize(n);
+    f.resize(n);
     for (int i = 0; i < n; ++i) {
         double a = 2 * kPi * i / n;
         v[i] = {std::cos(a), std::sin(a), 0};
         f[i] = i;
     }
+}
+
+// The disc as one object, a small light above it, solved at DRAFT.
+Solver solve_disc_under_light(const char* name, const std::vector<Vec3>& v, const std::vector<int>& f) {
     SceneDesc sc;
-    sc.add_object(make_object("disc", -1, v, {f}, Rgb::all(0.5), {}));
+    sc.add_object(make_object(name, -1, v, {f}, Rgb::all(0.5), {}));
     scenes::add_grid(sc, "light", -1, {Vec3{-0.25, -0.25, 1}, Vec3{-0.25, 0.25, 1}, Vec3{0.25, 0.25, 1}, Vec3{0.25, -0.25, 1}},
                      1, 1, {}, Rgb::all(10.0), false);
     Solver s(sc, Settings::preset("DRAFT"));
     s.solve();
+    return s;
+}
+
+// Pieces of object 0 whose normal points down (a fan from a bad apex flips some).
+int flipped_pieces(const Solver& s) {
+    const Hierarchy& h = s.hierarchy();
+    int flipped = 0;
+    for (const Primitive& p : h.prims)
+        if (p.object == 0 && h.nodes[h.surfaces[p.front].root].normal.z < 0) ++flipped;
+    return flipped;
+}
+}  // namespace
+
+TEST(Extremes, HundredThousandVertexConvexNgon) {
+    // scene.h takes Blender's polygon layout, so n-gons are accepted and fan-split natively.
+    const int n = 100000;
+    std::vector<Vec3> v;
+    std::vector<int> f;
+    unit_disc(n, v, f);
+    Solver s = solve_disc_under_light("disc", v, f);
     expect_sane(s, "100k-gon");
     EXPECT_EQ(s.stats().primitives, n - 2 + 1);
     expect_disc_power(s, v, "convex 100k-gon");
@@ -947,27 +968,14 @@ TEST(Extremes, HundredThousandVertexConcaveNgon) {
     // The same disc with one vertex pulled to the centre (a reflex corner half-way round):
     // the fan apex search must still finish and the pieces must face the right way.
     const int n = 100000;
-    std::vector<Vec3> v(n);
-    std::vector<int> f(n);
-    for (int i = 0; i < n; ++i) {
-        double a = 2 * kPi * i / n;
-        v[i] = {std::cos(a), std::sin(a), 0};
-        f[i] = i;
-    }
+    std::vector<Vec3> v;
+    std::vector<int> f;
+    unit_disc(n, v, f);
     v[n / 2] = {-0.5, 0, 0};
-    SceneDesc sc;
-    sc.add_object(make_object("pacman", -1, v, {f}, Rgb::all(0.5), {}));
-    scenes::add_grid(sc, "light", -1, {Vec3{-0.25, -0.25, 1}, Vec3{-0.25, 0.25, 1}, Vec3{0.25, 0.25, 1}, Vec3{0.25, -0.25, 1}},
-                     1, 1, {}, Rgb::all(10.0), false);
-    Solver s(sc, Settings::preset("DRAFT"));
-    s.solve();
+    Solver s = solve_disc_under_light("pacman", v, f);
     expect_sane(s, "concave 100k-gon");
     // Every piece faces +z like the polygon (a fan from a bad apex would flip some).
-    const Hierarchy& h = s.hierarchy();
-    int flipped = 0;
-    for (const Primitive& p : h.prims)
-        if (p.object == 0 && h.nodes[h.surfaces[p.front].root].normal.z < 0) ++flipped;
-    EXPECT_EQ(flipped, 0);
+    EXPECT_EQ(flipped_pieces(s), 0);
     expect_disc_power(s, v, "concave 100k-gon");
 }
 
@@ -977,27 +985,14 @@ TEST(Extremes, HundredThousandVertexNgonNotchedBeforeItsFirstCorner) {
     // (20k corners: 20 s, 100k: minutes). The apex search has an O(n) budget, then tries the
     // reflex corners. (No timed assertion: a regression shows as this test running for minutes.)
     const int n = 100000;
-    std::vector<Vec3> v(n);
-    std::vector<int> f(n);
-    for (int i = 0; i < n; ++i) {
-        double a = 2 * kPi * i / n;
-        v[i] = {std::cos(a), std::sin(a), 0};
-        f[i] = i;
-    }
+    std::vector<Vec3> v;
+    std::vector<int> f;
+    unit_disc(n, v, f);
     v[n - 1] = {0.9, 0, 0};
-    SceneDesc sc;
-    sc.add_object(make_object("notched", -1, v, {f}, Rgb::all(0.5), {}));
-    scenes::add_grid(sc, "light", -1, {Vec3{-0.25, -0.25, 1}, Vec3{-0.25, 0.25, 1}, Vec3{0.25, 0.25, 1}, Vec3{0.25, -0.25, 1}},
-                     1, 1, {}, Rgb::all(10.0), false);
-    Solver s(sc, Settings::preset("DRAFT"));
-    s.solve();
+    Solver s = solve_disc_under_light("notched", v, f);
     expect_sane(s, "notched 100k-gon");
     EXPECT_EQ(s.stats().primitives, n - 2 + 1);
-    const Hierarchy& h = s.hierarchy();
-    int flipped = 0;
-    for (const Primitive& p : h.prims)
-        if (p.object == 0 && h.nodes[h.surfaces[p.front].root].normal.z < 0) ++flipped;
-    EXPECT_EQ(flipped, 0);      // fanned from the notch: every piece faces +z
+    EXPECT_EQ(flipped_pieces(s), 0);      // fanned from the notch: every piece faces +z
     expect_disc_power(s, v, "notched 100k-gon");
 }
 

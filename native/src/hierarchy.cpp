@@ -45,7 +45,7 @@ uint64_t object_tree_key(uint64_t object_key) { return Hierarchy::mix(0x0B1EC7ul
 // vertex came from. Quads stay quads only when planar and convex (the quadtree and the
 // cubature assume it); other polygons are fanned from a vertex that keeps triangles positive.
 void split_polygon(const ObjectDesc& o, int f, double min_area, const Hierarchy& h, std::vector<Primitive>& out,
-                   size_t& skipped) {
+                   size_t& skipped, size_t& unfanned) {
     const int n = o.loop_totals[f], c0 = o.loop_starts[f];
     auto P = [&](int k) { return h.to_internal(o.vertices[o.corner_verts[c0 + k]]); };
     Vec3 nrm;  // Newell normal of the whole polygon
@@ -114,8 +114,50 @@ void split_polygon(const ObjectDesc& o, int f, double min_area, const Hierarchy&
             if (dot(cross(e1, e2), nrm) <= 0 && fans_from(a)) apex = a;
         }
     }
-    if (apex < 0) apex = 0;
-    for (int k = 1; k + 1 < n; ++k) emit_tri(apex, (apex + k) % n, (apex + k + 1) % n);
+    if (apex >= 0) {
+        for (int k = 1; k + 1 < n; ++k) emit_tri(apex, (apex + k) % n, (apex + k + 1) % n);
+        return;
+    }
+    // No vertex sees the whole polygon (a U-shaped floor drawn as one n-gon): clip ears. O(n^2),
+    // so only up to kMaxEarClip corners; beyond, the fan from corner 0 stands (some pieces face
+    // the wrong way) and the solver warns.
+    constexpr int kMaxEarClip = 4096;
+    if (n > kMaxEarClip) {
+        ++unfanned;
+        for (int k = 1; k + 1 < n; ++k) emit_tri(0, k, k + 1);
+        return;
+    }
+    auto turns_left = [&](const Vec3& a, const Vec3& b, const Vec3& c) { return dot(cross(b - a, c - b), nrm) > 0; };
+    auto inside = [&](const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+        return dot(cross(b - a, p - a), nrm) >= 0 && dot(cross(c - b, p - b), nrm) >= 0 && dot(cross(a - c, p - c), nrm) >= 0;
+    };
+    std::vector<int> ring(static_cast<size_t>(n), 0);
+    for (int k = 0; k < n; ++k) ring[size_t(k)] = k;
+    size_t i = 0, misses = 0;
+    while (ring.size() > 3 && misses < ring.size()) {
+        const size_t m = ring.size();
+        const int a = ring[(i + m - 1) % m], b = ring[i % m], c = ring[(i + 1) % m];
+        const Vec3 pa = P(a), pb = P(b), pc = P(c);
+        bool ear = turns_left(pa, pb, pc);
+        for (size_t k = 0; ear && k < m; ++k) {
+            const int q = ring[k];
+            if (q == a || q == b || q == c) continue;
+            const Vec3 pq = P(q);
+            // Only reflex corners can lie inside an ear of a simple polygon.
+            if (!turns_left(P(ring[(k + m - 1) % m]), pq, P(ring[(k + 1) % m])) && inside(pq, pa, pb, pc)) ear = false;
+        }
+        if (ear) {
+            emit_tri(a, b, c);
+            ring.erase(ring.begin() + long(i % m));
+            misses = 0;
+            if (i >= ring.size()) i = 0;
+        } else {
+            i = (i + 1) % m;
+            ++misses;
+        }
+    }
+    if (ring.size() > 3) ++unfanned;  // not a simple polygon (self-intersecting): fan the rest
+    for (size_t k = 1; k + 1 < ring.size(); ++k) emit_tri(ring[0], ring[k], ring[k + 1]);
 }
 
 }  // namespace
@@ -125,7 +167,7 @@ std::vector<int> Hierarchy::make_prims(const ObjectDesc& o, int oi) {
     std::vector<int> ids;
     for (size_t f = 0; f < o.polygon_count(); ++f) {
         const size_t first = prims.size();
-        split_polygon(o, int(f), min_area, *this, prims, skipped_polygons);
+        split_polygon(o, int(f), min_area, *this, prims, skipped_polygons, unfanned_polygons);
         for (size_t p = first; p < prims.size(); ++p) {
             prims[p].object = oi;
             prims[p].local = int(ids.size());

@@ -135,6 +135,10 @@ void Solver::solve(Control* control) {
         lap("gather");
         stats_.seconds_solve = since(t2);
     }
+    if (h_.unfanned_polygons > 0)
+        stats_.warnings.push_back(std::to_string(h_.unfanned_polygons) +
+                                  " concave polygon(s) too large (over 4096 corners) or self-intersecting to "
+                                  "triangulate: some of their pieces face the wrong way; triangulate them in Blender");
     if (stats_.element_nodes >= settings_.max_elements) stats_.capped = true;
     if (stats_.memory_capped)
         stats_.warnings.push_back("refinement stopped at the memory cap (max_memory_mb " +

@@ -996,6 +996,23 @@ TEST(Extremes, HundredThousandVertexNgonNotchedBeforeItsFirstCorner) {
     expect_disc_power(s, v, "notched 100k-gon");
 }
 
+TEST(Extremes, UShapedNgonWithoutAFanApexIsClippedIntoEars) {
+    // A U-shaped floor drawn as one n-gon: no corner sees the whole polygon, so no fan stays
+    // positive; it is triangulated by ear clipping (a fan from corner 0 flipped pieces).
+    std::vector<Vec3> v = {{0, 0, 0}, {3, 0, 0}, {3, 3, 0}, {2, 3, 0}, {2, 1, 0}, {1.5, 1, 0}, {1, 1, 0}, {1, 3, 0}, {0, 3, 0}};
+    std::vector<int> f(v.size());
+    for (size_t i = 0; i < v.size(); ++i) f[i] = int(i);
+    Solver s = solve_disc_under_light("U", v, f);
+    expect_sane(s, "U-shaped n-gon");
+    EXPECT_EQ(flipped_pieces(s), 0);
+    double area = 0;
+    for (const Primitive& p : s.hierarchy().prims)
+        if (p.object == 0) area += p.poly.area();
+    const double unit = s.hierarchy().unit;
+    EXPECT_NEAR(area * unit * unit, 7.0, 1e-9);  // 3 x 3 minus the 1 x 2 notch
+    for (const auto& w : s.stats().warnings) EXPECT_EQ(w.find("concave"), std::string::npos) << w;
+}
+
 TEST(Extremes, RadianceAtFarOrNonFinitePoints) {
     // Found by the fuzzer: a query point so far away that every distance overflowed to inf
     // walked to child -1 (out-of-bounds read). Far points now end at a leaf; NaN is an error.

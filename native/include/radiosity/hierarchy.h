@@ -178,6 +178,9 @@ public:
     Aabb scene_box;          // internal frame
     double scene_diag = 1.0; // internal frame (1 unless the scene is empty)
     size_t skipped_polygons = 0;  // zero-area input polygons (they get the colour of their neighbours)
+    // Concave n-gons no corner sees whole and too large (or too tangled) to clip into ears:
+    // fanned from their first corner, so some pieces face the wrong way (a warning says so).
+    size_t unfanned_polygons = 0;
 
 private:
     int new_node(NodeKind kind, int parent);

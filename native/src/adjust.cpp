@@ -472,6 +472,7 @@ void Solver::update(Control* control) {
     const auto t0 = Clock::now();
     lap_t_ = t0;
     stats_.phases.clear();
+    stats_.warnings.clear();  // this update's own (add_result_warnings at the end)
     Stats& s = stats_;
     s.env_env_links_tested = s.env_env_links_rejected = s.env_env_links_recomputed = 0;
     s.env_env_links_rays_clear = 0;
@@ -636,6 +637,7 @@ void Solver::update(Control* control) {
     }
     prune_elements();
     lap("prune");
+    add_result_warnings();
     compute_stats();
     lap("stats");
     s.mode_incremental = true;

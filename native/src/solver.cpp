@@ -135,11 +135,23 @@ void Solver::solve(Control* control) {
         lap("gather");
         stats_.seconds_solve = since(t2);
     }
+    if (stats_.element_nodes >= settings_.max_elements) stats_.capped = true;
+    add_result_warnings();
+    compute_stats();
+    lap("stats");
+    stats_.seconds_total = since(t0);
+    set_progress(1.0);
+    solved_ = true;
+    control_ = nullptr;
+}
+
+// Warnings about the result that stands after a solve or an update (an update starts from
+// none: a warning of an earlier solve, such as a full-solve fallback, no longer applies).
+void Solver::add_result_warnings() {
     if (h_.unfanned_polygons > 0)
         stats_.warnings.push_back(std::to_string(h_.unfanned_polygons) +
                                   " concave polygon(s) too large (over 4096 corners) or self-intersecting to "
                                   "triangulate: some of their pieces face the wrong way; triangulate them in Blender");
-    if (stats_.element_nodes >= settings_.max_elements) stats_.capped = true;
     if (stats_.memory_capped)
         stats_.warnings.push_back("refinement stopped at the memory cap (max_memory_mb " +
                                   std::to_string(int64_t(memory_limit_ / 1048576.0)) +
@@ -148,12 +160,6 @@ void Solver::solve(Control* control) {
         stats_.warnings.push_back("refinement stopped at the element or link cap (max_elements " +
                                   std::to_string(settings_.max_elements) + ", max_links " +
                                   std::to_string(settings_.max_links) + "): the result is coarser than the threshold asks");
-    compute_stats();
-    lap("stats");
-    stats_.seconds_total = since(t0);
-    set_progress(1.0);
-    solved_ = true;
-    control_ = nullptr;
 }
 
 void Solver::lap(const char* phase) {

@@ -132,4 +132,5 @@ TEST(Pockets, MovingIntoAndOutOfAClosedCrateSolvesInFull) {
     s.move_object(cube, translation(Vec3{2.1, 1.6, 0.3} - out).data());
     s.update();
     EXPECT_TRUE(s.stats().mode_incremental);
+    EXPECT_FALSE(said()) << "the previous update's fallback warning is not this one's";
 }

@@ -360,7 +360,7 @@ void Solver::adjust_links(Change& ch, std::vector<int>& recheck_history) {
         const bool changed = f.K != l.K || f.partial != l.partial;
         refresh(recompute[k], f);
         l.rejudge = true;
-        const bool transports = f.must_refine || f.K > 0 || f.blocked;
+        const bool transports = f.transports();
         if (l.active && !transports) {
             deactivate(recompute[k]);  // newly fully occluded: a new shadow
             l.occluded = true;

@@ -231,7 +231,7 @@ void Solver::link_from(std::vector<Candidate> wave) {
         std::vector<int> ids;
         for (size_t i = 0; i < made.size(); ++i) {
             Link& l = made[i];
-            if (!l.must_refine && !l.blocked && l.K <= 0) {
+            if (!l.transports()) {
                 // Geometrically possible but fully occluded: kept aside (not gathered) so that
                 // a move that opens the view can bring it back (paper 3.3, created links).
                 if (l.K_unoccluded > 0) {

@@ -111,11 +111,7 @@ TEST(Pockets, MovingIntoAndOutOfAClosedCrateSolvesInFull) {
     Solver s(room_with_crate(true, out), Settings::preset("DRAFT"));
     s.solve();
     const int cube = int(s.scene().objects().size()) - 1;
-    auto said = [&] {
-        bool any = false;
-        for (const std::string& w : s.stats().warnings) any |= w.find("closed pocket") != std::string::npos;
-        return any;
-    };
+    auto said = [&] { return has_warning(s, "closed pocket"); };
     s.move_object(cube, translation(in - out).data());
     s.update();
     EXPECT_TRUE(said());

@@ -2,6 +2,7 @@
 #pragma once
 #include <array>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "radiosity/builtin_scenes.h"
@@ -69,6 +70,13 @@ inline std::vector<const Node*> front_leaves(const Solver& s, int object) {
         }
     }
     return out;
+}
+
+// Whether one of the solver's warnings contains `what`.
+inline bool has_warning(const Solver& s, const std::string& what) {
+    for (const std::string& w : s.stats().warnings)
+        if (w.find(what) != std::string::npos) return true;
+    return false;
 }
 
 }  // namespace radiosity::testing

@@ -48,6 +48,11 @@ struct Link {
     // weight). The sender's radiance toward the receiver is their weighted mean, so surfaces
     // of the cluster hidden from the receiver (self-occlusion, back faces) do not dilute it.
     std::vector<std::pair<int, float>> samples;
+
+    // Whether the link stays active after an evaluation: it carries light, or must be split
+    // before it can say, or its blocked rays leave the oracle to weigh what they may miss.
+    // Otherwise it is fully occluded (kept aside so that a move can reopen it).
+    bool transports() const { return must_refine || K > 0 || blocked; }
 };
 
 }  // namespace radiosity

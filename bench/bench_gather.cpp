@@ -55,7 +55,8 @@ std::string micro(const Solver& solver, int threads) {
     const std::vector<Link>& links = solver.links();
     auto direct = [](int) { return Rgb{}; };
     GatherPlan plan;
-    std::vector<double> fsum(h.nodes.size(), 0.0);
+    CouplingSums fsum;
+    fsum.reset(h.nodes.size());
     const int reps = 15;
     double t_build = 1e300, t_radio = 1e300;
     for (int r = 0; r < reps; ++r) {

@@ -28,19 +28,21 @@ Rgb unit_gather(const Node& n, const std::vector<Link>& links) {
     return g;
 }
 
-void unit_push_down(const Hierarchy& h, const std::vector<Link>& links, int id, Rgb acc, std::vector<double>& fsum) {
+void unit_push_down(const Hierarchy& h, const std::vector<Link>& links, int id, Rgb acc, CouplingSums& sums) {
     const Node& n = h.nodes[size_t(id)];
-    if (!n.in_links.empty()) acc += unit_gather(n, links);
+    const Rgb own = n.in_links.empty() ? Rgb{} : unit_gather(n, links);
+    acc += own;
     if (n.children.empty()) {
-        fsum[size_t(id)] = acc.mean();
+        sums.total[size_t(id)] = acc.mean();
+        sums.own[size_t(id)] = own.mean();
         return;
     }
-    for (int c : n.children) unit_push_down(h, links, c, acc, fsum);
+    for (int c : n.children) unit_push_down(h, links, c, acc, sums);
 }
 
 }  // namespace
 
-void coupling_sums(const Hierarchy& h, const std::vector<Link>& links, std::vector<double>& fsum, int threads) {
+void coupling_sums(const Hierarchy& h, const std::vector<Link>& links, CouplingSums& sums, int threads) {
     parallel_for(h.surfaces.size(), threads, [&](size_t s) {
         const Node& root = h.nodes[size_t(h.surfaces[s].root)];
         const Vec3 nrm = root.normal;
@@ -51,7 +53,7 @@ void coupling_sums(const Hierarchy& h, const std::vector<Link>& links, std::vect
                 const double c = -dot(nrm, l.dir);
                 if (c > 0 && h.holds_pocket(l.src, root.pocket)) acc += (Rgb::all(1.0) * l.K) * c;
             }
-        unit_push_down(h, links, h.surfaces[s].root, acc, fsum);
+        unit_push_down(h, links, h.surfaces[s].root, acc, sums);
     }, 64);
 }
 
@@ -223,6 +225,7 @@ void GatherPlan::prepare_radiometry(const Hierarchy& h, const std::vector<Link>&
     e_area_.assign(ne, 0.0);
     e_child_area_.assign(ne, 0.0);
     e_closure_.assign(ne, 1.0);
+    e_closure_own_.assign(ne, 1.0);
     e_emission_.assign(ne, Rgb{});
     e_rho_.assign(ne, Rgb{});
     e_direct_.assign(ne, Rgb{});
@@ -239,6 +242,7 @@ void GatherPlan::prepare_radiometry(const Hierarchy& h, const std::vector<Link>&
         if (e_child_[i] < 0) {
             e_rho_[i] = n.rho;
             e_closure_[i] = n.closure;
+            e_closure_own_[i] = n.closure_own;
             e_direct_[i] = direct(int(id));
         }
     }, 2048);
@@ -347,7 +351,7 @@ Rgb GatherPlan::sender_radiance(const PlanLink& p) const {
     return c.den > 0 ? num / c.den : L_[size_t(c.src)];
 }
 
-void GatherPlan::push_pull(size_t s, bool unit, std::vector<double>* fsum, double& delta) {
+void GatherPlan::push_pull(size_t s, bool unit, CouplingSums* sums, double& delta) {
     const int32_t b = s_begin_[s], e = s_begin_[s + 1];
     acc_[size_t(b)] = g_flux_[size_t(s_group_[s])];
     if (e_rcv_[size_t(b)]) acc_[size_t(b)] += G_[size_t(b)];
@@ -361,11 +365,15 @@ void GatherPlan::push_pull(size_t s, bool unit, std::vector<double>* fsum, doubl
             }
             continue;
         }
+        const Rgb own = e_rcv_[size_t(i)] ? G_[size_t(i)] : Rgb{};  // through the leaf's own links
         if (unit) {
-            (*fsum)[size_t(slot_node_[size_t(i)])] = acc_[size_t(i)].mean();
+            const size_t node = size_t(slot_node_[size_t(i)]);
+            sums->total[node] = acc_[size_t(i)].mean();
+            sums->own[node] = own.mean();
             continue;
         }
-        const Rgb Lnew = e_emission_[size_t(i)] + e_rho_[size_t(i)] * (acc_[size_t(i)] * e_closure_[size_t(i)] + e_direct_[size_t(i)]);
+        const Rgb gathered = own * e_closure_own_[size_t(i)] + (acc_[size_t(i)] - own) * e_closure_[size_t(i)];
+        const Rgb Lnew = e_emission_[size_t(i)] + e_rho_[size_t(i)] * (gathered + e_direct_[size_t(i)]);
         const Rgb Lold = L_[size_t(i)];
         delta = std::max(delta, std::fabs((Lnew - Lold).max()));
         delta = std::max(delta, std::fabs((Lold - Lnew).max()));
@@ -405,7 +413,7 @@ void GatherPlan::pull_up_clusters() {
     }
 }
 
-double GatherPlan::sweep(bool unit, std::vector<double>* fsum, int threads) {
+double GatherPlan::sweep(bool unit, CouplingSums* sums, int threads) {
     // 1. Gather through the links (Jacobi: from the previous sweep's radiances): element
     //    receivers sum theirs, each link into a cluster keeps its own value.
     const size_t ner = r_entry_.size();
@@ -430,7 +438,7 @@ double GatherPlan::sweep(bool unit, std::vector<double>* fsum, int threads) {
         g_flux_[g] = acc;
     }
     std::vector<double> deltas(s_group_.size(), 0.0);
-    parallel_for(s_group_.size(), workers(threads), [&](size_t s) { push_pull(s, unit, fsum, deltas[s]); }, 64);
+    parallel_for(s_group_.size(), workers(threads), [&](size_t s) { push_pull(s, unit, sums, deltas[s]); }, 64);
     if (unit) return 0.0;
     // 3. Clusters: radiance and axis bins from their children.
     pull_up_clusters();

@@ -393,6 +393,7 @@ void Hierarchy::subdivide(int id) {
         e.L = p.L;
         e.Lmin = e.Lmax = p.L;
         e.closure = p.closure;
+        e.closure_own = p.closure_own;
         e.enclosed = p.enclosed;
         e.decider = p.decider;
         e.pocket = p.pocket;

@@ -589,7 +589,8 @@ Rgb Solver::leaf_irradiance(int id) const {
             double c = -dot(n.normal, l.dir);
             if (c > 0 && h_.holds_pocket(l.src, n.pocket)) acc += l.value * c;  // gather_plan.cpp's rule
         }
-    return acc * n.closure + light_direct(id);
+    const Rgb own = n.in_links.empty() ? Rgb{} : n.G;
+    return own * n.closure_own + (acc - own) * n.closure + light_direct(id);
 }
 
 std::vector<float> Solver::corner_irradiance(int object) const {

@@ -24,15 +24,17 @@ struct ReferenceSweep {
     std::vector<Link>& links;
     Direct direct;
 
-    void push_down(int id, Rgb acc, bool unit, std::vector<double>* fsum, double& delta) {
+    void push_down(int id, Rgb acc, bool unit, CouplingSums* sums, double& delta) {
         Node& n = h.nodes[size_t(id)];
-        if (!n.in_links.empty()) acc += n.G;
+        const Rgb own = n.in_links.empty() ? Rgb{} : n.G;
+        acc += own;
         if (n.children.empty()) {
             if (unit) {
-                (*fsum)[size_t(id)] = acc.mean();
+                sums->total[size_t(id)] = acc.mean();
+                sums->own[size_t(id)] = own.mean();
                 return;
             }
-            Rgb Lnew = n.emission + n.rho * (acc * n.closure + direct(id));
+            Rgb Lnew = n.emission + n.rho * (own * n.closure_own + (acc - own) * n.closure + direct(id));
             delta = std::max(delta, std::fabs((Lnew - n.L).max()));
             delta = std::max(delta, std::fabs((n.L - Lnew).max()));
             n.L = Lnew;
@@ -42,7 +44,7 @@ struct ReferenceSweep {
         Rgb sum, lo = Rgb::all(1e300), hi = Rgb::all(-1e300);
         double area = 0;
         for (int c : n.children) {
-            push_down(c, acc, unit, fsum, delta);
+            push_down(c, acc, unit, sums, delta);
             if (unit) continue;
             const Node& k = h.nodes[size_t(c)];
             sum += k.L * k.area;
@@ -56,7 +58,7 @@ struct ReferenceSweep {
         n.Lmax = hi;
     }
 
-    double sweep(bool unit, std::vector<double>* fsum) {
+    double sweep(bool unit, CouplingSums* sums) {
         for (Node& q : h.nodes) {
             if (q.dead || q.in_links.empty()) continue;
             Rgb g;
@@ -80,7 +82,7 @@ struct ReferenceSweep {
                     if (c > 0 && h.holds_pocket(links[size_t(li)].src, h.nodes[size_t(root)].pocket))
                         acc += links[size_t(li)].value * c;
                 }
-            push_down(root, acc, unit, fsum, delta);
+            push_down(root, acc, unit, sums, delta);
         }
         if (unit) return 0.0;
         for (int i = int(h.nodes.size()) - 1; i >= 0; --i) {
@@ -132,6 +134,7 @@ Solved solved(const SceneDesc& scene, double eps, bool clustering) {
         Node& n = s.h.nodes[i];
         n.L = n.emission + Rgb{0.1 * double(i % 7), 0.05 * double(i % 5), 0.02 * double(i % 11)};
         n.closure = 0.9 + 0.01 * double(i % 13);
+        n.closure_own = 0.95 + 0.01 * double(i % 7);
     }
     return s;
 }
@@ -189,21 +192,39 @@ TEST_P(GatherPlanTest, SweepsAreBitIdenticalToASweepOverTheHierarchy) {
     plan.write_back(got.h, got.links, 2);
     expect_equal(ref, got);
 
-    // The unit sweep (closure correction): the coupling sum of every leaf, from a plan...
-    std::vector<double> f_ref(start.h.nodes.size(), -1.0), f_got(start.h.nodes.size(), -1.0);
+    // The unit sweep (closure correction): the coupling sums of every leaf, from a plan...
+    auto fresh = [&] {
+        CouplingSums c;
+        c.total.assign(start.h.nodes.size(), -1.0);
+        c.own.assign(start.h.nodes.size(), -1.0);
+        return c;
+    };
+    auto same = [](const std::vector<double>& a, const std::vector<double>& b) {
+        return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+    };
+    CouplingSums f_ref = fresh(), f_got = fresh();
     ReferenceSweep{ref.h, ref.links, direct}.sweep(true, &f_ref);
     GatherPlan unit_plan;
     unit_plan.build(got.h, got.links, 1);
     EXPECT_FALSE(unit_plan.has_radiometry());
     EXPECT_EQ(unit_plan.sweep(true, &f_got, 1), 0.0);
-    EXPECT_EQ(std::memcmp(f_ref.data(), f_got.data(), f_ref.size() * sizeof(double)), 0);
+    EXPECT_TRUE(same(f_ref.total, f_got.total));
+    EXPECT_TRUE(same(f_ref.own, f_got.own));
     // ... and straight from the hierarchy, without a plan.
-    std::vector<double> f_direct(start.h.nodes.size(), -1.0);
+    CouplingSums f_direct = fresh();
     coupling_sums(got.h, got.links, f_direct, 2);
-    EXPECT_EQ(std::memcmp(f_ref.data(), f_direct.data(), f_ref.size() * sizeof(double)), 0);
-    int leaves = 0;
-    for (double f : f_got) leaves += f >= 0;
+    EXPECT_TRUE(same(f_ref.total, f_direct.total));
+    EXPECT_TRUE(same(f_ref.own, f_direct.own));
+    int leaves = 0, with_own = 0, with_inherited = 0;
+    for (size_t i = 0; i < f_got.total.size(); ++i) {
+        if (f_got.total[i] < 0) continue;
+        ++leaves;
+        with_own += f_got.own[i] > 0;
+        with_inherited += f_got.total[i] > f_got.own[i];
+    }
     EXPECT_GT(leaves, 0);
+    EXPECT_GT(with_own, 0);        // both parts occur, so the test tells them apart
+    EXPECT_GT(with_inherited, 0);
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, GatherPlanTest,
@@ -230,8 +251,9 @@ TEST(GatherPlan, WriteBackWithoutASweepChangesNothing) {
     GatherPlan plan;
     plan.build(s.h, s.links, 1);
     plan.prepare_radiometry(s.h, s.links, [](int) { return Rgb{}; }, 1);
-    std::vector<double> fsum(s.h.nodes.size(), 0.0);
-    plan.sweep(true, &fsum, 1);  // a unit sweep leaves the radiometry alone
+    CouplingSums sums;
+    sums.reset(s.h.nodes.size());
+    plan.sweep(true, &sums, 1);  // a unit sweep leaves the radiometry alone
     plan.write_back(s.h, s.links, 1);
     expect_equal(before, s);
 }

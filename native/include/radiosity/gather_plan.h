@@ -26,11 +26,19 @@
 
 namespace radiosity {
 
+// Per node (leaves only filled): the sum of a leaf's couplings from unit senders (mean over
+// colours), and the part of it through links at the leaf itself; the rest reaches it through
+// links at its ancestors and its clusters. The closure correction weighs them apart.
+struct CouplingSums {
+    std::vector<double> total, own;
+    void reset(size_t nodes) { total.assign(nodes, 0.0), own.assign(nodes, 0.0); }
+};
+
 // The unit sweep straight from the hierarchy: every sender counts as radiance 1 and each
-// leaf's coupling sum (mean over colours) goes to fsum[node], exactly as GatherPlan::sweep(true)
-// computes it. One such sweep reads every link once, as building a plan does, so for a single
-// unit sweep (the closure correction right after links changed) no plan is built.
-void coupling_sums(const Hierarchy& h, const std::vector<Link>& links, std::vector<double>& fsum, int threads);
+// leaf's coupling sums go to `sums`, exactly as GatherPlan::sweep(true) computes them. One
+// such sweep reads every link once, as building a plan does, so for a single unit sweep (the
+// closure correction right after links changed) no plan is built.
+void coupling_sums(const Hierarchy& h, const std::vector<Link>& links, CouplingSums& sums, int threads);
 
 class GatherPlan {
 public:
@@ -49,9 +57,9 @@ public:
     int64_t link_count() const { return int64_t(plinks_.size()); }
 
     // One Jacobi sweep on the plan's own radiances. unit: every sender counts as radiance 1 and
-    // each leaf's coupling sum (mean over colours) goes to (*fsum)[node]; returns 0. Otherwise
-    // (needs prepare_radiometry) returns the largest change of a leaf radiance.
-    double sweep(bool unit, std::vector<double>* fsum, int threads);
+    // each leaf's coupling sums go to *sums; returns 0. Otherwise (needs prepare_radiometry)
+    // returns the largest change of a leaf radiance.
+    double sweep(bool unit, CouplingSums* sums, int threads);
 
     // Copies the result of the radiometric sweeps since the last build or write-back to the
     // hierarchy and links: L, Lmin, Lmax of elements and clusters, G of receivers, S of
@@ -100,7 +108,7 @@ private:
     int32_t slot_of(int node);
     int workers(int threads) const;  // threads, or 1 for a small plan
     Rgb sender_radiance(const PlanLink& p) const;
-    void push_pull(size_t s, bool unit, std::vector<double>* fsum, double& delta);
+    void push_pull(size_t s, bool unit, CouplingSums* sums, double& delta);
     void pull_up_clusters();
 
     bool valid_ = false, radiometry_ = false;
@@ -118,7 +126,7 @@ private:
     std::vector<uint8_t> e_rcv_;       // has active in-links (its G counts)
     std::vector<double> e_area_, e_child_area_;
     std::vector<Rgb> e_emission_, e_rho_, e_direct_;
-    std::vector<double> e_closure_;
+    std::vector<double> e_closure_, e_closure_own_;
     std::vector<Rgb> G_, acc_;
     std::vector<Rgb> lo_, hi_;         // per slot, write-back only: range of leaf radiance below
     // Surfaces: entry range and flux group.

@@ -45,7 +45,9 @@ struct Node {
     Rgb Lmin, Lmax;  // range of leaf radiance below (sender-side error term of the oracle)
     std::array<Rgb, kBins> S{};      // clusters: sum over surfaces of L * A * max(0, +-n_axis)
     std::array<double, kBins> W{};   // clusters: sum over surfaces of A * max(0, +-n_axis)
-    double closure = 1.0;            // leaves: form-factor closure correction (see gather.cpp)
+    // Leaves: form-factor closure correction (see gather.cpp), as factors on the couplings
+    // through links at ancestors and clusters (closure) and through the leaf's own links.
+    double closure = 1.0, closure_own = 1.0;
     int8_t enclosed = -1;            // leaves: no escape ray found open space (1), did (0), unknown (-1)
     // The node whose escape rays decided `enclosed` (itself, or the ancestor it inherited the
     // answer from) and the index of the ray that found open space (-1: none did). After a

@@ -122,7 +122,7 @@ private:
     // next sweep. sweep(false) copies radiances back to the nodes at once; iterate_to after
     // its last sweep; a unit sweep only fills fsum (nodes' G and links' value are left as the
     // last radiometric sweep made them).
-    double sweep(bool unit, std::vector<double>* fsum);
+    double sweep(bool unit, CouplingSums* sums);
     int iterate_to(double tolerance, int max_iterations, double progress_from, double progress_to);
     void ensure_plan(bool radiometry);
     void compute_closure();

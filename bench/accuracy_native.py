@@ -6,7 +6,7 @@ the same measures as bench/tradeoff (rRMSE = sqrt(mean(((x-r)/max(r, 0.05 mean r
 emitters' corners and those the reference has at 0 left out). Objects are matched by name
 (the references store them sorted by name).
 
-    python3 bench/accuracy_native.py [--native-dir DIR] [--presets DRAFT,MEDIUM] SCENE.npz ...
+    python3 bench/accuracy_native.py [--native-dir DIR] [--presets DRAFT,MEDIUM] [--seeds 1,2,3] SCENE.npz ...
 
 The reference of SCENE.npz is bench/tradeoff/refs/SCENE_cycles.npz. --native-dir picks another
 build (e.g. a worktree at the commit before a change) to compare two builds on the same scenes.
@@ -25,6 +25,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--native-dir", default=os.path.join(ROOT, "build", "native"))
     ap.add_argument("--presets", default="DRAFT,MEDIUM")
+    ap.add_argument("--seeds", default="", help="comma-separated Settings.seed values (default: the preset's)")
     ap.add_argument("scenes", nargs="+")
     a = ap.parse_args()
     os.environ["RADIOSITY_NATIVE_DIR"] = a.native_dir
@@ -46,14 +47,17 @@ def main():
         emit = np.concatenate([np.repeat(np.any(z[f"o{i}_emission"] > 0, axis=1), z[f"o{i}_loop_totals"]) for i in order])
         keep = ~emit & np.all(ref > 0, axis=1)
         r = ref[keep]
-        for preset in a.presets.split(","):
-            s = rn.Solver(ue.build_scene(z), rn.Settings.preset(preset))
+        for preset, seed in [(p, sd) for p in a.presets.split(",") for sd in (a.seeds.split(",") if a.seeds else [None])]:
+            st = rn.Settings.preset(preset)
+            if seed is not None:
+                st.seed = int(seed)
+            s = rn.Solver(ue.build_scene(z), st)
             s.solve()
             x = np.concatenate([s.corner_radiance(i) for i in order])[keep]
             rrmse = float(np.sqrt(np.mean(((x - r) / np.maximum(r, 0.05 * r.mean())) ** 2)))
             nrmse = float(np.sqrt(np.mean((x - r) ** 2)) / np.sqrt(np.mean(r ** 2)))
             st = s.stats()
-            print(f"{name} {preset}: rRMSE {rrmse:.4f} NRMSE {nrmse:.4f} mean ratio {x.mean() / r.mean():.4f} "
+            print(f"{name} {preset}{'' if seed is None else ' seed ' + seed}: rRMSE {rrmse:.4f} NRMSE {nrmse:.4f} mean ratio {x.mean() / r.mean():.4f} "
                   f"links {st['links']} elements {st['elements']} rays {st.get('rays', 0)}")
 
 

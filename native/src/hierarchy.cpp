@@ -513,6 +513,30 @@ int Hierarchy::ensure_cluster_node(const SceneDesc& scene, int c) {
     return id;
 }
 
+namespace {
+// The summary of surfaces [b, e), or none when they have too many normals or pockets.
+Hierarchy::FacingSummary summarise(const std::vector<SurfaceGeom>& g, int b, int e) {
+    Hierarchy::FacingSummary f;
+    for (int i = b; i < e; ++i) {
+        const SurfaceGeom& s = g[size_t(i)];
+        bool found = false;
+        for (auto& grp : f.groups)
+            if (grp.pocket == s.pocket && grp.normal.x == s.normal.x && grp.normal.y == s.normal.y &&
+                grp.normal.z == s.normal.z) {
+                grp.area += s.area;
+                found = true;
+                break;
+            }
+        if (!found) {
+            if (int(f.groups.size()) >= Hierarchy::kSummaryMaxNormals) return Hierarchy::FacingSummary{};
+            f.groups.push_back({s.normal, s.pocket, s.area});
+        }
+    }
+    f.valid = e > b;
+    return f;
+}
+}  // namespace
+
 void Hierarchy::refresh_surface_geom() {
     surface_geom.resize(surface_order.size());
     for (size_t i = 0; i < surface_order.size(); ++i) {
@@ -527,7 +551,16 @@ void Hierarchy::refresh_surface_geom() {
         g.object = e.object;
         g.pocket = e.pocket;
     }
+    area_prefix.assign(surface_geom.size() + 1, 0.0);
+    for (size_t i = 0; i < surface_geom.size(); ++i) area_prefix[i + 1] = area_prefix[i] + surface_geom[i].area;
+    facing_summary.assign(nodes.size(), FacingSummary{});
+    for (size_t id = 0; id < nodes.size(); ++id) {
+        const Node& n = nodes[id];
+        if (!n.is_cluster() || n.dead || n.surf_end - n.surf_begin < kSummaryMinSurfaces) continue;
+        facing_summary[id] = summarise(surface_geom, n.surf_begin, n.surf_end);
+    }
 }
+
 
 bool Hierarchy::surface_geom_current() const {
     if (surface_geom.size() != surface_order.size()) return false;

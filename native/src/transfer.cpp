@@ -142,20 +142,59 @@ public:
         if (!n.is_cluster()) {
             single_ = {n.poly, n.normal, n.area, n.poly.first_share(), node, n.object, n.pocket};
             if (take(n.pocket)) add(-1, n.area * std::max(0.0, dot(n.normal, d)));
+            total_ = cdf_.empty() ? 0.0 : cdf_.back();
             return;
+        }
+        if (size_t(node) < h.facing_summary.size() && h.facing_summary[size_t(node)].valid) {
+            // A large cluster of few normals in one pocket: the projected area is a sum over
+            // its normals, and surfaces are drawn by area and kept with probability cos
+            // (rejection), unless so little of it faces d that rejection would spin.
+            const Hierarchy::FacingSummary& f = h.facing_summary[size_t(node)];
+            double facing = 0;
+            for (const auto& grp : f.groups)
+                if (take(grp.pocket)) facing += grp.area * std::max(0.0, dot(grp.normal, d));
+            const double area = h.area_prefix[size_t(n.surf_end)] - h.area_prefix[size_t(n.surf_begin)];
+            if (facing <= 0 || facing >= area / 64) {
+                summary_ = true;
+                total_ = facing;
+                begin_ = n.surf_begin;
+                end_ = n.surf_end;
+                d_ = d;
+                other_ = other;
+                return;
+            }
         }
         for (int i = n.surf_begin; i < n.surf_end; ++i) {
             const SurfaceGeom& g = h.surface_geom[i];
             if (take(g.pocket)) add(i, g.area * std::max(0.0, dot(g.normal, d)));
         }
+        total_ = cdf_.empty() ? 0.0 : cdf_.back();
     }
-    double total() const { return cdf_.empty() ? 0.0 : cdf_.back(); }
+    double total() const { return total_; }
     // A point on a chosen surface, its normal and the surface root.
     Vec3 sample(Rng& rng, Vec3* normal, int* root) const {
-        double u = rng.next() * total();
-        size_t i = size_t(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin());
-        i = std::min(i, ids_.size() - 1);
-        const SurfaceGeom& g = ids_[i] < 0 ? single_ : h_.surface_geom[ids_[i]];
+        const SurfaceGeom* pick = nullptr;
+        if (summary_) {
+            const double* pre = h_.area_prefix.data();
+            const double lo = pre[begin_], span = pre[end_] - lo;
+            for (int tries = 0; tries < 4096; ++tries) {
+                const double x = lo + rng.next() * span;
+                int i = int(std::upper_bound(pre + begin_ + 1, pre + end_ + 1, x) - (pre + 1));
+                i = std::min(std::max(i, begin_), end_ - 1);
+                const SurfaceGeom& g = h_.surface_geom[size_t(i)];
+                const double c = dot(g.normal, d_);
+                if (c <= 0 || !h_.holds_pocket(other_, g.pocket)) continue;
+                pick = &g;  // after 4096 tries: the last taking part
+                if (rng.next() < c) break;
+            }
+            if (!pick) pick = &h_.surface_geom[size_t(begin_)];
+        } else {
+            double u = rng.next() * total();
+            size_t i = size_t(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin());
+            i = std::min(i, ids_.size() - 1);
+            pick = ids_[i] < 0 ? &single_ : &h_.surface_geom[ids_[i]];
+        }
+        const SurfaceGeom& g = *pick;
         *normal = g.normal;
         *root = g.root;
         double u1 = rng.next(), u2 = rng.next();
@@ -166,12 +205,16 @@ private:
     void add(int i, double w) {
         if (w <= 0) return;
         ids_.push_back(i);
-        cdf_.push_back(total() + w);
+        cdf_.push_back((cdf_.empty() ? 0.0 : cdf_.back()) + w);
     }
     const Hierarchy& h_;
     std::vector<int>& ids_;
     std::vector<double>& cdf_;
     SurfaceGeom single_;  // an element end
+    double total_ = 0;
+    bool summary_ = false;  // sampling by rejection over [begin_, end_)
+    int begin_ = 0, end_ = 0, other_ = -1;
+    Vec3 d_;
 };
 
 // Whether every surface below P and Q lies in one plane (either side of it). Stops at the

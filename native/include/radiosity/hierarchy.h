@@ -157,6 +157,23 @@ public:
     // Parallel to surface_order. Refreshed wherever surface roots move, change their pocket
     // or surface_order changes (refresh_surface_geom()).
     std::vector<SurfaceGeom> surface_geom;
+    // Running sum of surface_geom areas (size + 1): a cluster's surfaces are drawn by area in
+    // O(log n) from its contiguous range.
+    std::vector<double> area_prefix;
+    // Large clusters whose surfaces have few distinct normals and pockets (rooms,
+    // furniture): their projected area toward any direction is a sum over those normals, so a
+    // cluster link costs O(log n) instead of a scan of every surface below it.
+    struct FacingGroup {
+        Vec3 normal;
+        int pocket = 0;
+        double area = 0;
+    };
+    struct FacingSummary {
+        bool valid = false;              // false: scan the surfaces
+        std::vector<FacingGroup> groups; // distinct (normal, pocket), summed area
+    };
+    std::vector<FacingSummary> facing_summary;        // per node (empty vector: none)
+    static constexpr int kSummaryMinSurfaces = 256, kSummaryMaxNormals = 24;
     void refresh_surface_geom();
     // Whether surface_geom matches the nodes (tests).
     bool surface_geom_current() const;

@@ -574,6 +574,25 @@ bool Hierarchy::surface_geom_current() const {
             if (g.poly.v[k].x != e.poly.v[k].x || g.poly.v[k].y != e.poly.v[k].y || g.poly.v[k].z != e.poly.v[k].z)
                 return false;
     }
+    // The samplers' summaries: the prefix sums and each cluster's groups as a fresh scan makes them.
+    // Nodes made since the last refresh are elements (splits), which have no summary.
+    if (area_prefix.size() != surface_geom.size() + 1 || facing_summary.size() > nodes.size()) return false;
+    for (size_t i = 0; i < surface_geom.size(); ++i)
+        if (area_prefix[i + 1] != area_prefix[i] + surface_geom[i].area) return false;
+    for (size_t id = 0; id < nodes.size(); ++id) {
+        const Node& n = nodes[id];
+        const bool wanted = n.is_cluster() && !n.dead && n.surf_end - n.surf_begin >= kSummaryMinSurfaces;
+        const FacingSummary fresh = wanted ? summarise(surface_geom, n.surf_begin, n.surf_end) : FacingSummary{};
+        const FacingSummary none;
+        const FacingSummary& got = id < facing_summary.size() ? facing_summary[id] : none;
+        if (got.valid != fresh.valid || got.groups.size() != fresh.groups.size()) return false;
+        for (size_t k = 0; k < got.groups.size(); ++k) {
+            const FacingGroup &a = got.groups[k], &b = fresh.groups[k];
+            if (a.pocket != b.pocket || a.area != b.area || a.normal.x != b.normal.x || a.normal.y != b.normal.y ||
+                a.normal.z != b.normal.z)
+                return false;
+        }
+    }
     return true;
 }
 

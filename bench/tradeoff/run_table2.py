@@ -8,7 +8,7 @@
 Per scene Debian's Blender runs table2_scene.py (full bake; native full solves with and without
 the 3.5 strategy; the stored move: incremental re-bake vs a full bake of the moved scene; a drag
 of --drag-steps incremental steps); JSON in OUT/table2_data/, table in OUT/table2_examples.md.
-Cheap to rerun (the incremental update is being sped up: its figures will change); --quick
+Cheap to rerun (about 10 minutes at MEDIUM with DRAFT drags); --quick
 (CI smoke run, no timing judged): the Cornell box only (it has a stored move too and bakes 4-5×
 faster than the box room: ~25 s in all), DRAFT, a 3-step drag, output to a temporary directory
 unless --out-dir is given.
@@ -147,8 +147,8 @@ def report(data, out_dir, command):
           "machine after each scene: "
           f"{'; '.join(d['scene'] + ': ' + d.get('machine_after', 'not recorded') for d in data)}. "
           "Runs per measurement: "
-          f"{data[0]['runs']} (medians); the drag is one run. **The incremental update is being "
-          "sped up on another branch: these update figures will change; rerun the command.**", "",
+          f"{data[0]['runs']} (medians); the drag is one run. Ratios of two single runs on a shared "
+          "machine are good to about ±20 %; counts do not depend on load.", "",
           "Where each figure comes from: counts and the operator's seconds are the add-on's "
           "`last_stats` (`bpy.ops.radiosity.bake`, wall time of the whole operator: gather, solve, "
           "write). The add-on has no setting for the §3.5 strategy (`progressive_refinement`), so "
@@ -199,13 +199,14 @@ def main():
                         "--drag-preset", a.drag_preset or preset],
                        log_path=os.path.join(data_dir, f"{s}.log"))
             bt_run.stamp(os.path.join(data_dir, f"{s}.json"), commit=commit,
-                         machine_after=bt_run.machine())
+                         machine_after=bt_run.machine(), command=command)
         print(f"all scenes: {time.perf_counter() - t0:.0f} s", flush=True)
     data = [json.load(open(os.path.join(data_dir, f"{s}.json"))) for s in scenes
             if os.path.exists(os.path.join(data_dir, f"{s}.json"))]
     if not data:
         raise SystemExit(f"no results in {data_dir}: run without --report-only first")
-    report(data, out_dir, command)
+    # The command that measured the data (a --report-only rerun only rewrites the table).
+    report(data, out_dir, data[0].get("command", command))
     print(f"results in {out_dir}/table2_examples.md")
 
 

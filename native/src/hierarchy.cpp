@@ -250,15 +250,26 @@ int Hierarchy::build_object_tree(std::vector<int>& ids, int begin, int end, int 
         add_surfaces_of_prims(ids, begin, end, id);
     } else {
         // Median split along the widest axis of the centroids: a balanced spatial tree gives
-        // O(n log n) linking from the root down.
+        // O(n log n) linking from the root down. The tree must not depend on where the object
+        // stands: an update moves an object's tree, a full solve builds it where it now is, and
+        // different trees make different cluster links (a box's top refined elsewhere: 3 %
+        // NRMSE on the box after a move). Rounding made equal extents (a square box) and equal
+        // centroids (a grid's rows) compare differently at two places, so extents within a
+        // relative 1e-9 count as equal (the lower axis wins) and centroids are compared on a
+        // grid of 2^-30 of the extent, from the low side, ties by polygon order.
         Aabb b;
         for (int i = begin; i < end; ++i) b.grow(prims[ids[i]].poly.centroid());
-        Vec3 ext = b.extent();
-        int axis = (ext.x >= ext.y && ext.x >= ext.z) ? 0 : (ext.y >= ext.z ? 1 : 2);
-        int mid = (begin + end) / 2;
-        std::nth_element(ids.begin() + begin, ids.begin() + mid, ids.begin() + end, [&](int a, int c) {
-            return prims[a].poly.centroid()[axis] < prims[c].poly.centroid()[axis];
-        });
+        const Vec3 ext = b.extent();
+        const double widest = std::max({ext.x, ext.y, ext.z});
+        int axis = 0;
+        while (axis < 2 && ext[axis] < widest * (1.0 - 1e-9)) ++axis;
+        const double lo = b.lo[axis], scale = ext[axis] > 0 ? std::ldexp(1.0, 30) / ext[axis] : 0.0;
+        std::vector<std::pair<int64_t, int>> order(size_t(end - begin));
+        for (int i = begin; i < end; ++i)
+            order[size_t(i - begin)] = {std::llround((prims[ids[i]].poly.centroid()[axis] - lo) * scale), ids[i]};
+        const int mid = (begin + end) / 2;
+        std::nth_element(order.begin(), order.begin() + (mid - begin), order.end());
+        for (int i = begin; i < end; ++i) ids[i] = order[size_t(i - begin)].second;
         build_object_tree(ids, begin, mid, id, object, mix(key, 1));
         build_object_tree(ids, mid, end, id, object, mix(key, 2));
     }

@@ -117,10 +117,12 @@ Solver::Judgement Solver::judge(const Link& l) const {
     }
     Side prefer;
     if (l.cluster || l.must_refine) {
-        // Split the larger end (clusters by bounding sphere, elements by area).
+        // Split the larger end (clusters by bounding sphere, elements by area). Ends of one
+        // size split the receiver, where the output lives: decided by the last bits of two
+        // equal areas, the choice could flip with a move's rounding.
         double sp = P.is_cluster() ? kPi * P.radius * P.radius : P.area;
         double sq = Q.is_cluster() ? kPi * Q.radius * Q.radius : Q.area;
-        prefer = sp > sq ? Side::Src : Side::Rcv;
+        prefer = sp > sq * (1.0 + 1e-9) ? Side::Src : Side::Rcv;
     } else {
         prefer = err_rcv >= err_src ? Side::Rcv : Side::Src;
     }

@@ -13,8 +13,9 @@ def test_live_rebake_equals_full_bake(run_blender):
     assert not r["pending_live_off"] and r["runs_live_off"] == 0
     if r["live_stats"].get("fake"):
         return
-    # Live re-bakes go through the native incremental update: equal to a full bake only within
-    # the update's accuracy.
+    # Live re-bakes go through the native incremental update: equal to a full bake within the
+    # issue's 0.5 % NRMSE (measured 0.05 %, the floor 0.03 %).
     assert r["live_stats"]["mode"] == "incremental" and r["live_stats"]["live"] is True
-    assert r["floor_nrmse"] < 0.05, r["floor_nrmse"]
-    assert r["nrmse"] < 0.02, r["nrmse"]
+    print(f"\n[{r['_flavour']}] live vs full NRMSE {r['nrmse']:.4f}, floor {r['floor_nrmse']:.4f}")
+    assert r["floor_nrmse"] < 0.005, r["floor_nrmse"]
+    assert r["nrmse"] < 0.005, r["nrmse"]

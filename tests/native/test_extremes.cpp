@@ -572,6 +572,21 @@ TEST(Extremes, LightOneMillimetreUnderTheCeilingLightsTheCeiling) {
     EXPECT_LE(above.g, 0.7 * 10 / (1 - 0.7)) << "more than a furnace";
 }
 
+// The same at DRAFT, 5 cm under the ceiling: the patch's own link to the light's back alone
+// sums past 1 (a near-field estimate over a coarse patch); the closure correction scaled it
+// down with the links the patch inherits, to 0.81 of the light's direct value (4.8 for 5.9),
+// where taking the excess from the inherited links first leaves it whole.
+TEST(Extremes, CoarseCeilingPatchBehindALampKeepsItsDirectLight) {
+    Solver s(lit_room(0.05), Settings::preset("DRAFT"));
+    s.solve();
+    expect_sane(s, "light 5 cm under the ceiling, DRAFT");
+    Rgb above = s.radiance_at(0, 13, {1.5, 1.5, 2.5});
+    const double direct = 0.7 * 10 * on_axis_factor(0.5, 0.5, 0.05);
+    std::printf("[ figure ] DRAFT ceiling behind a lamp 5 cm below: %.3f of its direct light\n", above.g / direct);
+    EXPECT_GE(above.g, 0.95 * direct);
+    EXPECT_LE(above.g, 0.7 * 10 / (1 - 0.7)) << "more than a furnace";
+}
+
 TEST(Extremes, InterpenetratingObjects) {
     // Two boxes pushed into each other inside the lit room.
     SceneDesc sc = lit_room();

@@ -226,6 +226,7 @@ void GatherPlan::prepare_radiometry(const Hierarchy& h, const std::vector<Link>&
     e_child_area_.assign(ne, 0.0);
     e_closure_.assign(ne, 1.0);
     e_closure_own_.assign(ne, 1.0);
+    e_fill_.assign(ne, 0.0);
     e_emission_.assign(ne, Rgb{});
     e_rho_.assign(ne, Rgb{});
     e_direct_.assign(ne, Rgb{});
@@ -243,6 +244,7 @@ void GatherPlan::prepare_radiometry(const Hierarchy& h, const std::vector<Link>&
             e_rho_[i] = n.rho;
             e_closure_[i] = n.closure;
             e_closure_own_[i] = n.closure_own;
+            e_fill_[i] = n.closure_fill;
             e_direct_[i] = direct(int(id));
         }
     }, 2048);
@@ -372,7 +374,8 @@ void GatherPlan::push_pull(size_t s, bool unit, CouplingSums* sums, double& delt
             sums->own[node] = own.mean();
             continue;
         }
-        const Rgb gathered = own * e_closure_own_[size_t(i)] + (acc_[size_t(i)] - own) * e_closure_[size_t(i)];
+        const Rgb gathered = own * e_closure_own_[size_t(i)] + (acc_[size_t(i)] - own) * e_closure_[size_t(i)] +
+                             L_[size_t(i)] * e_fill_[size_t(i)];
         const Rgb Lnew = e_emission_[size_t(i)] + e_rho_[size_t(i)] * (gathered + e_direct_[size_t(i)]);
         const Rgb Lold = L_[size_t(i)];
         delta = std::max(delta, std::fabs((Lnew - Lold).max()));

@@ -405,6 +405,7 @@ void Hierarchy::subdivide(int id) {
         e.Lmin = e.Lmax = p.L;
         e.closure = p.closure;
         e.closure_own = p.closure_own;
+        e.closure_fill = p.closure_fill;
         e.enclosed = p.enclosed;
         e.decider = p.decider;
         e.pocket = p.pocket;

@@ -34,7 +34,7 @@ struct ReferenceSweep {
                 sums->own[size_t(id)] = own.mean();
                 return;
             }
-            Rgb Lnew = n.emission + n.rho * (own * n.closure_own + (acc - own) * n.closure + direct(id));
+            Rgb Lnew = n.emission + n.rho * (own * n.closure_own + (acc - own) * n.closure + n.L * n.closure_fill + direct(id));
             delta = std::max(delta, std::fabs((Lnew - n.L).max()));
             delta = std::max(delta, std::fabs((n.L - Lnew).max()));
             n.L = Lnew;
@@ -135,6 +135,7 @@ Solved solved(const SceneDesc& scene, double eps, bool clustering) {
         n.L = n.emission + Rgb{0.1 * double(i % 7), 0.05 * double(i % 5), 0.02 * double(i % 11)};
         n.closure = 0.9 + 0.01 * double(i % 13);
         n.closure_own = 0.95 + 0.01 * double(i % 7);
+        n.closure_fill = 0.01 * double(i % 5);
     }
     return s;
 }

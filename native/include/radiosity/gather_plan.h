@@ -126,7 +126,7 @@ private:
     std::vector<uint8_t> e_rcv_;       // has active in-links (its G counts)
     std::vector<double> e_area_, e_child_area_;
     std::vector<Rgb> e_emission_, e_rho_, e_direct_;
-    std::vector<double> e_closure_, e_closure_own_;
+    std::vector<double> e_closure_, e_closure_own_, e_fill_;
     std::vector<Rgb> G_, acc_;
     std::vector<Rgb> lo_, hi_;         // per slot, write-back only: range of leaf radiance below
     // Surfaces: entry range and flux group.

@@ -48,6 +48,9 @@ struct Node {
     // Leaves: form-factor closure correction (see gather.cpp), as factors on the couplings
     // through links at ancestors and clusters (closure) and through the leaf's own links.
     double closure = 1.0, closure_own = 1.0;
+    // Enclosed leaves whose couplings sum short of 1: the missing part, taken to see the
+    // leaf's own radiance (gather.cpp).
+    double closure_fill = 0.0;
     int8_t enclosed = -1;            // leaves: no escape ray found open space (1), did (0), unknown (-1)
     // The node whose escape rays decided `enclosed` (itself, or the ancestor it inherited the
     // answer from) and the index of the ray that found open space (-1: none did). After a

@@ -144,34 +144,27 @@ void Solver::compute_closure() {
                     // clusters carry a coupling averaged over a larger receiver whose view may
                     // be wider (a ceiling patch in the gap behind a lamp sees the lamp through
                     // its own link and a sliver of the room, where the ceiling above it sees
-                    // all the room). An excess (sum > 1) is taken from those inherited
-                    // couplings when they hold it; scaling all alike dimmed the lamp's exact
-                    // link with them (such patches 6 % dark, and by how much depended on how
-                    // far an update had refined the room's links: 0.9 % NRMSE between an
-                    // update and a full solve of the box room, 0.4 % now). A deficit has no
-                    // such culprit (a missing link, sampled visibility anywhere): all scale.
-                    // Against the Cycles references both errors fell (box room MEDIUM rRMSE
-                    // 0.113 -> 0.107, full room 0.235 -> 0.222).
-                    // When the leaf's own links alone pass 1 (a near-field link's estimate
-                    // over a large patch can), they are the excess: scaled to 1, the
-                    // inherited ones dropped. A DRAFT ceiling patch behind a lamp got 4.8
-                    // instead of 5.9 (rho x lamp) when all were scaled alike.
+                    // all the room). So an excess (sum > 1) is taken from those inherited
+                    // couplings; scaling all alike dimmed the lamp's exact link with them (such
+                    // patches 6 % dark, and by how much depended on how far an update had
+                    // refined the room's links: 0.9 % NRMSE between an update and a full solve
+                    // of the box room). When the own links alone pass 1 (a near-field link's
+                    // estimate over a large patch can), they are the excess: scaled to 1, the
+                    // inherited ones dropped (a DRAFT ceiling patch behind a lamp got 4.8
+                    // instead of 5.9, rho x lamp, when all were scaled alike). inherited > 0
+                    // whenever own < 1 < f.
+                    // A shortfall: what the links miss is taken to see surfaces as bright as
+                    // the leaf itself. Scaling every coupling by 1 / f instead created light: a
+                    // leaf's exact links to a lamp (radiance 12 against ~0.4 for the room) grew
+                    // with the missing ones, and the closed rooms absorbed 4-14 % more power
+                    // than their lamps emit (bench/results/brightness.md). A furnace stays
+                    // exact: there every radiance is the leaf's own.
                     if (f > 1.0 && own >= 1.0) {
                         n.closure_own = 1.0 / own;
                         n.closure = 0.0;
-                    } else if (f > 1.0 && inherited > 0.0) {
-                        n.closure = (1.0 - own) / inherited;
                     } else if (f > 1.0) {
-                        n.closure = n.closure_own = 1.0 / f;
+                        n.closure = (1.0 - own) / inherited;
                     } else {
-                        // A shortfall: what the links miss is taken to see surfaces as bright
-                        // as the leaf itself. Scaling every coupling by 1 / f instead created
-                        // light: a leaf's exact links to a lamp (radiance 12 against ~0.4 for
-                        // the room) grew with the missing ones, and the closed rooms absorbed
-                        // 4-14 % more power than their lamps emit (mean brightness against
-                        // Cycles 1.04 / 1.10 / 1.13 in the box, chair and full rooms at
-                        // MEDIUM; bench/results/brightness.md). A furnace stays exact: there
-                        // every radiance is the leaf's own.
                         n.closure_fill = 1.0 - f;
                     }
                 }

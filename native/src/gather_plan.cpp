@@ -374,8 +374,8 @@ void GatherPlan::push_pull(size_t s, bool unit, CouplingSums* sums, double& delt
             sums->own[node] = own.mean();
             continue;
         }
-        const Rgb gathered = own * e_closure_own_[size_t(i)] + (acc_[size_t(i)] - own) * e_closure_[size_t(i)] +
-                             L_[size_t(i)] * e_fill_[size_t(i)];
+        const Rgb gathered = closure_gathered(own, acc_[size_t(i)], e_closure_own_[size_t(i)], e_closure_[size_t(i)],
+                                              e_fill_[size_t(i)], L_[size_t(i)]);
         const Rgb Lnew = e_emission_[size_t(i)] + e_rho_[size_t(i)] * (gathered + e_direct_[size_t(i)]);
         const Rgb Lold = L_[size_t(i)];
         delta = std::max(delta, std::fabs((Lnew - Lold).max()));

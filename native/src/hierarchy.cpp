@@ -526,6 +526,11 @@ int Hierarchy::ensure_cluster_node(const SceneDesc& scene, int c) {
 }
 
 namespace {
+// One facing group: the same pocket and bit-equal normals.
+bool same_facing(int pa, const Vec3& na, int pb, const Vec3& nb) {
+    return pa == pb && na.x == nb.x && na.y == nb.y && na.z == nb.z;
+}
+
 // The summary of surfaces [b, e), or none when they have too many normals or pockets.
 Hierarchy::FacingSummary summarise(const std::vector<SurfaceGeom>& g, int b, int e) {
     Hierarchy::FacingSummary f;
@@ -533,8 +538,7 @@ Hierarchy::FacingSummary summarise(const std::vector<SurfaceGeom>& g, int b, int
         const SurfaceGeom& s = g[size_t(i)];
         bool found = false;
         for (auto& grp : f.groups)
-            if (grp.pocket == s.pocket && grp.normal.x == s.normal.x && grp.normal.y == s.normal.y &&
-                grp.normal.z == s.normal.z) {
+            if (same_facing(grp.pocket, grp.normal, s.pocket, s.normal)) {
                 grp.area += s.area;
                 found = true;
                 break;
@@ -573,7 +577,6 @@ void Hierarchy::refresh_surface_geom() {
     }
 }
 
-
 bool Hierarchy::surface_geom_current() const {
     if (surface_geom.size() != surface_order.size()) return false;
     for (size_t i = 0; i < surface_order.size(); ++i) {
@@ -600,9 +603,7 @@ bool Hierarchy::surface_geom_current() const {
         if (got.valid != fresh.valid || got.groups.size() != fresh.groups.size()) return false;
         for (size_t k = 0; k < got.groups.size(); ++k) {
             const FacingGroup &a = got.groups[k], &b = fresh.groups[k];
-            if (a.pocket != b.pocket || a.area != b.area || a.normal.x != b.normal.x || a.normal.y != b.normal.y ||
-                a.normal.z != b.normal.z)
-                return false;
+            if (!same_facing(a.pocket, a.normal, b.pocket, b.normal) || a.area != b.area) return false;
         }
     }
     return true;

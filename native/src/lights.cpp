@@ -590,7 +590,7 @@ Rgb Solver::leaf_irradiance(int id) const {
             if (c > 0 && h_.holds_pocket(l.src, n.pocket)) acc += l.value * c;  // gather_plan.cpp's rule
         }
     const Rgb own = n.in_links.empty() ? Rgb{} : n.G;
-    return own * n.closure_own + (acc - own) * n.closure + n.L * n.closure_fill + light_direct(id);
+    return closure_gathered(own, acc, n.closure_own, n.closure, n.closure_fill, n.L) + light_direct(id);
 }
 
 std::vector<float> Solver::corner_irradiance(int object) const {

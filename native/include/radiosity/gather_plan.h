@@ -34,6 +34,14 @@ struct CouplingSums {
     void reset(size_t nodes) { total.assign(nodes, 0.0), own.assign(nodes, 0.0); }
 };
 
+// What a leaf gathers after the closure correction (gather.cpp compute_closure): `own`
+// through links at the leaf itself, the rest of `all` through links at its ancestors and
+// clusters, each part with its factor, plus the shortfall `fill` taken to see the leaf's own
+// radiance L. One formula for the sweeps and for the lighting-only output.
+inline Rgb closure_gathered(const Rgb& own, const Rgb& all, double c_own, double c_inherited, double fill, const Rgb& L) {
+    return own * c_own + (all - own) * c_inherited + L * fill;
+}
+
 // The unit sweep straight from the hierarchy: every sender counts as radiance 1 and each
 // leaf's coupling sums go to `sums`, exactly as GatherPlan::sweep(true) computes them. One
 // such sweep reads every link once, as building a plan does, so for a single unit sweep (the

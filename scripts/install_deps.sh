@@ -11,10 +11,20 @@ $SUDO apt-get install -y -q --no-install-recommends \
   blender xvfb \
   clang libclang-rt-dev  # scripts/fuzz.sh: clang and its libFuzzer/sanitizer runtimes
 PY=${PYTHON:-python3}
+# Debian's own python3 is "externally managed" (PEP 668): pip refuses to install into it unless
+# told to. A fresh machine has only that interpreter, so allow it there (a venv or pyenv
+# interpreter is not externally managed and is left alone). Debian's python3-numpy (above) is
+# kept: Debian's Blender 3.4 runs on the same interpreter and was built against numpy 1.x
+# (the bpy wheel below may lift it to a later 1.x, numpy<2 by its own requirement).
+if "$PY" -c 'import sys, sysconfig, os; sys.exit(0 if os.path.exists(os.path.join(sysconfig.get_path("stdlib"), "EXTERNALLY-MANAGED")) else 1)'; then
+  export PIP_BREAK_SYSTEM_PACKAGES=1
+fi
+NUMPY=numpy
+if "$PY" -c 'import numpy' 2>/dev/null; then NUMPY=""; fi
 # pybind11 >= 2.12 supports numpy 1.x (Debian's Blender) and 2.x (bpy wheels) at run time.
 # matplotlib: the benchmark reports' plots (bench/tradeoff/report_tradeoff.py, run_scaling.py),
 # which run in this Python, not in Blender's.
-$PY -m pip install -q "pybind11>=2.12" "pytest>=7" numpy matplotlib
+$PY -m pip install -q "pybind11>=2.12" "pytest>=7" $NUMPY matplotlib
 if [ "${RADIOSITY_SKIP_BPY:-0}" != 1 ]; then
   # Blender as a Python module: the newest wheel for this Python (cp311: 4.5/5.0).
   $PY -m pip install -q bpy || echo "warning: pip could not install bpy; the bpy flavour of the add-on tests will be skipped"

@@ -6,7 +6,8 @@ the same measures as bench/tradeoff (rRMSE = sqrt(mean(((x-r)/max(r, 0.05 mean r
 emitters' corners and those the reference has at 0 left out). Objects are matched by name
 (the references store them sorted by name).
 
-    python3 bench/accuracy_native.py [--native-dir DIR] [--presets DRAFT,MEDIUM] [--seeds 1,2,3] SCENE.npz ...
+    python3 bench/accuracy_native.py [--native-dir DIR] [--presets DRAFT,MEDIUM] [--seeds 1,2,3]
+                                     [--set rays_per_link=64 ...] SCENE.npz ...
 
 The reference of SCENE.npz is bench/tradeoff/refs/SCENE_cycles.npz. --native-dir picks another
 build (e.g. a worktree at the commit before a change) to compare two builds on the same scenes.
@@ -26,6 +27,8 @@ def main():
     ap.add_argument("--native-dir", default=os.path.join(ROOT, "build", "native"))
     ap.add_argument("--presets", default="DRAFT,MEDIUM")
     ap.add_argument("--seeds", default="", help="comma-separated Settings.seed values (default: the preset's)")
+    ap.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                    help="override a Settings field, e.g. --set rays_per_link=64 (repeatable)")
     ap.add_argument("scenes", nargs="+")
     a = ap.parse_args()
     os.environ["RADIOSITY_NATIVE_DIR"] = a.native_dir
@@ -51,6 +54,9 @@ def main():
             st = rn.Settings.preset(preset)
             if seed is not None:
                 st.seed = int(seed)
+            for kv in a.set:
+                k, v = kv.split("=", 1)
+                setattr(st, k, type(getattr(st, k))(v))
             s = rn.Solver(ue.build_scene(z), st)
             s.solve()
             x = np.concatenate([s.corner_radiance(i) for i in order])[keep]

@@ -132,6 +132,7 @@ void Solver::compute_closure() {
         CouplingSums sums;
         sums.reset(h_.nodes.size());
         sweep(true, &sums);
+        lap("closure sums");
         parallel_for(leaves_.size(), settings_.threads, [&](size_t i) {
             Node& n = h_.nodes[leaves_[i]];
             const double f = sums.total[leaves_[i]], own = sums.own[leaves_[i]], inherited = f - own;
@@ -181,7 +182,10 @@ void Solver::compute_closure() {
                 n.closure_fill *= kMaxGain / gain;
             }
         }, 32);
-        if (settings_.closure_rays <= 0 || pass >= settings_.closure_refine_passes || !closure_refine(sums.total)) break;
+        lap("closure decide");
+        const bool split = settings_.closure_rays > 0 && pass < settings_.closure_refine_passes && closure_refine(sums.total);
+        lap("closure split");
+        if (!split) break;
     }
 }
 

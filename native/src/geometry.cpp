@@ -177,6 +177,25 @@ double point_polygon_form_factor(const Vec3& x, const Vec3& nx, const Poly& poly
     return std::fabs(sum) / (2.0 * kPi);
 }
 
+Cubature receiver_cubature(const Poly& rcv, const Vec3& src_p, const Vec3& src_n) {
+    const FrontPart f = front_part(rcv, src_p, src_n);
+    const double area = rcv.area();
+    if (f.n == 0 || !(area > 0) || f.area >= (1.0 - 1e-9) * area) return cubature(rcv);
+    // A fan of up to three triangles from v[0], each by its centroid (exact for a linear
+    // kernel; the oracle refines where the kernel varies more, as the spread at the corners,
+    // 0 behind, tells it).
+    Cubature c;
+    for (int i = 1; i + 1 < f.n; ++i) {
+        const double a = tri_area(f.v[0], f.v[i], f.v[i + 1]);
+        if (!(a > 0)) continue;
+        c.p[size_t(c.n)] = (f.v[0] + f.v[i] + f.v[i + 1]) * (1.0 / 3.0);
+        c.w[size_t(c.n)] = a / area;
+        ++c.n;
+    }
+    if (c.n == 0) return cubature(rcv);
+    return c;
+}
+
 bool can_face(const Poly& src, const Vec3& src_n, const Poly& rcv, const Vec3& rcv_n, double eps) {
     // Some point of the receiver must be in front of the sender and vice versa.
     bool rcv_front = false, src_front = false;

@@ -235,3 +235,50 @@ TEST(SolverTransport, PlateCentreUnderSquareEmitter) {
     EXPECT_NEAR(got.r, rho * L * F, 0.01 * rho * L * F) << "analytic " << rho * L * F;
     EXPECT_NEAR(rho * L * F, 1.1973, 0.001);
 }
+
+TEST(AnalyticKernel, ReceiverCubatureKeepsOnlyTheFrontPart) {
+    // A floor plate x in [-9, 1] under a wall in the plane x = 0 facing +x: the plain 2x2 rule
+    // puts every point at x < 0, behind the wall.
+    Poly floor = quad({-9, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-9, 1, 0});
+    for (int k = 0; k < cubature(floor).n; ++k) ASSERT_LT(cubature(floor).p[k].x, 0.0);
+    Cubature c = receiver_cubature(floor, {0, 0, 0}, {1, 0, 0});
+    ASSERT_GT(c.n, 0);
+    double w = 0;
+    for (int k = 0; k < c.n; ++k) {
+        EXPECT_GT(c.p[k].x, 0.0);
+        w += c.w[k];
+    }
+    EXPECT_NEAR(w, 0.1, 1e-12);  // the front part's share of the area
+    // Wholly in front (touching the plane at an edge): the plain rule.
+    Poly front = quad({0, -1, 0}, {1, -1, 0}, {1, 1, 0}, {0, 1, 0});
+    Cubature a = receiver_cubature(front, {0, 0, 0}, {1, 0, 0}), b = cubature(front);
+    ASSERT_EQ(a.n, b.n);
+    for (int k = 0; k < a.n; ++k) EXPECT_EQ(a.w[k], b.w[k]);
+}
+
+TEST(SolverTransport, ReceiverStraddlingTheSendersPlane) {
+    // An emissive wall standing across a floor plate (x = 0, facing +x; the plate runs from
+    // x = -9 behind it to x = 1 in front). Before receiver_cubature the plate's one link had
+    // every cubature point behind the wall, coupling 0, and was dropped: the plate stayed
+    // black however much of it faced the wall.
+    const double L = 10, rho = 0.5;
+    Poly wall = quad({0, -1, 0}, {0, 1, 0}, {0, 1, 2}, {0, -1, 2});  // normal +x
+    ASSERT_NEAR(wall.normal().x, 1.0, 1e-12);
+    SceneDesc s;
+    scenes::add_grid(s, "floor", -1, {Vec3{-9, -1, 0}, Vec3{1, -1, 0}, Vec3{1, 1, 0}, Vec3{-9, 1, 0}}, 1, 1, Rgb::all(rho), {});
+    scenes::add_grid(s, "wall", -1, {wall.v[0], wall.v[1], wall.v[2], wall.v[3]}, 1, 1, {}, Rgb::all(L), false);
+    Settings st = Settings::preset("MEDIUM");
+    st.closure_rays = 0;  // open scene: the raw transport
+    Solver solver(s, st);
+    solver.solve();
+    // Exact: the area-mean kernel over the plate; its part behind the wall gets nothing.
+    double expect = 0;
+    const int n = 400;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            Vec3 x{(i + 0.5) / n, -1 + 2 * (j + 0.5) / n, 0};
+            expect += point_polygon_form_factor(x, {0, 0, 1}, wall, wall.normal()) / (n * n);
+        }
+    expect *= 1.0 / 10.0;  // the front part is a tenth of the plate
+    EXPECT_NEAR(object_front_radiance(solver, 0).r, rho * L * expect, 0.03 * rho * L * expect);
+}

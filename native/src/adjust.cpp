@@ -327,15 +327,17 @@ void Solver::adjust_links(Change& ch, std::vector<int>& recheck_history) {
             // Every ray joins a point of one end's bounding sphere to a point of the
             // other's, so it stays within max(radius) of the segment between the centres:
             // a box that this capsule misses meets no ray (cheap first test).
+            // They also stay within the convex hull of the ends' boxes (meets_shaft), which is
+            // tighter where one end is much larger than the other.
             const double r = std::max(a.radius, b.radius) + 1e-5;
-            bool capsule = false;
+            bool may = false;
             for (const Aabb& c : ch.clips) {
                 Aabb g = c;
                 g.lo -= Vec3{r, r, r};
                 g.hi += Vec3{r, r, r};
-                capsule = capsule || g.meets_segment(a.center, b.center);
+                may = may || (g.meets_segment(a.center, b.center) && c.meets_shaft(a.box, b.box));
             }
-            meets[k] = capsule && link_rays_meet(h_, l.src, l.rcv, settings_.rays_per_link, link_seed(l.src, l.rcv), ch.clips);
+            meets[k] = may && link_rays_meet(h_, l.src, l.rcv, settings_.rays_per_link, link_seed(l.src, l.rcv), ch.clips);
         }, 64);
         size_t kept = 0;
         for (size_t k = 0; k < recompute.size(); ++k)

@@ -71,6 +71,23 @@ struct Aabb {
             if (b.lo[a] > hi[a] || b.hi[a] < lo[a]) return false;
         return true;
     }
+    // Does some segment from a point of `a` to a point of `b` pass through this box? Those
+    // segments fill the convex hull of a and b, which is the union over t in [0,1] of the
+    // boxes (1 - t) a + t b: per axis two conditions linear in t. Exact for that hull.
+    bool meets_shaft(const Aabb& a, const Aabb& b) const {
+        double t0 = 0, t1 = 1;
+        auto keep = [&](double p, double q) {  // p + q t <= 0
+            if (q == 0) return p <= 0;
+            if (q > 0) t1 = std::min(t1, -p / q);
+            else t0 = std::max(t0, -p / q);
+            return t0 <= t1;
+        };
+        for (int k = 0; k < 3; ++k) {
+            if (!keep(a.lo[k] - hi[k], b.lo[k] - a.lo[k])) return false;  // the moving box's low side below our high side
+            if (!keep(lo[k] - a.hi[k], a.hi[k] - b.hi[k])) return false;  // its high side above our low side
+        }
+        return true;
+    }
     // Does the segment a-b pass through the box (slab test)?
     bool meets_segment(const Vec3& a, const Vec3& b) const {
         double t0 = 0, t1 = 1;

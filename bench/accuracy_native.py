@@ -64,7 +64,7 @@ def main():
             nrmse = float(np.sqrt(np.mean((x - r) ** 2)) / np.sqrt(np.mean(r ** 2)))
             st = s.stats()
             print(f"{name} {preset}{'' if seed is None else ' seed ' + seed}: rRMSE {rrmse:.4f} NRMSE {nrmse:.4f} mean ratio {x.mean() / r.mean():.4f} "
-                  f"links {st['links']} elements {st['elements']} rays {st.get('rays', 0)}")
+                  f"links {st['links']} elements {st['elements']} rays {st.get('rays', 0)} solve {st['seconds_total']:.2f} s")
 
 
 if __name__ == "__main__":

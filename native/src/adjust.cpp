@@ -587,11 +587,15 @@ void Solver::update(Control* control) {
     // Warm-started re-solve: the previous radiances are the starting point. Only links the
     // update touched, or whose sender's light changed enough to tip the oracle, are judged
     // again; a full solve's refine rounds judge every link.
-    // Each solve converges fully: the oracle must judge the radiances a full solve ends with
-    // (judging half-converged ones costs fewer sweeps but measurably more error).
+    // The solves the oracle judges converge as far as a full solve's refine rounds do
+    // (`loose`, solver.cpp); only the last one to the tolerance. Judging half-converged
+    // radiances (a few sweeps) cost measurably more error; to the tolerance every time cost a
+    // third of the update's sweeps for no change in the result (box room: 29 -> 20 sweeps,
+    // NRMSE vs a full solve 0.284 % either way).
+    const double loose = std::max(settings_.tolerance, 1e-3);
     compute_closure();
     lap("closure");
-    iterate_to(settings_.tolerance, settings_.max_iterations, 0.3, 0.6);
+    iterate_to(loose, settings_.max_iterations, 0.3, 0.6);
     lap("gather");
     std::vector<char> moved_light = changed_senders(before);
     // A new threshold (objects added or removed) can tip any judgement.
@@ -632,9 +636,9 @@ void Solver::update(Control* control) {
         if (!more) break;
         compute_closure();
         lap("closure");
-        iterate_to(settings_.tolerance, settings_.max_iterations, 0.6, 0.9);
-        lap("gather");
         solved_final_links = round + 1 == settings_.max_refine_rounds;
+        iterate_to(solved_final_links ? settings_.tolerance : loose, settings_.max_iterations, 0.6, 0.9);
+        lap("gather");
         moved_light = changed_senders(snap);
     }
     if (!solved_final_links) {

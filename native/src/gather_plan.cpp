@@ -149,14 +149,14 @@ void GatherPlan::build(const Hierarchy& h, const std::vector<Link>& links, int t
     }
 
     // Sender slot and K of every link, in one flat pass that fetches links ahead (a link read
-    // is a cache miss; this way the misses overlap). Cluster senders are marked -2 and senders
-    // outside the plan -3 for the serial pass after.
+    // is a cache miss; this way the misses overlap). Cluster senders and element senders with
+    // samples are marked -2 and senders outside the plan -3 for the serial pass after.
     plinks_.resize(plink_id_.size());
     parallel_for(plinks_.size(), workers(threads), [&](size_t k) {
         if (k + kAhead < plink_id_.size()) __builtin_prefetch(&links[size_t(plink_id_[k + kAhead])]);
         const Link& l = links[size_t(plink_id_[k])];
         const int32_t src = slot_[size_t(l.src)];
-        const int32_t send = src < 0 ? -3 : (src >= cl_lo && src < cl_hi ? -2 : -1);
+        const int32_t send = src < 0 ? -3 : ((src >= cl_lo && src < cl_hi) || !l.samples.empty() ? -2 : -1);
         plinks_[k] = PlanLink{src, send, l.K};
     }, 4096);
     send_at_.clear();
@@ -304,7 +304,7 @@ void GatherPlan::prepare_radiometry(const Hierarchy& h, const std::vector<Link>&
         const int32_t n = cs.sample_end - cs.sample_begin;
         double w = 0;  // in samples order, as sender_radiance sums it
         for (int32_t j = 0; j < n; ++j) {
-            const int32_t sl = slot_[size_t(lists[k][j].first)];
+            const int32_t sl = slot_[size_t(h.live_element(lists[k][j].first))];
             if (sl < 0) outside = true;
             samples_[size_t(cs.sample_begin + j)] = {sl, lists[k][j].second};
             w += lists[k][j].second;
@@ -329,7 +329,7 @@ void GatherPlan::prepare_radiometry(const Hierarchy& h, const std::vector<Link>&
         for (size_t k = 0; k < sends_.size(); ++k)
             for (int32_t j = sends_[k].sample_begin; j < sends_[k].sample_end; ++j)
                 if (samples_[size_t(j)].slot < 0)
-                    samples_[size_t(j)].slot = slot_of(link_of(k).samples[size_t(j - sends_[k].sample_begin)].first);
+                    samples_[size_t(j)].slot = slot_of(h.live_element(link_of(k).samples[size_t(j - sends_[k].sample_begin)].first));
     for (size_t k = 0; k < cvalue_.size(); ++k) cvalue_[k] = links[size_t(plink_id_[size_t(cluster_links_from_) + k])].value;
 
     // Radiances of clusters and of the nodes outside the trees.

@@ -14,16 +14,16 @@ double unoccluded_coupling(const Poly& rcv, const Vec3& rcv_n, const Node& src) 
 
 Rgb sender_radiance(const Hierarchy& h, const Link& l) {
     const Node& src = h.nodes[l.src];
-    if (!src.is_cluster()) return src.L;
     if (!l.samples.empty()) {
         Rgb acc;
         double w = 0;
         for (const auto& s : l.samples) {
-            acc += h.nodes[s.first].L * double(s.second);
+            acc += h.nodes[size_t(h.live_element(s.first))].L * double(s.second);
             w += s.second;
         }
         return acc / w;
     }
+    if (!src.is_cluster()) return src.L;
     const Vec3& d = l.dir;
     Rgb num;
     double den = 0;
@@ -78,6 +78,34 @@ private:
     double* u_;
 };
 
+// The deepest live element below element `root` whose polygon holds x (a point on it): the
+// element whose radiance a visibility sample at x sees. Ties at shared edges go to the child
+// x is deepest inside.
+int leaf_at(const Hierarchy& h, int root, const Vec3& x) {
+    int id = root;
+    for (;;) {
+        const Node& n = h.nodes[size_t(id)];
+        if (n.children.empty()) return id;
+        int best = -1;
+        double best_m = -1e300;
+        for (int c : n.children) {
+            const Node& ch = h.nodes[size_t(c)];
+            if (ch.dead) continue;
+            double m = 1e300;
+            for (int k = 0; k < ch.poly.n; ++k) {
+                const Vec3& a = ch.poly.v[k];
+                const Vec3& b = ch.poly.v[(k + 1) % ch.poly.n];
+                const Vec3 e = b - a;
+                const double len = std::sqrt(length2(e));
+                m = std::min(m, len > 0 ? dot(cross(e, x - a), ch.normal) / len : 0.0);
+            }
+            if (m > best_m) best_m = m, best = c;
+        }
+        if (best < 0) return id;
+        id = best;
+    }
+}
+
 template <class Vis>
 Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node& Q, int rays, uint64_t seed) {
     Link l;
@@ -89,6 +117,11 @@ Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
     const double lift = 1e-6 * h.scene_diag;  // keep ray ends off their own surfaces
     double kmin = 1e300, kmax = -1e300;
     bool any_blocked = false, any_clear = false;
+    // A subdivided sender: its radiance toward Q is that of the leaves its clear rays reach,
+    // not its area average (see Link::samples).
+    const bool record = !Vis::kDryRun && !P.children.empty();
+    const int p_id = int(&P - h.nodes.data());
+    thread_local std::vector<std::pair<Vec3, double>> hits;
     for (int j = 0; j < cub.n; ++j) {
         // A dry run needs only the segments (all of them, conservatively), not the kernel.
         double F = Vis::kDryRun ? 1.0 : point_polygon_form_factor(cub.p[j], Q.normal, P.poly, P.normal);
@@ -105,6 +138,7 @@ Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
             // leaked into closed boxes from walls that straddle their planes.
             const FrontPart front = front_part(P.poly, cub.p[j], Q.normal);
             const LatinHypercube strata(rng, per_point);
+            hits.clear();
             for (int r = 0; r < per_point; ++r) {
                 // Stratified in both coordinates: fewer rays for the same variance.
                 const double u1 = strata.at(r)[0], u2 = strata.at(r)[1];
@@ -119,9 +153,18 @@ Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
                 if (w <= 0) continue;
                 ++counted;
                 wsum += w;
-                if (!vis.occluded(y, x)) ++clear, wclear += w;
+                if (!vis.occluded(y, x)) {
+                    ++clear, wclear += w;
+                    if (record) hits.push_back({x - P.normal * lift, w});
+                }
             }
             v = wsum > 0 ? wclear / wsum : 1.0;
+            if (record && F > 0) {
+                if (wsum > 0)
+                    for (const auto& hx : hits) l.samples.push_back({leaf_at(h, p_id, hx.first), float(cub.w[j] * F * hx.second / wsum)});
+                else
+                    l.samples.push_back({p_id, float(cub.w[j] * F)});  // no ray counted: v = 1 over the whole sender
+            }
             if (clear < counted) any_blocked = true;
             if (clear > 0 || counted == 0) any_clear = true;
         }
@@ -372,7 +415,7 @@ Link cluster_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
         ++cast;
         if (w <= 0) continue;
         bool ok = !vis.occluded(x + nx * lift, y + ny * lift);
-        if (ok && P.is_cluster()) l.samples.push_back({sroot, float(w)});
+        if (ok && P.is_cluster()) l.samples.push_back({leaf_at(h, sroot, x), float(w)});
         wsum += w;
         vsum += ok ? w : 0.0;
         clear += ok;

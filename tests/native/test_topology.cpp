@@ -364,7 +364,9 @@ TEST(Topology, DeadLinksDoNotCountTowardTheLinkCap) {
     Settings st = settings();
     Solver probe(room(true, true), st);
     probe.solve();
-    st.max_links = int64_t(1.3 * double(probe.links().size()));  // room for one solve, not for its dead links
+    // Room for one solve and the history links the round trips keep alive (1.29x at 57c68a1,
+    // 1.30x+ once link samples name leaves), not for the dead links (over 1.2x more).
+    st.max_links = int64_t(1.4 * double(probe.links().size()));
     Solver ref(room(true, true), st);
     ref.solve();
     ASSERT_FALSE(ref.stats().capped);

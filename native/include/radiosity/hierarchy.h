@@ -150,6 +150,13 @@ public:
     }
     // Whether light can pass between a and b at all: some pocket has surfaces below both.
     bool share_pocket(int a, int b) const;
+    // A link's sample element, or the nearest ancestor of it that an un-refinement left alive
+    // (prune_elements marks un-refined elements dead; their radiance is no longer kept).
+    int live_element(int id) const {
+        while (nodes[size_t(id)].dead && nodes[size_t(id)].parent >= 0 && !nodes[size_t(nodes[size_t(id)].parent)].is_cluster())
+            id = nodes[size_t(id)].parent;
+        return id;
+    }
     // Node ids of the clusters strictly above a surface root, root first.
     const std::vector<int>& ancestors_of_surface(int s) const { return surface_ancestors_[s]; }
 

@@ -44,9 +44,13 @@ struct Link {
     int first_child = -1;  // history tree: the links that refined this one
     int next_sibling = -1;
     Rgb value;             // cluster receivers: K * L_src of the current iteration
-    // Cluster senders: the unoccluded visibility samples (sender surface root, kernel
-    // weight). The sender's radiance toward the receiver is their weighted mean, so surfaces
-    // of the cluster hidden from the receiver (self-occlusion, back faces) do not dilute it.
+    // Cluster senders and subdivided element senders: the unoccluded visibility samples (the
+    // element holding the ray's end on the sender, as refined when the link was evaluated;
+    // kernel weight). The sender's radiance toward the receiver is their weighted mean, so
+    // parts of the sender hidden from the receiver (self-occlusion, back faces, the ceiling
+    // right above a lamp hanging under it) neither dilute nor add to it. Surface roots'
+    // area averages here let the ceiling above a lamp (radiance ~12) shine past the lamp
+    // through the few visible points of its polygon: +4-9 % on every receiver.
     std::vector<std::pair<int, float>> samples;
 
     // Whether the link stays active after an evaluation: it carries light, or must be split

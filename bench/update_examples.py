@@ -2,7 +2,10 @@
 (no Blender): scenes exported by bench/export_scene.py. Prints per scene: full solve time of
 the moved scene, update time, ratio, NRMSE between them, the update's phases and link counts.
 
-    python3 bench/update_examples.py [--quick] [--preset MEDIUM] [--runs 3] SCENE.npz ...
+    python3 bench/update_examples.py [--quick] [--preset MEDIUM] [--runs 3] [--noise] SCENE.npz ...
+
+--noise: also the method's noise floor, the NRMSE between full solves of the moved scene with
+Settings.seed 1, 2 and 3 (an update cannot match a full solve more closely than that).
 
 --quick (CI smoke run, no timing judged): DRAFT, one run, and without scenes given the Cornell box
 exported from example_blends/cornell_box.blend into a temporary file (bench/quick_scene.py).
@@ -50,6 +53,7 @@ def main():
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--preset")
     ap.add_argument("--runs", type=int)
+    ap.add_argument("--noise", action="store_true")
     ap.add_argument("scenes", nargs="*")
     a = ap.parse_args()
     a.preset = a.preset or ("DRAFT" if a.quick else "MEDIUM")
@@ -85,6 +89,16 @@ def main():
         print("   env-env tested/rejected/rays-clear/recomputed", su["env_env_links_tested"], su["env_env_links_rejected"],
               su["env_env_links_rays_clear"], su["env_env_links_recomputed"], "| iterations", su["iterations"], "rounds",
               su["refine_rounds"])
+        if a.noise:
+            sols = []
+            for seed in (1, 2, 3):
+                st = rn.Settings.preset(a.preset)
+                st.seed = seed
+                g = rn.Solver(build_scene(z, moved=True), st)
+                g.solve()
+                sols.append(corners(g, n))
+            print("   noise floor (full solves, seeds 1-2, 1-3, 2-3): NRMSE",
+                  " ".join(f"{100 * nrmse(sols[i], sols[j]):.2f} %" for i, j in ((0, 1), (0, 2), (1, 2))))
         print("   update mode:", su["mode"], "| warnings:", "; ".join(su["warnings"]) or "none")
         print("   update phases:", " ".join(f"{k} {v:.3f}" for k, v in su["phases"].items()))
         print("   full phases:  ", " ".join(f"{k} {v:.3f}" for k, v in sf["phases"].items()), "| iterations", sf["iterations"])

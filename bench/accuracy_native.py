@@ -56,7 +56,8 @@ def main():
                 st.seed = int(seed)
             for kv in a.set:
                 k, v = kv.split("=", 1)
-                setattr(st, k, type(getattr(st, k))(v))
+                t = type(getattr(st, k))
+                setattr(st, k, v.lower() in ("1", "true", "yes", "on") if t is bool else t(v))
             s = rn.Solver(ue.build_scene(z), st)
             s.solve()
             x = np.concatenate([s.corner_radiance(i) for i in order])[keep]

@@ -177,6 +177,15 @@ double point_polygon_form_factor(const Vec3& x, const Vec3& nx, const Poly& poly
     return std::fabs(sum) / (2.0 * kPi);
 }
 
+double distance_outside(const Poly& poly, const Vec3& n, const Vec3& x) {
+    double o = 0;
+    for (int k = 0; k < poly.n; ++k) {
+        Vec3 e = poly.v[(k + 1) % poly.n] - poly.v[k];
+        o = std::max(o, -dot(cross(e, x - poly.v[k]), n));
+    }
+    return o;
+}
+
 Cubature receiver_cubature(const Poly& rcv, const Vec3& src_p, const Vec3& src_n) {
     const FrontPart f = front_part(rcv, src_p, src_n);
     const double area = rcv.area();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <map>
 #include <string>
 
@@ -639,6 +640,22 @@ void Hierarchy::set_pocket_sets() {
         c.pocket_set = int(pocket_sets.size());
         pocket_sets.push_back(std::move(v));
     }
+}
+
+int Hierarchy::leaf_at(int id, const Vec3& x) const {
+    // Children tile their parent. Starts at the first child: a point so far away that every
+    // distance overflows to inf (the fuzzer found one) still ends at a leaf.
+    while (!nodes[size_t(id)].children.empty()) {
+        int next = nodes[size_t(id)].children.front();
+        double bd = std::numeric_limits<double>::infinity();
+        for (int c : nodes[size_t(id)].children) {
+            const Node& cn = nodes[size_t(c)];
+            double d = distance_outside(cn.poly, cn.normal, x) * 1e6 + length2(cn.center - x);
+            if (d < bd) { bd = d; next = c; }
+        }
+        id = next;
+    }
+    return id;
 }
 
 bool Hierarchy::share_pocket(int a, int b) const {

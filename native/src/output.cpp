@@ -97,40 +97,17 @@ std::vector<float> Solver::corner_values(int object, const std::function<Rgb(int
 Rgb Solver::radiance_at(int object, int face, const Vec3& world_point) const {
     if (!finite(world_point)) throw InputError("radiance_at: the point has a NaN or inf coordinate");
     const Vec3 x = h_.to_internal(world_point);
-    // How far x lies outside a polygon (0 inside), in its plane.
-    auto outside = [&x](const Poly& p, const Vec3& n) {
-        double o = 0;
-        for (int k = 0; k < p.n; ++k) {
-            Vec3 e = p.v[(k + 1) % p.n] - p.v[k];
-            o = std::max(o, -dot(cross(e, x - p.v[k]), n));
-        }
-        return o;
-    };
     // The piece of the polygon (n-gons are fanned) that contains x.
     int id = -1;
     double best = std::numeric_limits<double>::infinity();
     for (const Primitive& p : h_.prims) {
         if (p.object != object || p.face != face || p.front < 0) continue;
         int r = h_.surfaces[p.front].root;
-        double o = outside(h_.nodes[r].poly, h_.nodes[r].normal);
+        double o = distance_outside(h_.nodes[r].poly, h_.nodes[r].normal, x);
         if (id < 0 || o < best) { best = o; id = r; }
     }
     if (id < 0) throw std::out_of_range("no polygon " + std::to_string(face) + " in object " + std::to_string(object));
-    // Descend into the child containing x (children tile their parent); the nearest
-    // centroid breaks ties on shared edges and points slightly off the polygon.
-    while (!h_.nodes[id].children.empty()) {
-        // Starts at the first child: a point so far away that every distance overflows to
-        // inf (the fuzzer found one) still ends at a leaf.
-        int next = h_.nodes[id].children.front();
-        double bd = std::numeric_limits<double>::infinity();
-        for (int c : h_.nodes[id].children) {
-            const Node& cn = h_.nodes[c];
-            double d = outside(cn.poly, cn.normal) * 1e6 + length2(cn.center - x);
-            if (d < bd) { bd = d; next = c; }
-        }
-        id = next;
-    }
-    return h_.nodes[id].L;
+    return h_.nodes[h_.leaf_at(id, x)].L;
 }
 
 }  // namespace radiosity

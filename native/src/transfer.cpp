@@ -79,34 +79,6 @@ private:
     double* u_;
 };
 
-// The deepest live element below element `root` whose polygon holds x (a point on it): the
-// element whose radiance a visibility sample at x sees. Ties at shared edges go to the child
-// x is deepest inside.
-int leaf_at(const Hierarchy& h, int root, const Vec3& x) {
-    int id = root;
-    for (;;) {
-        const Node& n = h.nodes[size_t(id)];
-        if (n.children.empty()) return id;
-        int best = -1;
-        double best_m = -1e300;
-        for (int c : n.children) {
-            const Node& ch = h.nodes[size_t(c)];
-            if (ch.dead) continue;
-            double m = 1e300;
-            for (int k = 0; k < ch.poly.n; ++k) {
-                const Vec3& a = ch.poly.v[k];
-                const Vec3& b = ch.poly.v[(k + 1) % ch.poly.n];
-                const Vec3 e = b - a;
-                const double len = std::sqrt(length2(e));
-                m = std::min(m, len > 0 ? dot(cross(e, x - a), ch.normal) / len : 0.0);
-            }
-            if (m > best_m) best_m = m, best = c;
-        }
-        if (best < 0) return id;
-        id = best;
-    }
-}
-
 template <class Vis>
 Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node& Q, int rays, uint64_t seed) {
     Link l;
@@ -162,7 +134,7 @@ Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
             v = wsum > 0 ? wclear / wsum : 1.0;
             if (record && F > 0) {
                 if (wsum > 0)
-                    for (const auto& hx : hits) l.samples.push_back({leaf_at(h, p_id, hx.first), float(cub.w[j] * F * hx.second / wsum)});
+                    for (const auto& hx : hits) l.samples.push_back({h.leaf_at(p_id, hx.first), float(cub.w[j] * F * hx.second / wsum)});
                 else
                     l.samples.push_back({p_id, float(cub.w[j] * F)});  // no ray counted: v = 1 over the whole sender
             }
@@ -426,7 +398,7 @@ Link cluster_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
         if (!ok && Q.is_cluster() && rroot >= 0 &&
             vis.hit_object(y + ny * lift, x + nx * lift, lift, nullptr) == h.nodes[size_t(rroot)].object)
             wself += w;
-        if (ok && P.is_cluster()) l.samples.push_back({leaf_at(h, sroot, x), float(w)});
+        if (ok && P.is_cluster()) l.samples.push_back({h.leaf_at(sroot, x), float(w)});
         wsum += w;
         vsum += ok ? w : 0.0;
         clear += ok;

@@ -83,8 +83,9 @@ private:
         double K;
     };
     // A cluster sender (or an element sender with samples) as its link sees it (transfer.cpp
-    // sender_radiance): the weighted mean of its visible samples, or (none) a projected-area estimate from the axis bins toward
-    // the receiver, or the cluster's mean radiance when no bin faces that way.
+    // sender_radiance): the weighted mean of its visible samples, or (none) a projected-area
+    // estimate from the axis bins toward the receiver, or the cluster's mean radiance when no
+    // bin faces that way.
     struct ClusterSend {
         int32_t sample_begin, sample_end;  // range in samples_
         int32_t src;                       // the cluster's slot (fallback radiance)

@@ -39,6 +39,10 @@ struct FrontPart {
 // The part of `poly` where dot(p - x, nx) > 0.
 FrontPart front_part(const Poly& poly, const Vec3& x, const Vec3& nx);
 
+// How far x (a point in the polygon's plane) lies outside `poly`, whose unit normal is n: the
+// largest distance beyond one of its edges, 0 inside.
+double distance_outside(const Poly& poly, const Vec3& n, const Vec3& x);
+
 // Receiver cubature: points and weights (summing to 1) over the polygon.
 struct Cubature {
     std::array<Vec3, 4> p{};

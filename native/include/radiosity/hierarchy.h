@@ -157,6 +157,11 @@ public:
             id = nodes[size_t(id)].parent;
         return id;
     }
+    // The leaf below element `id` that holds x (a point in its plane): down through the
+    // child x lies least outside of, the nearest centroid breaking ties on shared edges and
+    // for points slightly off the polygon. Always ends at a leaf, even when every distance
+    // overflows (a point far away).
+    int leaf_at(int id, const Vec3& x) const;
     // Node ids of the clusters strictly above a surface root, root first.
     const std::vector<int>& ancestors_of_surface(int s) const { return surface_ancestors_[s]; }
 

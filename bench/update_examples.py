@@ -99,6 +99,13 @@ def main():
                 sols.append(corners(g, n))
             print("   noise floor (full solves, seeds 1-2, 1-3, 2-3): NRMSE",
                   " ".join(f"{100 * nrmse(sols[i], sols[j]):.2f} %" for i, j in ((0, 1), (0, 2), (1, 2))))
+        # Rays are a count the machine's load does not change. Re-linking the moved objects
+        # (relink) is work every update must do (their links' form factors all change): its
+        # share of a full solve's rays is a floor for the ratio above.
+        ru, rf = sum(su["phase_rays"].values()), sum(sf["phase_rays"].values())
+        print(f"   rays: update {ru} / full {rf} = {100 * ru / rf:.1f} %; re-linking the moved objects alone "
+              f"{100 * su['phase_rays'].get('relink', 0) / rf:.1f} % (a floor)")
+        print("   update rays by phase:", " ".join(f"{k} {v}" for k, v in su["phase_rays"].items() if v))
         print("   update mode:", su["mode"], "| warnings:", "; ".join(su["warnings"]) or "none")
         print("   update phases:", " ".join(f"{k} {v:.3f}" for k, v in su["phases"].items()))
         print("   full phases:  ", " ".join(f"{k} {v:.3f}" for k, v in sf["phases"].items()), "| iterations", sf["iterations"])

@@ -98,10 +98,13 @@ py::dict stats_dict(const Stats& s) {
     F(capped); F(memory_capped); F(memory_bytes); F(iteration_capped); F(no_emitters); F(seconds_build); F(seconds_link); F(seconds_solve);
     F(seconds_total); F(warnings); F(occluded_links); F(env_env_links_tested); F(env_env_links_rejected);
     F(obj_env_links_removed); F(links_created); F(history_reactivated); F(seconds_adjust);
-    F(env_env_links_rays_clear); F(closed_pockets); F(pocket_surfaces); F(objects_added); F(objects_removed); F(links_removed);
+    F(env_env_links_rays_clear); F(link_sweeps); F(seconds_sweeps); F(gather_plans); F(seconds_gather_plan); F(closed_pockets); F(pocket_surfaces); F(objects_added); F(objects_removed); F(links_removed);
     py::dict phases;
     for (const auto& p : s.phases) phases[py::str(p.first)] = p.second;
     d["phases"] = phases;
+    py::dict phase_rays;
+    for (const auto& p : s.phase_rays) phase_rays[py::str(p.first)] = p.second;
+    d["phase_rays"] = phase_rays;
     d["mode"] = s.mode_incremental ? "incremental" : "full";
 #undef F
     return d;
@@ -124,6 +127,7 @@ PYBIND11_MODULE(radiosity_native, m) {
         .def_readwrite("use_clustering", &Settings::use_clustering)
         .def_readwrite("progressive_refinement", &Settings::progressive_refinement)
         .def_readwrite("rays_per_link", &Settings::rays_per_link)
+        .def_readwrite("replay_rays", &Settings::replay_rays)
         .def_readwrite("max_iterations", &Settings::max_iterations)
         .def_readwrite("max_refine_rounds", &Settings::max_refine_rounds)
         .def_readwrite("tolerance", &Settings::tolerance)

@@ -118,6 +118,9 @@ void Solver::refresh(int id, const Link& f) {
     l.must_refine = f.must_refine;
     l.blocked = f.blocked;
     l.samples = f.samples;
+    l.ray_count = f.ray_count;
+    l.ray_blocked = f.ray_blocked;
+    l.ray_self = f.ray_self;
     l.settled = false;
     l.stale = false;
 }
@@ -127,7 +130,7 @@ void Solver::freshen(const std::vector<int>& ids) {
     for (int id : ids)
         if (links_[id].stale && !links_[id].dead) todo.push_back(id);
     std::vector<Link> fresh(todo.size());
-    parallel_for(todo.size(), settings_.threads, [&](size_t k) { fresh[k] = evaluate(links_[todo[k]].src, links_[todo[k]].rcv); }, 16);
+    parallel_for(todo.size(), settings_.threads, [&](size_t k) { fresh[k] = reevaluate(links_[todo[k]]); }, 16);
     for (size_t k = 0; k < todo.size(); ++k) refresh(todo[k], fresh[k]);
     stats_.env_env_links_recomputed += int64_t(todo.size());
 }
@@ -301,6 +304,7 @@ void Solver::adjust_links(Change& ch, std::vector<int>& recheck_history) {
                 Vec3 d = l.dir;
                 l.dir = {p.R[0] * d.x + p.R[1] * d.y + p.R[2] * d.z, p.R[3] * d.x + p.R[4] * d.y + p.R[5] * d.z,
                          p.R[6] * d.x + p.R[7] * d.y + p.R[8] * d.z};
+                l.ray_count = -1;  // its rays moved with it: the record is of other segments
                 continue;
             }
             if (l.active) ++s.obj_env_links_removed;
@@ -371,15 +375,19 @@ void Solver::adjust_links(Change& ch, std::vector<int>& recheck_history) {
     // as it is, as one the dry run would have cleared.
     std::vector<Link> fresh(recompute.size());
     parallel_for(recompute.size(), settings_.threads,
-                 [&](size_t k) { fresh[k] = evaluate(links_[recompute[k]].src, links_[recompute[k]].rcv); }, 16);
+                 [&](size_t k) { fresh[k] = reevaluate(links_[recompute[k]]); }, 16);
     for (size_t k = 0; k < recompute.size(); ++k) {
         Link& l = links_[recompute[k]];
         if (l.dead) continue;
         const Link& f = fresh[k];
         ++s.env_env_links_recomputed;
         if (f.K == l.K && f.K_unoccluded == l.K_unoccluded && f.vis == l.vis && f.dK == l.dK && f.partial == l.partial &&
-            f.blocked == l.blocked && f.must_refine == l.must_refine)
+            f.blocked == l.blocked && f.must_refine == l.must_refine) {
+            l.ray_count = f.ray_count;  // what the rays met may differ where it changed nothing
+            l.ray_blocked = f.ray_blocked;
+            l.ray_self = f.ray_self;
             continue;
+        }
         const bool changed = f.K != l.K || f.partial != l.partial;
         refresh(recompute[k], f);
         l.rejudge = true;
@@ -494,7 +502,9 @@ void Solver::update(Control* control) {
     solved_ = false;  // a cancel leaves the kept solution inconsistent: the caller re-solves
     const auto t0 = Clock::now();
     lap_t_ = t0;
+    lap_rays_ = int64_t(vis_->rays());
     stats_.phases.clear();
+    stats_.phase_rays.clear();
     stats_.warnings.clear();  // this update's own (add_result_warnings at the end)
     Stats& s = stats_;
     s.env_env_links_tested = s.env_env_links_rejected = s.env_env_links_recomputed = 0;
@@ -583,6 +593,10 @@ void Solver::update(Control* control) {
             std::reverse(chain.begin(), chain.end());  // root first
             ch.chains.push_back(chain);
         }
+        // Moves only: outside the moved objects' old and new boxes every ray meets what it met
+        // (an addition or removal re-indexes surfaces, and so may change the rays themselves).
+        replaying_ = settings_.replay_rays && !topology;
+        replay_clips_ = ch.clips;
         adjust_links(ch, recheck_history);
         pending_moves_.clear();
     }
@@ -664,6 +678,11 @@ void Solver::update(Control* control) {
     }
     prune_elements();
     lap("prune");
+    // A record stays true only while every change of geometry is replayed into it: a link
+    // left stale missed this move's rays, and after an addition or removal none is trusted.
+    replaying_ = false;
+    for (Link& l : links_)
+        if (l.stale || topology) l.ray_count = -1;
     add_result_warnings();
     compute_stats();
     lap("stats");

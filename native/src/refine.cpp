@@ -27,6 +27,11 @@ Link Solver::evaluate(int src, int rcv) const {
     return evaluate_link(h_, *vis_, src, rcv, settings_.rays_per_link, link_seed(src, rcv));
 }
 
+Link Solver::reevaluate(const Link& l) const {
+    if (!replaying_) return evaluate(l.src, l.rcv);
+    return reevaluate_link(h_, *vis_, l, settings_.rays_per_link, link_seed(l.src, l.rcv), replay_clips_);
+}
+
 int Solver::add_link(Link l) {
     int id = int(links_.size());
     if (l.active) {

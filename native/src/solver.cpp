@@ -55,9 +55,11 @@ void Solver::set_progress(double f) const {
 void Solver::solve(Control* control) {
     control_ = control;
     solved_ = false;
+    replaying_ = false;  // a cancelled update may have left it on
     const auto t0 = Clock::now();
     stats_ = Stats{};
     lap_t_ = t0;
+    lap_rays_ = 0;  // a new Visibility counts from 0
     links_.clear();
     live_links_ = 0;
     lights_ = LightState{};  // lights.cpp: the hierarchy is rebuilt
@@ -166,9 +168,16 @@ void Solver::lap(const char* phase) {
     const auto now = Clock::now();
     const double dt = std::chrono::duration<double>(now - lap_t_).count();
     lap_t_ = now;
-    for (auto& p : stats_.phases)
-        if (p.first == phase) { p.second += dt; return; }
+    const int64_t rays = vis_ ? int64_t(vis_->rays()) : 0, dr = rays - lap_rays_;
+    lap_rays_ = rays;
+    for (size_t i = 0; i < stats_.phases.size(); ++i)
+        if (stats_.phases[i].first == phase) {
+            stats_.phases[i].second += dt;
+            stats_.phase_rays[i].second += dr;
+            return;
+        }
     stats_.phases.emplace_back(phase, dt);
+    stats_.phase_rays.emplace_back(phase, dr);
 }
 
 void Solver::compute_reference() {

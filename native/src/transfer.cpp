@@ -49,7 +49,55 @@ struct SegmentProbe {
         for (size_t i = 0; i < boxes.size() && !met; ++i) met = boxes[i].meets_segment(a, b);
         return false;
     }
-    int hit_object(const Vec3&, const Vec3&, double, Vec3*, int* = nullptr) const { return -1; }
+    bool hidden_by(const Vec3&, const Vec3&, double, int) const { return false; }
+};
+
+// Casts every ray through Visibility and keeps the outcomes for the link (Link::ray_count,
+// ray_blocked, ray_self).
+struct RayLog {
+    static constexpr bool kDryRun = false;
+    const Visibility& vis;
+    mutable uint64_t blocked = 0, self = 0;
+    mutable int n = 0;  // rays cast so far
+    bool note(bool occluded) const {
+        if (occluded && n < 64) blocked |= uint64_t(1) << n;
+        ++n;
+        return occluded;
+    }
+    bool note_self(bool hidden) const {  // about the last ray
+        if (hidden && n >= 1 && n <= 64) self |= uint64_t(1) << (n - 1);
+        return hidden;
+    }
+    bool occluded(const Vec3& a, const Vec3& b) const { return note(vis.occluded(a, b)); }
+    // Whether the first thing on a -> b (beyond `near`) belongs to `object`. Asked only of
+    // a blocked ray, its segment reversed.
+    bool hidden_by(const Vec3& a, const Vec3& b, double near, int object) const {
+        return note_self(vis.hit_object(a, b, near, nullptr) == object);
+    }
+    void store(Link& l) const {
+        l.ray_count = n <= 64 ? n : -1;
+        l.ray_blocked = blocked;
+        l.ray_self = self;
+    }
+};
+
+// RayLog that takes a ray's outcome from an earlier record of the same link when the ray
+// passes through no box where the geometry changed since (reevaluate_link): the segments
+// are the same (same ends, same seed), and so is everything along them.
+struct RayReplay : RayLog {
+    const Link& old;
+    const std::vector<Aabb>& changed;
+    mutable bool cast = false;  // the last ray was cast, not replayed
+    bool occluded(const Vec3& a, const Vec3& b) const {
+        const int k = n;
+        cast = k >= old.ray_count;
+        for (size_t i = 0; i < changed.size() && !cast; ++i) cast = changed[i].meets_segment(a, b);
+        return note(cast ? vis.occluded(a, b) : ((old.ray_blocked >> k) & 1) != 0);
+    }
+    bool hidden_by(const Vec3& a, const Vec3& b, double near, int object) const {
+        if (cast) return RayLog::hidden_by(a, b, near, object);
+        return note_self(((old.ray_self >> (n - 1)) & 1) != 0);
+    }
 };
 
 // Latin hypercube strata for n samples: coordinate d of sample k is (perm_d[k] + jitter) / n,
@@ -396,7 +444,7 @@ Link cluster_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
         // Counted as blocked, such points halved what every outer face of a box got (sides
         // and tops of the Cornell blocks 25-40 % short in coupling at DRAFT).
         if (!ok && Q.is_cluster() && rroot >= 0 &&
-            vis.hit_object(y + ny * lift, x + nx * lift, lift, nullptr) == h.nodes[size_t(rroot)].object)
+            vis.hidden_by(y + ny * lift, x + nx * lift, lift, h.nodes[size_t(rroot)].object))
             wself += w;
         if (ok && P.is_cluster()) l.samples.push_back({h.leaf_at(sroot, x), float(w)});
         wsum += w;
@@ -439,7 +487,19 @@ Link evaluate_with(const Hierarchy& h, const Vis& vis, int src, int rcv, int ray
 }  // namespace
 
 Link evaluate_link(const Hierarchy& h, const Visibility& vis, int src, int rcv, int rays, uint64_t seed) {
-    return evaluate_with(h, vis, src, rcv, rays, seed);
+    RayLog log{vis};
+    Link l = evaluate_with(h, log, src, rcv, rays, seed);
+    log.store(l);
+    return l;
+}
+
+Link reevaluate_link(const Hierarchy& h, const Visibility& vis, const Link& old, int rays, uint64_t seed,
+                     const std::vector<Aabb>& changed) {
+    if (old.ray_count < 0) return evaluate_link(h, vis, old.src, old.rcv, rays, seed);
+    RayReplay replay{{vis}, old, changed};
+    Link l = evaluate_with(h, replay, old.src, old.rcv, rays, seed);
+    replay.store(l);
+    return l;
 }
 
 bool link_rays_meet(const Hierarchy& h, int src, int rcv, int rays, uint64_t seed, const std::vector<Aabb>& boxes) {

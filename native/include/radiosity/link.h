@@ -43,6 +43,14 @@ struct Link {
     bool closure_split = false;
     int first_child = -1;  // history tree: the links that refined this one
     int next_sibling = -1;
+    // Outcomes of the visibility rays of its last evaluation, in the order they were cast
+    // (transfer.cpp): bit k of ray_blocked is set when ray k was blocked, of ray_self when
+    // what blocked it was the receiving point's own object. After a move an update casts
+    // again only the rays through a moved object's old or new box and takes the others'
+    // outcomes from here (reevaluate_link). ray_count < 0: none kept (more than 64 rays, or
+    // the record no longer matches the geometry: Solver keeps this true).
+    int ray_count = -1;
+    uint64_t ray_blocked = 0, ray_self = 0;
     Rgb value;             // cluster receivers: K * L_src of the current iteration
     // Cluster senders and subdivided element senders: the unoccluded visibility samples (the
     // element holding the ray's end on the sender, as refined when the link was evaluated;

@@ -29,6 +29,10 @@ struct Settings {
     double closure_refine_tolerance = 0.1;
     int closure_refine_passes = 6;
     uint64_t seed = 1;
+    // After a move, recast only the visibility rays that pass through a moved object's old
+    // or new box and take the others' outcomes from the link's record (exact: the result is
+    // the same; off only to check that, or to measure what it saves).
+    bool replay_rays = true;
 
     // 'DRAFT' | 'MEDIUM' | 'HIGH'; throws std::invalid_argument otherwise.
     static Settings preset(const std::string& name);

@@ -74,6 +74,10 @@ public:
     const Stats& stats() const { return stats_; }
     // A fresh evaluation of the link src -> rcv as the solver would make it (same seed).
     Link evaluate(int src, int rcv) const;
+    // The same for a kept link whose ends did not move, during an update that moved objects
+    // only: the rays through no moved object's old or new box keep their recorded outcome
+    // (reevaluate_link). Otherwise evaluate().
+    Link reevaluate(const Link& l) const;
     const Hierarchy& hierarchy() const { return h_; }
     const Visibility& visibility() const { return *vis_; }
     const std::vector<Link>& links() const { return links_; }
@@ -244,6 +248,11 @@ private:
     std::vector<Pose> poses_;      // per object, current placement (internal frame)
     bool materials_changed_ = false;
     std::chrono::steady_clock::time_point lap_t_;
+    // During an update that only moved objects (no addition, no removal): the old and new
+    // boxes of the moved objects, outside which every ray's outcome is as recorded.
+    bool replaying_ = false;
+    std::vector<Aabb> replay_clips_;
+    int64_t lap_rays_ = 0;  // rays cast when lap_t_ was taken
     int main_pocket_ = 0;  // the pocket of the largest space (open space, or a closed room)
     std::vector<std::vector<int>> tri_prim_;  // per object: Embree triangle -> primitive
 };

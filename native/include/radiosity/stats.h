@@ -62,6 +62,9 @@ struct Stats {
     // Wall time of each phase of the last solve or update, in order (for profiling and the
     // benchmarks; names are stable: "build", "link", "closure", "gather", "refine", ...).
     std::vector<std::pair<std::string, double>> phases;
+    // Rays cast in each phase, same names and order (a count that does not depend on the
+    // machine's load: how the work of an update compares with a full solve's).
+    std::vector<std::pair<std::string, int64_t>> phase_rays;
 };
 
 }  // namespace radiosity

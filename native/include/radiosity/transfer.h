@@ -15,6 +15,14 @@ namespace radiosity {
 // src -> rcv. `rays` is the visibility ray budget; `seed` makes the jitter reproducible.
 Link evaluate_link(const Hierarchy& h, const Visibility& vis, int src, int rcv, int rays, uint64_t seed);
 
+// evaluate_link again for a link whose ends did not change, after the geometry changed only
+// inside `changed` (the old and new boxes of moved objects) since `old` was evaluated: a ray
+// that passes through none of them has the outcome old recorded, so only the others are
+// cast. The result equals evaluate_link's, bit for bit, with a fresh record. Without a
+// record in `old` it is evaluate_link.
+Link reevaluate_link(const Hierarchy& h, const Visibility& vis, const Link& old, int rays, uint64_t seed,
+                     const std::vector<Aabb>& changed);
+
 // A dry run of evaluate_link with the same seed: casts no ray, only asks whether any of the
 // segments evaluate_link would test passes through one of `boxes`. When none does, a move
 // confined to those boxes cannot have changed the link's visibility (paper 3.3, finer than

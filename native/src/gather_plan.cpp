@@ -295,6 +295,10 @@ void GatherPlan::prepare_radiometry(const Hierarchy& h, const std::vector<Link>&
         sends_[k].sample_end = nsamples;
     }
     samples_.resize(size_t(nsamples));
+    // Each node's live element's slot, in one pass over the nodes: resolving a sample through
+    // its node (dead? parent?) was a cache miss per sample, millions per build.
+    std::vector<int32_t> live_slot(h.nodes.size());
+    parallel_for(h.nodes.size(), workers(threads), [&](size_t id) { live_slot[id] = slot_[size_t(h.live_element(int(id)))]; }, 4096);
     std::atomic<bool> outside{false};
     parallel_for(send_at_.size(), workers(threads), [&](size_t k) {
         if (k + kAhead < lists.size() && lists[k + kAhead]) __builtin_prefetch(lists[k + kAhead]);
@@ -304,7 +308,7 @@ void GatherPlan::prepare_radiometry(const Hierarchy& h, const std::vector<Link>&
         const int32_t n = cs.sample_end - cs.sample_begin;
         double w = 0;  // in samples order, as sender_radiance sums it
         for (int32_t j = 0; j < n; ++j) {
-            const int32_t sl = slot_[size_t(h.live_element(lists[k][j].first))];
+            const int32_t sl = live_slot[size_t(lists[k][j].first)];
             if (sl < 0) outside = true;
             samples_[size_t(cs.sample_begin + j)] = {sl, lists[k][j].second};
             w += lists[k][j].second;

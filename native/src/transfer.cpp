@@ -39,23 +39,9 @@ Rgb sender_radiance(const Hierarchy& h, const Link& l) {
 
 namespace {
 
-// Stands in for Visibility in a dry run: every segment is reported clear (the jitter of a
-// link does not depend on ray outcomes, so the dry run tests exactly the real segments).
-struct SegmentProbe {
-    static constexpr bool kDryRun = true;
-    const std::vector<Aabb>& boxes;
-    mutable bool met = false;
-    bool occluded(const Vec3& a, const Vec3& b) const {
-        for (size_t i = 0; i < boxes.size() && !met; ++i) met = boxes[i].meets_segment(a, b);
-        return false;
-    }
-    bool hidden_by(const Vec3&, const Vec3&, double, int) const { return false; }
-};
-
 // Casts every ray through Visibility and keeps the outcomes for the link (Link::ray_count,
 // ray_blocked, ray_self).
 struct RayLog {
-    static constexpr bool kDryRun = false;
     const Visibility& vis;
     mutable uint64_t blocked = 0, self = 0;
     mutable int n = 0;  // rays cast so far
@@ -140,15 +126,14 @@ Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
     bool any_blocked = false, any_clear = false;
     // A subdivided sender: its radiance toward Q is that of the leaves its clear rays reach,
     // not its area average (see Link::samples).
-    const bool record = !Vis::kDryRun && !P.children.empty();
+    const bool record = !P.children.empty();
     const int p_id = int(&P - h.nodes.data());
     thread_local std::vector<std::pair<Vec3, double>> hits;
     for (int j = 0; j < cub.n; ++j) {
-        // A dry run needs only the segments (all of them, conservatively), not the kernel.
-        double F = Vis::kDryRun ? 1.0 : point_polygon_form_factor(cub.p[j], Q.normal, P.poly, P.normal);
+        double F = point_polygon_form_factor(cub.p[j], Q.normal, P.poly, P.normal);
         double v = 1.0;
         if (F > 0) {
-            // Each point its own jitter stream, so a dry run draws the same rays.
+            // Each point its own jitter stream: its rays do not depend on the points before it.
             Rng rng(Hierarchy::mix(seed, uint64_t(j + 1)));
             int clear = 0, counted = 0;
             double wsum = 0, wclear = 0;
@@ -195,7 +180,6 @@ Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
         kmin = std::min(kmin, k);
         kmax = std::max(kmax, k);
     }
-    if (Vis::kDryRun) return l;
     l.partial = any_blocked && any_clear;
     l.vis = l.K_unoccluded > 0 ? l.K / l.K_unoccluded : 0.0;
     // The kernel at the corners too: symmetric cubature points can see equal values where
@@ -500,12 +484,6 @@ Link reevaluate_link(const Hierarchy& h, const Visibility& vis, const Link& old,
     Link l = evaluate_with(h, replay, old.src, old.rcv, rays, seed);
     replay.store(l);
     return l;
-}
-
-bool link_rays_meet(const Hierarchy& h, int src, int rcv, int rays, uint64_t seed, const std::vector<Aabb>& boxes) {
-    SegmentProbe probe{boxes};
-    evaluate_with(h, probe, src, rcv, rays, seed);
-    return probe.met;
 }
 
 }  // namespace radiosity

@@ -111,8 +111,7 @@ TEST(Dynamic, PruningNeverMissesAChangedLink) {
         int checked = 0;
         for (size_t i = 0; i < s.links().size(); ++i) {
             const Link& l = s.links()[i];
-            // History links a move crossed are re-evaluated lazily and flagged until then.
-            if (l.dead || l.settled || l.stale) continue;
+            if (l.dead || l.settled) continue;
             if (h.nodes[l.src].object == 2 || h.nodes[l.rcv].object == 2) continue;
             Link f = s.evaluate(l.src, l.rcv);
             EXPECT_DOUBLE_EQ(f.K, l.K) << "link " << i << " trial " << trial;

@@ -34,9 +34,6 @@ struct Link {
     bool blocked = false;
     bool dead = false;     // removed by a dynamic update or an un-refinement
     bool rejudge = false;  // re-evaluated by an update: the oracle must look at it again
-    // A history link whose rays a move crossed, not re-evaluated yet (lazily, when the
-    // oracle needs it): its K, vis, dK are out of date.
-    bool stale = false;
     // Split by closure-driven refinement (refine.cpp), not by the oracle: the split answers
     // the geometry (a leaf below sees less than this link's receiver), not the light level,
     // so un-refinement (3.4) keeps it.

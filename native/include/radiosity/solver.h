@@ -148,7 +148,7 @@ private:
         std::vector<Candidate> seeds;          // links to make besides (an added object's own links)
     };
     // The AdjustSystem proper: classifies every live link against `ch` (remade, turned, pruned
-    // by outcodes and the per-ray dry run, re-evaluated), links the changed clusters anew and
+    // by outcodes and the shaft test, re-evaluated with replayed rays), links the changed clusters anew and
     // re-decides the enclosure of leaves whose escape rays meet a changed box.
     void adjust_links(Change& ch, std::vector<int>& recheck_history);
     // topology.cpp
@@ -168,8 +168,6 @@ private:
     bool unrefine_if_acceptable(int link_id, const Judgement* first = nullptr);
     // Takes a fresh evaluation's coupling, visibility and samples into a kept link.
     void refresh(int link_id, const Link& fresh);
-    // Re-evaluates the stale links among `ids` (in parallel).
-    void freshen(const std::vector<int>& ids);
     // Settled links (3.5) whose sender's judging_radiance grew: evaluated afresh, unsettled.
     void reopen_settled(const std::vector<int>& ids);
     // History links reactivated where acceptable; only those whose sender is marked in

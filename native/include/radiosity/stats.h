@@ -28,7 +28,7 @@ struct Stats {
     int64_t env_env_links_recomputed = 0;  // visibility re-evaluated after a move (3.3)
     int64_t env_env_links_tested = 0;      // env-env links the outcode test looked at
     int64_t env_env_links_rejected = 0;    // ... and trivially rejected
-    int64_t env_env_links_rays_clear = 0;  // ... not rejected, but no ray of theirs meets a moved box
+    int64_t env_env_links_rays_clear = 0;  // ... not rejected, but no ray of theirs can meet a moved box (shaft test)
     int64_t obj_env_links_removed = 0;     // active links of moved objects dropped before re-linking
     int64_t links_created = 0;             // links made by the update (incl. occluded/history)
     int64_t history_reactivated = 0;       // history links brought back (un-refinement, 3.4)

@@ -23,12 +23,6 @@ Link evaluate_link(const Hierarchy& h, const Visibility& vis, int src, int rcv, 
 Link reevaluate_link(const Hierarchy& h, const Visibility& vis, const Link& old, int rays, uint64_t seed,
                      const std::vector<Aabb>& changed);
 
-// A dry run of evaluate_link with the same seed: casts no ray, only asks whether any of the
-// segments evaluate_link would test passes through one of `boxes`. When none does, a move
-// confined to those boxes cannot have changed the link's visibility (paper 3.3, finer than
-// the outcode test: per ray instead of per link end).
-bool link_rays_meet(const Hierarchy& h, int src, int rcv, int rays, uint64_t seed, const std::vector<Aabb>& boxes);
-
 // Unoccluded element-to-element coupling of a receiver polygon (not necessarily a node yet)
 // from an element sender: the cubature average of the point-to-polygon form factor.
 double unoccluded_coupling(const Poly& rcv, const Vec3& rcv_n, const Node& src);

@@ -14,7 +14,6 @@ namespace radiosity {
 
 class Visibility {
 public:
-    static constexpr bool kDryRun = false;  // see SegmentProbe in transfer.cpp
     Visibility();
     ~Visibility();
     Visibility(const Visibility&) = delete;

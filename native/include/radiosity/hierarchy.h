@@ -158,9 +158,9 @@ public:
         return id;
     }
     // The leaf below element `id` that holds x (a point in its plane): down through the
-    // child x lies least outside of, the nearest centroid breaking ties on shared edges and
-    // for points slightly off the polygon. Always ends at a leaf, even when every distance
-    // overflows (a point far away).
+    // child on x's side of the lines Poly::child splits along. A point on a line goes to one
+    // child, always the same; one off the polygon to the child on its side of every line.
+    // Always ends at a leaf, whatever x is (NaN, or far away).
     int leaf_at(int id, const Vec3& x) const;
     // Node ids of the clusters strictly above a surface root, root first.
     const std::vector<int>& ancestors_of_surface(int s) const { return surface_ancestors_[s]; }

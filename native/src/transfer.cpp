@@ -449,6 +449,21 @@ Link cluster_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
     return l;
 }
 
+// Samples that name the same leaf become one, with their weights summed, in the order of
+// their first appearance: a sender's radiance is the same weighted mean, and a third fewer
+// samples are stored, copied into each gather plan and read in each sweep (a link's 16 rays
+// land on 9 leaves on average in the box room at MEDIUM).
+void merge_samples(std::vector<std::pair<int, float>>& s) {
+    size_t n = 0;
+    for (size_t i = 0; i < s.size(); ++i) {
+        size_t j = 0;
+        while (j < n && s[j].first != s[i].first) ++j;
+        if (j < n) s[j].second += s[i].second;
+        else s[n++] = s[i];
+    }
+    s.resize(n);
+}
+
 template <class Vis>
 Link evaluate_with(const Hierarchy& h, const Vis& vis, int src, int rcv, int rays, uint64_t seed) {
     const Node& P = h.nodes[src];
@@ -463,6 +478,7 @@ Link evaluate_with(const Hierarchy& h, const Vis& vis, int src, int rcv, int ray
     } else {
         l = cluster_link(h, vis, P, Q, rays, rng, src, rcv);
     }
+    merge_samples(l.samples);
     l.src = src;
     l.rcv = rcv;
     return l;

@@ -524,11 +524,19 @@ void Solver::update(Control* control) {
         }
         vis_->commit();
         lap("place");
+        for (Aabb& c : ch.clips) {  // ray ends are lifted off surfaces: a hair of margin
+            c.lo -= Vec3{1e-5, 1e-5, 1e-5};
+            c.hi += Vec3{1e-5, 1e-5, 1e-5};
+        }
+        // Moves only: outside the moved objects' old and new boxes every ray meets what it met
+        // (an addition or removal re-indexes surfaces, and so may change the rays themselves).
+        replaying_ = settings_.replay_rays && !topology;
+        replay_clips_ = ch.clips;
         // Closed pockets (pockets.cpp) decide which links may exist at all: when a move, an
         // addition or a removal changes which pocket a surface that stays is in, or puts new
         // surfaces into a closed pocket, solve in full (rare: an object put into or taken out
         // of a closed crate).
-        if (!reseal(known_surfaces)) {
+        if (!reseal(known_surfaces, replaying_ ? &ch.clips : nullptr, &ch.moved)) {
             solve_in_full(topology ? "an object added or removed changed a closed pocket: solved in full"
                                    : "a move changed a closed pocket: solved in full");
             return;
@@ -546,10 +554,6 @@ void Solver::update(Control* control) {
             rejudge_all = std::fabs(threshold_ - old_threshold) > 0.02 * old_threshold;
             lap("topology");
         }
-        for (Aabb& c : ch.clips) {  // ray ends are lifted off surfaces: a hair of margin
-            c.lo -= Vec3{1e-5, 1e-5, 1e-5};
-            c.hi += Vec3{1e-5, 1e-5, 1e-5};
-        }
         // X: the moved objects' nodes and the clusters above them (their geometry changed).
         for (auto& [obj, pose] : pending_moves_) {
             (void)pose;
@@ -564,10 +568,6 @@ void Solver::update(Control* control) {
             std::reverse(chain.begin(), chain.end());  // root first
             ch.chains.push_back(chain);
         }
-        // Moves only: outside the moved objects' old and new boxes every ray meets what it met
-        // (an addition or removal re-indexes surfaces, and so may change the rays themselves).
-        replaying_ = settings_.replay_rays && !topology;
-        replay_clips_ = ch.clips;
         adjust_links(ch, recheck_history);
         pending_moves_.clear();
     }

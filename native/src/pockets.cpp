@@ -41,7 +41,8 @@ struct DisjointSets {
 
 }  // namespace
 
-void Solver::pocket_rays(int s, int rays, uint64_t stream, std::vector<int>& hits) const {
+void Solver::pocket_rays(int s, int rays, uint64_t stream, std::vector<PocketRay>& hits, const std::vector<Aabb>* changed,
+                         const std::vector<PocketRay>* old) const {
     const Node& n = h_.nodes[size_t(h_.surfaces[size_t(s)].root)];
     const double far = 4.0 * h_.scene_diag, lift = 1e-5 * h_.scene_diag;
     Rng rng(Hierarchy::mix(settings_.seed ^ 0x5EA1ED ^ stream, n.key));
@@ -52,8 +53,19 @@ void Solver::pocket_rays(int s, int rays, uint64_t stream, std::vector<int>& hit
         const double phi = 2 * kPi * rng.next(), r2 = rng.next(), sr = std::sqrt(r2);
         const Vec3 d = u * (std::cos(phi) * sr) + v * (std::sin(phi) * sr) + n.normal * std::sqrt(1 - r2);
         const Vec3 o = n.poly.sample(rng.next(), rng.next()) + n.normal * lift;
+        if (old && size_t(r) < old->size()) {
+            // Nothing changed between o and what it hit (or the ray's end): the same hit.
+            const Vec3 end = o + d * (*old)[size_t(r)].reach;
+            bool meets = false;
+            for (size_t i = 0; i < changed->size() && !meets; ++i) meets = (*changed)[i].meets_segment(o, end);
+            if (!meets) {
+                hits.push_back((*old)[size_t(r)]);
+                continue;
+            }
+        }
         int tri = -1;
-        const int obj = vis_->hit_object(o, o + d * far, 0.0, nullptr, &tri);
+        Vec3 at;
+        const int obj = vis_->hit_object(o, o + d * far, 0.0, &at, &tri);
         int side = -1;
         if (obj >= 0 && size_t(obj) < tri_prim_.size() && !tri_prim_[size_t(obj)].empty()) {
             const auto& tp = tri_prim_[size_t(obj)];
@@ -62,23 +74,30 @@ void Solver::pocket_rays(int s, int rays, uint64_t stream, std::vector<int>& hit
             side = dot(d, h_.nodes[size_t(h_.surfaces[size_t(hp.front)].root)].normal) < 0 ? hp.front : hp.back;
             if (side >= 0 && h_.surface_dead(side)) side = -1;
         }
-        hits.push_back(side);
+        // A hair beyond the hit, so that a box the hit point lies on counts as met.
+        hits.push_back({side, obj >= 0 ? length(at - o) * (1 + 1e-9) + lift : far});
     }
 }
 
-void Solver::compute_pockets() {
+void Solver::compute_pockets(const std::vector<Aabb>* changed, const std::vector<char>* moved) {
     const size_t ns = h_.surfaces.size();
-    std::vector<std::vector<int>> hits(ns);
+    std::vector<std::vector<PocketRay>> hits(ns);
     parallel_for(ns, settings_.threads, [&](size_t s) {
-        if (!h_.surface_dead(int(s))) pocket_rays(int(s), kPocketRays, 0, hits[s]);
+        if (h_.surface_dead(int(s))) return;
+        // A surface that moved casts all its rays again; another keeps those that meet no box
+        // where the geometry changed before their hit.
+        const int obj = h_.nodes[size_t(h_.surfaces[s].root)].object;
+        const bool keep = changed && moved && s < pocket_hits_.size() && !(obj >= 0 && size_t(obj) < moved->size() && (*moved)[size_t(obj)]);
+        pocket_rays(int(s), kPocketRays, 0, hits[s], changed, keep ? &pocket_hits_[s] : nullptr);
     }, 32);
+    pocket_hits_ = hits;  // before confirmation rays replace some
     DisjointSets sets(ns);
     std::vector<char> escaped(ns, 0);
     auto join = [&](const std::vector<size_t>& which) {
         for (size_t s : which)
-            for (int t : hits[s]) {
-                if (t < 0) escaped[s] = 1;
-                else sets.unite(int(s), t);
+            for (const PocketRay& t : hits[s]) {
+                if (t.side < 0) escaped[s] = 1;
+                else sets.unite(int(s), t.side);
             }
     };
     std::vector<size_t> live;
@@ -146,11 +165,11 @@ void Solver::compute_pockets() {
     h_.refresh_surface_geom();  // the samplers' copy of each surface's pocket
 }
 
-bool Solver::reseal(size_t known) {
+bool Solver::reseal(size_t known, const std::vector<Aabb>* changed, const std::vector<char>* moved) {
     std::vector<int> was(known, 0);
     for (size_t s = 0; s < known; ++s)
         if (!h_.surface_dead(int(s))) was[s] = h_.nodes[size_t(h_.surfaces[s].root)].pocket;
-    compute_pockets();
+    compute_pockets(changed, moved);
     for (size_t s = 0; s < h_.surfaces.size(); ++s) {
         if (h_.surface_dead(int(s))) continue;
         const int p = h_.nodes[size_t(h_.surfaces[s].root)].pocket;

@@ -78,6 +78,20 @@ public:
     // only: the rays through no moved object's old or new box keep their recorded outcome
     // (reevaluate_link). Otherwise evaluate().
     Link reevaluate(const Link& l) const;
+    // What one escape ray of a surface hit: the side of the surface (-1: none, the back of a
+    // one-sided polygon, or a removed one) and how far along the ray (the ray's length when
+    // it hit nothing).
+    struct PocketRay {
+        int side;
+        double reach;
+    };
+    // pockets.cpp. Appends what each of `rays` escape rays of surface s hits. With `old` (that surface's
+    // rays as recorded, same stream) a ray that meets none of `changed` before its hit keeps
+    // its record instead of being cast.
+    void pocket_rays(int s, int rays, uint64_t stream, std::vector<PocketRay>& hits,
+                     const std::vector<Aabb>* changed = nullptr, const std::vector<PocketRay>* old = nullptr) const;
+    // Each surface's escape rays at the last pocket computation (kept for the next update).
+    const std::vector<std::vector<PocketRay>>& pocket_records() const { return pocket_hits_; }
     const Hierarchy& hierarchy() const { return h_; }
     const Visibility& visibility() const { return *vis_; }
     const std::vector<Link>& links() const { return links_; }
@@ -212,13 +226,14 @@ private:
     // solver.cpp
     void compute_reference();
     // pockets.cpp: every surface's closed pocket (Node::pocket) and the clusters' pocket sets.
-    void compute_pockets();
-    // Appends the side of the surface each of `rays` escape rays of surface s hits (-1: none).
-    void pocket_rays(int s, int rays, uint64_t stream, std::vector<int>& hits) const;
+    // With `changed` (after moves only: the moved objects' old and new boxes) and `moved` (per
+    // object), a surface that did not move keeps the recorded outcome of each ray that meets
+    // none of the boxes before its hit (pocket_hits_).
+    void compute_pockets(const std::vector<Aabb>* changed = nullptr, const std::vector<char>* moved = nullptr);
     // Pockets again after placements or topology changed; false when a surviving surface
     // changed pocket or a new one landed in a closed pocket of old ones (which links may exist
-    // changed: the caller solves in full).
-    bool reseal(size_t known_surfaces);
+    // changed: the caller solves in full). `changed`, `moved`: as for compute_pockets.
+    bool reseal(size_t known_surfaces, const std::vector<Aabb>* changed = nullptr, const std::vector<char>* moved = nullptr);
     void check_cancel() const;
     // An object's triangles (its primitives, quads as two) into Embree and tri_prim_.
     void add_object_geometry(int object, const std::vector<int>& prims);
@@ -251,7 +266,8 @@ private:
     bool replaying_ = false;
     std::vector<Aabb> replay_clips_;
     int64_t lap_rays_ = 0;  // rays cast when lap_t_ was taken
-    int main_pocket_ = 0;  // the pocket of the largest space (open space, or a closed room)
+    int main_pocket_ = 0;
+    std::vector<std::vector<PocketRay>> pocket_hits_;  // per surface: its escape rays at the last compute_pockets  // the pocket of the largest space (open space, or a closed room)
     std::vector<std::vector<int>> tri_prim_;  // per object: Embree triangle -> primitive
 };
 

@@ -93,14 +93,16 @@ struct RayReplay : RayLog {
 // than independent draws beyond a factor n / (n - 1) in variance.
 class LatinHypercube {
 public:
-    static constexpr int kDims = 6;  // per ray: surface pick and a point, at each end
-    LatinHypercube(Rng& rng, int n) : n_(std::max(n, 1)) {
+    static constexpr int kDims = 6;  // at most, per ray: surface pick and a point, at each end
+    // `dims` coordinates drawn (the rest of each ray's kDims left unset): an element link
+    // needs only the point on its sender, and drawing all six was a tenth of its evaluation.
+    LatinHypercube(Rng& rng, int n, int dims = kDims) : n_(std::max(n, 1)) {
         thread_local std::vector<double> buf;  // one set in use per thread at a time
         buf.resize(size_t(n_) * kDims);
         u_ = buf.data();
         thread_local std::vector<int> perm;
         perm.resize(size_t(n_));
-        for (int d = 0; d < kDims; ++d) {
+        for (int d = 0; d < dims; ++d) {
             for (int k = 0; k < n_; ++k) perm[size_t(k)] = k;
             for (int k = n_ - 1; k > 0; --k) std::swap(perm[size_t(k)], perm[size_t(std::min(k, int(rng.next() * (k + 1))))]);
             for (int k = 0; k < n_; ++k) u_[size_t(k) * kDims + d] = (perm[size_t(k)] + rng.next()) / n_;
@@ -143,7 +145,7 @@ Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
             // land behind it (weight 0), and the point then counted as fully visible -- light
             // leaked into closed boxes from walls that straddle their planes.
             const FrontPart front = front_part(P.poly, cub.p[j], Q.normal);
-            const LatinHypercube strata(rng, per_point);
+            const LatinHypercube strata(rng, per_point, 2);
             hits.clear();
             for (int r = 0; r < per_point; ++r) {
                 // Stratified in both coordinates: fewer rays for the same variance.

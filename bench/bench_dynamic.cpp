@@ -113,10 +113,14 @@ int main(int argc, char** argv) {
             if (p.first == "gather") gather = p.second;
         }
         const double ls = double(std::max<int64_t>(1, st.link_sweeps));
-        std::printf(" s\n  gathering: %lld link-sweeps; gather phase %.1f ns, sweeps alone %.1f ns per link-sweep; "
+        std::printf(" s\n  rays:");
+        int64_t rays = 0;
+        for (const auto& p : st.phase_rays)
+            if (p.second) std::printf(" %s %lld", p.first.c_str(), (long long)p.second), rays += p.second;
+        std::printf(" (%lld in all)\n  gathering: %lld link-sweeps; gather phase %.1f ns, sweeps alone %.1f ns per link-sweep; "
                     "%lld gather plans built in %.4f s\n",
-                    (long long)st.link_sweeps, 1e9 * gather / ls, 1e9 * st.seconds_sweeps / ls, (long long)st.gather_plans,
-                    st.seconds_gather_plan);
+                    (long long)rays, (long long)st.link_sweeps, 1e9 * gather / ls, 1e9 * st.seconds_sweeps / ls,
+                    (long long)st.gather_plans, st.seconds_gather_plan);
     };
     phases("full solve phases", s_full);
     phases("update phases", s_upd);

@@ -86,9 +86,10 @@ def main():
         tu, tf, e, su, sf = rows[len(rows) // 2]
         print(f"{os.path.basename(p)} {a.preset}: full {tf:.3f} s, update {tu:.3f} s, ratio {100 * tu / tf:.1f} %, "
               f"NRMSE {100 * e:.2f} %; links {sf['links']} full / {su['links']} upd, elements {sf['elements']} / {su['elements']}")
-        print("   env-env tested/rejected/rays-clear/recomputed", su["env_env_links_tested"], su["env_env_links_rejected"],
-              su["env_env_links_rays_clear"], su["env_env_links_recomputed"], "| iterations", su["iterations"], "rounds",
-              su["refine_rounds"])
+        print("   env-env tested/rejected/rays-clear/recomputed (live + history)", su["env_env_links_tested"],
+              su["env_env_links_rejected"], su["env_env_links_rays_clear"],
+              f"{su['env_env_links_recomputed']} + {su['history_links_recomputed']}", "| iterations", su["iterations"],
+              "rounds", su["refine_rounds"])
         if a.noise:
             sols = []
             for seed in (1, 2, 3):

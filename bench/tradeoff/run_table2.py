@@ -90,7 +90,9 @@ def report(data, out_dir, command):
          lambda d: (lambda i: f"{i['env_env_links_tested']:,} / {i['env_env_links_rejected']:,} / "
                               f"{i['env_env_links_recomputed']:,} "
                               f"({100 * i['env_env_links_recomputed'] / max(1, i['env_env_links_tested']):.1f} % of tested; "
-                              f"tested = every env–env link the move could touch, inactive ones included)")
+                              f"tested = every env–env link the move could touch, inactive ones included)"
+                              + (f"; and {i['history_links_recomputed']:,} history links re-evaluated"
+                                 if "history_links_recomputed" in i else ""))
          (d["moves"][0]["incremental"]), lambda p: ""),
         ("env–env links recomputed (÷ active env–env links before the move: the paper's %)",
          lambda d: (lambda i: f"{i['env_env_links_recomputed']:,} "

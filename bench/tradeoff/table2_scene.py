@@ -31,7 +31,7 @@ import bt_common as bt  # noqa: E402
 KEYS = ("input_surfaces", "objects", "clusters", "elements", "links", "cluster_links",
         "obj_env_links", "env_env_links", "obj_obj_links", "rays", "seconds", "seconds_total",
         "seconds_adjust", "env_env_links_tested", "env_env_links_rejected",
-        "env_env_links_recomputed", "avoided_by_progressive", "history_links", "mode",
+        "env_env_links_recomputed", "history_links_recomputed", "avoided_by_progressive", "history_links", "mode",
         "full_reason")
 
 

@@ -348,7 +348,7 @@ void Solver::adjust_links(Change& ch, std::vector<int>& recheck_history) {
         if (l.dead) continue;
         const Link& f = fresh[k];
         const bool history = !l.active && !l.occluded;
-        ++s.env_env_links_recomputed;
+        ++(history ? s.history_links_recomputed : s.env_env_links_recomputed);
         if (f.K == l.K && f.K_unoccluded == l.K_unoccluded && f.vis == l.vis && f.dK == l.dK && f.partial == l.partial &&
             f.blocked == l.blocked && f.must_refine == l.must_refine) {
             l.ray_count = f.ray_count;  // what the rays met may differ where it changed nothing
@@ -479,6 +479,7 @@ void Solver::update(Control* control) {
     stats_.warnings.clear();  // this update's own (add_result_warnings at the end)
     Stats& s = stats_;
     s.env_env_links_tested = s.env_env_links_rejected = s.env_env_links_recomputed = 0;
+    s.history_links_recomputed = 0;
     s.env_env_links_rays_clear = 0;
     s.obj_env_links_removed = s.links_created = s.history_reactivated = 0;
     s.objects_added = s.objects_removed = s.links_removed = 0;

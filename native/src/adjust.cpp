@@ -529,8 +529,9 @@ void Solver::update(Control* control) {
             c.lo -= Vec3{1e-5, 1e-5, 1e-5};
             c.hi += Vec3{1e-5, 1e-5, 1e-5};
         }
-        // Moves only: outside the moved objects' old and new boxes every ray meets what it met
-        // (an addition or removal re-indexes surfaces, and so may change the rays themselves).
+        // Moves only: outside the moved objects' old and new boxes every ray meets what it met.
+        // An addition or removal re-orders the surface table the cluster samplers draw from
+        // (Hierarchy::surface_order, area_prefix), which can change a link's rays themselves.
         replaying_ = settings_.replay_rays && !topology;
         replay_clips_ = ch.clips;
         // Closed pockets (pockets.cpp) decide which links may exist at all: when a move, an
@@ -650,7 +651,7 @@ void Solver::update(Control* control) {
     prune_elements();
     lap("prune");
     // A record stays true only while every change of geometry is replayed into it: after an
-    // addition or removal none is trusted.
+    // addition or removal (surface table re-ordered, see above) none is trusted.
     replaying_ = false;
     if (topology)
         for (Link& l : links_) l.ray_count = -1;

@@ -95,7 +95,7 @@ class LatinHypercube {
 public:
     static constexpr int kDims = 6;  // at most, per ray: surface pick and a point, at each end
     // `dims` coordinates drawn (the rest of each ray's kDims left unset): an element link
-    // needs only the point on its sender, and drawing all six was a tenth of its evaluation.
+    // needs only the point on its sender, and drew the other four for nothing.
     LatinHypercube(Rng& rng, int n, int dims = kDims) : n_(std::max(n, 1)) {
         thread_local std::vector<double> buf;  // one set in use per thread at a time
         buf.resize(size_t(n_) * kDims);

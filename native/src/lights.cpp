@@ -519,13 +519,15 @@ std::vector<float> Solver::first_bounce() const {
     return out;
 }
 
-void Solver::at_first_bounce(const std::function<void()>& judge_links) {
+void Solver::at_first_bounce(const std::function<void()>& judge_links, const std::vector<char>* only) {
     // A full solve of a lit scene makes its first linking on the radiance light_initial's
     // sweep leaves (emission + rho x lamp light, no interreflection yet), and most of its
     // oracle decisions then stand: a settlement (3.5) is never judged again. An update's
     // first judgement of links whose senders' light changed is made on that same radiance,
     // swapped in for it and back; judged on converged radiance instead, links beside a box's
     // foot that a full solve settles were split (0.64 % NRMSE after one light move).
+    // `only`: the leaves to swap (per node); the others keep their radiance, and their element
+    // ancestors and clusters are averaged again over both.
     const size_t nn = h_.nodes.size();
     // The solved radiance comes back however judge_links ends (a cancel throws).
     struct Saved {
@@ -555,7 +557,7 @@ void Solver::at_first_bounce(const std::function<void()>& judge_links) {
         Node& n = h_.nodes[i];
         if (n.dead || n.is_cluster()) continue;
         if (n.children.empty()) {
-            n.L = n.Lmin = n.Lmax = n.emission + n.rho * light_direct(int(i));
+            if (!only || (i < only->size() && (*only)[i])) n.L = n.Lmin = n.Lmax = n.emission + n.rho * light_direct(int(i));
             continue;
         }
         Rgb sum, mn = Rgb::all(1e300), mx = Rgb::all(-1e300);

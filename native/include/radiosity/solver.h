@@ -160,6 +160,7 @@ private:
         std::vector<char> moved;               // per object: moved rigidly (links inside it only turn)
         std::vector<std::vector<int>> chains;  // root-first cluster paths, relinked against their siblings
         std::vector<Candidate> seeds;          // links to make besides (an added object's own links)
+        std::vector<Aabb> now;                 // new boxes of the moved objects (exact, no margin)
     };
     // The AdjustSystem proper: classifies every live link against `ch` (remade, turned, pruned
     // by outcodes and the shaft test, re-evaluated with replayed rays), links the changed clusters anew and
@@ -219,7 +220,7 @@ private:
     // Per node: emission + rho x lamp light, the radiance a full solve's first linking sees.
     std::vector<float> first_bounce() const;
     // Runs `judge_links` with every node's radiance set to first_bounce's (then restored).
-    void at_first_bounce(const std::function<void()>& judge_links);
+    void at_first_bounce(const std::function<void()>& judge_links, const std::vector<char>* only = nullptr);
     LightState lights_;
     // output.cpp: per-corner values of any per-leaf quantity
     std::vector<float> corner_values(int object, const std::function<Rgb(int)>& leaf_value) const;

@@ -50,6 +50,13 @@ std::vector<char> buried_leaves(const Hierarchy& h, const std::vector<Aabb>& box
 }
 }  // namespace
 
+void Solver::at_first_bounce_where_buried(const std::vector<Aabb>& now, const std::vector<char>& moved,
+                                          const std::function<void()>& judge_links) {
+    const std::vector<char> buried = now.empty() ? std::vector<char>() : buried_leaves(h_, now, moved);
+    if (std::find(buried.begin(), buried.end(), 1) != buried.end()) at_first_bounce(judge_links, &buried);
+    else judge_links();
+}
+
 void Solver::move_object(int object, const double m[16]) {
     if (!solved_) throw std::logic_error("move_object: solve the scene first");
     check_live(object, "move_object");  // topology.cpp
@@ -450,11 +457,7 @@ void Solver::adjust_links(Change& ch, std::vector<int>& recheck_history) {
     // radiance solved when it was open: see update(), before its first compute_closure. (In a
     // lit scene the lamps' direct terms are still the ones before the move here: light_update
     // comes later.)
-    const std::vector<char> buried = buried_leaves(h_, ch.now, ch.moved);
-    if (std::find(buried.begin(), buried.end(), 1) != buried.end())
-        at_first_bounce([&] { link_from(std::move(wave)); }, &buried);
-    else
-        link_from(std::move(wave));
+    at_first_bounce_where_buried(ch.now, ch.moved, [&] { link_from(std::move(wave)); });
     lap("relink");
     // A move can open or close a pocket (the floor a box stood on now sees the sky).
     // Every decider of an enclosure answer asks again, but casts again only the escape
@@ -641,12 +644,7 @@ void Solver::update(Control* control) {
     // leaves only (the rest keeps the solved radiance, which after a small move is nearly
     // right; judging everything on the first bounce left the moved object's links coarse, and
     // the refinement rounds that caught up doubled the sweeps of a drag).
-    const std::vector<char> buried =
-        now_boxes.empty() ? std::vector<char>() : buried_leaves(h_, now_boxes, moved_objects);
-    if (std::find(buried.begin(), buried.end(), 1) != buried.end())
-        at_first_bounce([&] { compute_closure(); }, &buried);
-    else
-        compute_closure();
+    at_first_bounce_where_buried(now_boxes, moved_objects, [&] { compute_closure(); });
     lap("closure");
     iterate_to(loose, settings_.max_iterations, 0.3, 0.6);
     lap("gather");

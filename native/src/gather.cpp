@@ -214,11 +214,7 @@ void Solver::decide_enclosed(int id, const std::vector<Aabb>* moved_boxes) {
     Node& n = h_.nodes[id];
     std::vector<std::pair<Vec3, Vec3>> rays;
     escape_rays(n, rays);
-    auto meets = [&](int r) {
-        for (const Aabb& b : *moved_boxes)
-            if (b.meets_segment(rays[r].first, rays[r].second)) return true;
-        return false;
-    };
+    auto meets = [&](int r) { return meets_any(*moved_boxes, rays[r].first, rays[r].second); };
     if (moved_boxes && n.enclosed == 1) {
         for (int r = 0; r < int(rays.size()); ++r)
             if (meets(r) && !vis_->occluded(rays[r].first, rays[r].second, 0.0)) {

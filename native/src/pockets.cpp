@@ -55,10 +55,7 @@ void Solver::pocket_rays(int s, int rays, uint64_t stream, std::vector<PocketRay
         const Vec3 o = n.poly.sample(rng.next(), rng.next()) + n.normal * lift;
         if (old && size_t(r) < old->size()) {
             // Nothing changed between o and what it hit (or the ray's end): the same hit.
-            const Vec3 end = o + d * (*old)[size_t(r)].reach;
-            bool meets = false;
-            for (size_t i = 0; i < changed->size() && !meets; ++i) meets = (*changed)[i].meets_segment(o, end);
-            if (!meets) {
+            if (!meets_any(*changed, o, o + d * (*old)[size_t(r)].reach)) {
                 hits.push_back((*old)[size_t(r)]);
                 continue;
             }

@@ -76,8 +76,7 @@ struct RayReplay : RayLog {
     mutable bool cast = false;  // the last ray was cast, not replayed
     bool occluded(const Vec3& a, const Vec3& b) const {
         const int k = n;
-        cast = k >= old.ray_count;
-        for (size_t i = 0; i < changed.size() && !cast; ++i) cast = changed[i].meets_segment(a, b);
+        cast = k >= old.ray_count || meets_any(changed, a, b);
         return note(cast ? vis.occluded(a, b) : ((old.ray_blocked >> k) & 1) != 0);
     }
     bool hidden_by(const Vec3& a, const Vec3& b, double near, int object) const {
@@ -167,7 +166,7 @@ Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
                 }
             }
             v = wsum > 0 ? wclear / wsum : 1.0;
-            if (record && F > 0) {
+            if (record) {
                 if (wsum > 0)
                     for (const auto& hx : hits) l.samples.push_back({h.leaf_at(p_id, hx.first), float(cub.w[j] * F * hx.second / wsum)});
                 else

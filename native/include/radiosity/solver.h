@@ -221,6 +221,11 @@ private:
     std::vector<float> first_bounce() const;
     // Runs `judge_links` with every node's radiance set to first_bounce's (then restored).
     void at_first_bounce(const std::function<void()>& judge_links, const std::vector<char>* only = nullptr);
+    // adjust.cpp: runs `judge_links` with the leaves a move buried (those of unmoved objects
+    // inside a moved object's new box, `now`) at first-bounce radiance, the rest as solved;
+    // see Solver::update for why. Without such leaves it just runs it.
+    void at_first_bounce_where_buried(const std::vector<Aabb>& now, const std::vector<char>& moved,
+                                      const std::function<void()>& judge_links);
     LightState lights_;
     // output.cpp: per-corner values of any per-leaf quantity
     std::vector<float> corner_values(int object, const std::function<Rgb(int)>& leaf_value) const;
@@ -267,8 +272,8 @@ private:
     bool replaying_ = false;
     std::vector<Aabb> replay_clips_;
     int64_t lap_rays_ = 0;  // rays cast when lap_t_ was taken
-    int main_pocket_ = 0;
-    std::vector<std::vector<PocketRay>> pocket_hits_;  // per surface: its escape rays at the last compute_pockets  // the pocket of the largest space (open space, or a closed room)
+    int main_pocket_ = 0;  // the pocket of the largest space (open space, or a closed room)
+    std::vector<std::vector<PocketRay>> pocket_hits_;  // per surface: its escape rays at the last compute_pockets
     std::vector<std::vector<int>> tri_prim_;  // per object: Embree triangle -> primitive
 };
 

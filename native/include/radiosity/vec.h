@@ -2,6 +2,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace radiosity {
 
@@ -106,6 +107,14 @@ struct Aabb {
         return true;
     }
 };
+
+// Whether the segment a-b passes through one of `boxes` (after a move: a ray whose outcome the
+// move may have changed).
+inline bool meets_any(const std::vector<Aabb>& boxes, const Vec3& a, const Vec3& b) {
+    for (const Aabb& box : boxes)
+        if (box.meets_segment(a, b)) return true;
+    return false;
+}
 
 constexpr double kPi = 3.14159265358979323846;
 

@@ -20,13 +20,15 @@ constexpr bool kShareVertexPoints = false;
 // shades a corner inside its own face, so at the foot of a box the floor corners of faces
 // under the box are unlit and those of faces beside it lit (their rays find the box in one
 // half of the hemisphere and the room in the other): the test looks just inside the face.
-// Where Cycles bakes corner k of primitive p (internal frame). Blender hands Cycles the corner's
-// vertex in the first of the polygon's loop triangles that holds it (a quad splits into corners
-// 0-1-2 and 0-2-3), and Cycles moves a point lying on a vertex toward that triangle's centroid
-// by min(distance, max(largest |world coordinate|, 1) x 1e-4) (its bake kernel's offset
-// toward the centre): 0.1 mm into the face, enough to put the floor corners of faces under
-// a box on the unlit side of the box's edge.
-Vec3 cycles_point(const Hierarchy& h, const ObjectDesc& o, const Primitive& p, int k) {
+// Where the corner is baked (internal frame): as Cycles does, just inside the first of the
+// polygon's loop triangles that holds the corner (a quad splits into corners 0-1-2 and 0-2-3),
+// moved from the vertex toward that triangle's centroid. Cycles moves it by
+// min(distance, 1e-4 x max(largest |world coordinate|, 1)), 0.1-0.5 mm in a room modelled in
+// metres; here by min(distance, 3e-5 of the scene's size), about the same in such a room but
+// the same at any scale and offset (the solver's results do not depend on either). Enough to
+// put the floor corners of faces under a box on the unlit side of the box's edge, and those
+// of faces beside it on the lit side.
+Vec3 sample_point(const ObjectDesc& o, const Primitive& p, int k, double scene_diag) {
     const Vec3 v = p.poly.v[size_t(k)];
     Vec3 c = p.poly.centroid();
     const int total = o.loop_totals[size_t(p.face)];
@@ -39,12 +41,10 @@ Vec3 cycles_point(const Hierarchy& h, const ObjectDesc& o, const Primitive& p, i
     } else if (p.poly.n == 3) {
         c = (p.poly.v[0] + p.poly.v[1] + p.poly.v[2]) / 3.0;
     }
-    const Vec3 w = v * h.unit + h.origin;  // world position
-    const double big = std::max({std::fabs(w.x), std::fabs(w.y), std::fabs(w.z), 1.0});
     const Vec3 to_c = c - v;
     const double d = length(to_c);
     if (!(d > 0)) return v;
-    return v + to_c * (std::min(d, big * 1e-4 / h.unit) / d);
+    return v + to_c * (std::min(d, 3e-5 * scene_diag) / d);
 }
 
 // Returns the node beyond the contact (the covering polygon's other side's leaf there, or -2
@@ -268,7 +268,7 @@ std::vector<FinalGather::Job> FinalGather::make_jobs(const Solution& s) {
             // triangle that holds it, here the first piece.
             if (corner_point_[size_t(p.object)][size_t(corner)] >= 0) continue;
             const int v = o.corner_verts[size_t(corner)];
-            const Vec3 x = cycles_point(h, o, p, k);
+            const Vec3 x = sample_point(o, p, k, h.scene_diag);
             const int beyond = corner_covered(s, p, x);
             const bool cov = beyond != -1;
             int found = -1;

@@ -290,12 +290,7 @@ TEST(Extremes, SceneScaleAndOffsetDoNotMatter) {
         SceneDesc s = scenes::cornell_box(3);
         for (ObjectDesc& o : s.objects_mut())
             for (Vec3& v : o.vertices) v = v * k + offset;
-        // The solution, read at the leaves: the gathered output samples where Cycles does,
-        // 1e-4 x max(|world coordinate|, 1) into each face, which is not scale invariant
-        // (Solver.ScaleInvariance checks the output at scales 1 and 1e4).
-        Settings st = Settings::preset("DRAFT");
-        st.gather_rays = 0;
-        Solver solver(s, st);
+        Solver solver(s, Settings::preset("DRAFT"));
         solver.solve();
         expect_sane(solver, "scale " + std::to_string(k));
         return solver.all_corner_radiance();

@@ -51,8 +51,14 @@ if(RADIOSITY_EXTRA_PYTHONS STREQUAL "auto")
     if(rc EQUAL 0)
       list(APPEND _radiosity_extra ${exe})
     else()
+      set(blenders "the Blenders that embed Python ${version}")
+      if(version VERSION_EQUAL 3.13)
+        set(blenders "Blender 5.1 and later (Python 3.13)")
+      elseif(version VERSION_EQUAL 3.11)
+        set(blenders "Debian's Blender 3.4 and Blender 4.1-5.0 (Python 3.11)")
+      endif()
       message(WARNING "radiosity: no CPython ${version} found (PATH, pyenv, $PYTHON${tag}): "
-                      "the add-on zip will not load in the Blenders that embed Python ${version}. "
+                      "the add-on zip will not load in ${blenders}. "
                       "Install one with its headers (scripts/install_deps.sh says how) or pass "
                       "-DRADIOSITY_EXTRA_PYTHONS=/path/to/python${version}.")
     endif()

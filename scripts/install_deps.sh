@@ -21,10 +21,11 @@ if "$PY" -c 'import sys, sysconfig, os; sys.exit(0 if os.path.exists(os.path.joi
 fi
 NUMPY=numpy
 if "$PY" -c 'import numpy' 2>/dev/null; then NUMPY=""; fi
-# pybind11 >= 2.12 supports numpy 1.x (Debian's Blender) and 2.x (bpy wheels) at run time.
+# pybind11 >= 2.12 supports numpy 1.x (Debian's Blender) and 2.x (bpy wheels) at run time, and
+# >= 2.13 Python 3.13 (the second solver module, for Blender 5.1+).
 # matplotlib: the benchmark reports' plots (bench/tradeoff/report_tradeoff.py, run_scaling.py),
 # which run in this Python, not in Blender's.
-$PY -m pip install -q "pybind11>=2.12" "pytest>=7" $NUMPY matplotlib
+$PY -m pip install -q "pybind11>=2.13" "pytest>=7" $NUMPY matplotlib
 if [ "${RADIOSITY_SKIP_BPY:-0}" != 1 ]; then
   # Blender as a Python module: the newest wheel for this Python (cp311: 4.5/5.0).
   $PY -m pip install -q bpy || echo "warning: pip could not install bpy; the bpy flavour of the add-on tests will be skipped"

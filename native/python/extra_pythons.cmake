@@ -75,6 +75,8 @@ foreach(exe IN LISTS _radiosity_extra)
     set(problem "Python_EXECUTABLE is already ${cfg_VERSION}")
   elseif(NOT EXISTS "${cfg_INCLUDE}/Python.h")
     set(problem "it has no headers (no ${cfg_INCLUDE}/Python.h)")
+  elseif(cfg_VERSION VERSION_GREATER_EQUAL 3.13 AND pybind11_VERSION VERSION_LESS 2.13)
+    set(problem "pybind11 ${pybind11_VERSION} predates Python 3.13 (pip install 'pybind11>=2.13')")
   endif()
   if(problem)
     # Asked for by name: stop. Found by "auto": build the rest and say what is missing.

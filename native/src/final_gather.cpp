@@ -177,9 +177,21 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
         rec.own = u.own;
         rec.begin = uint32_t(pt.samples.size());
         const Record* was = nullptr;
+        // The link's share of the budget, in powers of two: a small change of the light (an
+        // update's solution against a full solve's) then rarely changes a link's rays, so the
+        // two gather the same rays where their links agree.
+        int rays = c.min_rays;
+        if (total > 0 && u.weight > 0) {
+            const double want = c.rays * u.weight / total;
+            rays = want >= 1 ? 1 << int(std::lround(std::log2(want))) : 1;
+        }
+        rays = std::min(std::max(rays, c.min_rays), std::max(c.rays, c.min_rays));
+        const int refined_rays = std::min(c.rays, 4 * rays);
         if (old)
             for (const Record& r : old->records)
                 if (r.link == u.link) { was = &r; break; }
+        // Replayed only with the budget a fresh trace would give it now.
+        if (was && int(was->rays) != (was->refined ? refined_rays : rays)) was = nullptr;
         // Its samples name leaves that are still leaves: the same rays would land on them again.
         auto samples_current = [&](const Record& r) {
             for (uint32_t i = r.begin; i < r.end; ++i) {
@@ -208,8 +220,6 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
             counts.rays += rs.cast;
             ++counts.replayed;
         } else {
-            int rays = total > 0 ? int(std::lround(c.rays * u.weight / total)) : 0;
-            rays = std::min(std::max(rays, c.min_rays), std::max(c.rays, c.min_rays));
             PointRayStream rs(s.vis);
             PointTransfer t = point_transfer(h, rs, l.src, x, n, pt.leaf, rays, lseed, pt.samples);
             counts.rays += rs.cast;
@@ -218,7 +228,7 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
             // the rays (a corner at the rim of a lamp's footprint needs more than one mid-wall).
             if (t.partial && rays < c.rays && total > 0 && u.weight > total / (4.0 * double(use.size()))) {
                 pt.samples.resize(rec.begin);
-                rays = std::min(c.rays, 4 * rays);
+                rays = refined_rays;
                 PointRayStream rs2(s.vis);
                 t = point_transfer(h, rs2, l.src, x, n, pt.leaf, rays, lseed + 1, pt.samples);
                 counts.rays += rs2.cast;

@@ -27,7 +27,7 @@ struct Settings {
     // among the links that reach it by the light they bring; 0 = the leaf element's average
     // at the corner instead (the computational mesh as it is, no gather).
     int gather_rays = 256;
-    int gather_min_rays = 2;  // ... and at least this many for every link that reaches the point
+    int gather_min_rays = 8;  // ... and at least this many for every link that reaches the point
     int closure_rays = 32;              // escape rays per leaf for the closure correction
     // Closure-driven refinement (refine.cpp): an enclosed leaf whose form factors sum further
     // than this from 1 has the links at its ancestors split toward it (0 = off), at most

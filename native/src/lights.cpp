@@ -285,19 +285,25 @@ void Solver::light_contacts() {
                 if (o.lo[a] > b.hi[a] || o.hi[a] < b.lo[a]) return false;
             return true;
         };
+        const bool own_back = h_.surfaces[si].back;
         std::vector<int> stack{h_.root};
         while (!stack.empty()) {
             const int id = stack.back();
             stack.pop_back();
             const Node& m = h_.nodes[id];
             if (!overlaps(m.box)) continue;
+            // Within one object only front sides touch (below): a back surface skips its own
+            // object's clusters (a 100k-piece fanned disc: every piece's box meets every other's).
             if (m.is_cluster()) {
+                if (own_back && m.object == n.object) continue;
                 for (int c : m.children) stack.push_back(c);
                 continue;
             }
-            // Any other polygon, of another object or of the same one (a chair's back resting on
-            // its seat: Cycles finds that contact unlit too), but not the surface's own other side.
+            // Another object's polygon, or a front side of another polygon of the same object (a
+            // chair's back resting on its seat: Cycles finds that contact unlit too). Not the
+            // back of a neighbouring piece of the same plane (a two-sided fanned n-gon).
             if (h_.surfaces[size_t(m.surface)].prim == h_.surfaces[si].prim || dot(m.normal, n.normal) > -1 + 1e-9) continue;
+            if (m.object == n.object && (own_back || h_.surfaces[size_t(m.surface)].back)) continue;
             if (std::fabs(dot(m.poly.v[0] - n.poly.v[0], n.normal)) > tol) continue;
             if (!scene_.objects()[m.object].occluder) continue;
             lights_.contacts[si].push_back(m.surface);

@@ -30,7 +30,7 @@ Settings Settings::preset(const std::string& name) {
         s.rays_per_link = 32;
         s.tolerance = 1e-5;
         s.gather_rays = 1024;
-        s.gather_min_rays = 16;
+        s.gather_min_rays = 8;
     } else {
         throw std::invalid_argument("unknown preset '" + name + "' (DRAFT, MEDIUM or HIGH)");
     }

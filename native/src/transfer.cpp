@@ -492,6 +492,7 @@ namespace {
 PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int src, const Vec3& x, const Vec3& n,
                                   int rcv_leaf, int rays, uint64_t seed, std::vector<std::pair<int, float>>& samples) {
     constexpr int kExactClusterSurfaces = 12;
+    constexpr size_t kDescendChildren = 16;
     PointTransfer t;
     const Node& P = h.nodes[size_t(src)];
     const Node& R = h.nodes[size_t(rcv_leaf)];
@@ -537,6 +538,36 @@ PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int s
             for (const auto& hx : hits) samples.push_back({hx.first, float(F * hx.second / wsum)});
             t.F = F * wclear / wsum;
         }
+    } else if (length(x - P.center) < 2.0 * P.radius && P.children.size() > kDescendChildren) {
+        // Near a cluster of many children (the pieces of a fanned n-gon hang side by side):
+        // its surfaces drawn uniformly by area instead, each weighted by the true kernel,
+        // unbiased whichever way they face, and bounded in cost.
+        const double* pre = h.area_prefix.data();
+        const double lo = pre[P.surf_begin], span = pre[P.surf_end] - lo;
+        if (!(span > 0)) return t;
+        const LatinHypercube strata(rng, rays, 3);
+        int clear = 0;
+        for (int k = 0; k < rays; ++k) {
+            const double* u = strata.at(k);
+            int i = int(std::upper_bound(pre + P.surf_begin + 1, pre + P.surf_end + 1, lo + u[0] * span) - (pre + 1));
+            i = std::min(std::max(i, P.surf_begin), P.surf_end - 1);
+            const SurfaceGeom& g = h.surface_geom[size_t(i)];
+            if (g.pocket != R.pocket || h.nodes[size_t(g.root)].dead) continue;
+            const Vec3 s = g.poly.sample(g.share, u[1], u[2]);
+            const Vec3 yx = s - y;
+            const double d2 = length2(yx);
+            if (d2 <= 0) continue;
+            const double gk = std::max(0.0, dot(yx, n)) * std::max(0.0, -dot(yx, g.normal)) / (d2 * d2) * span / (kPi * rays);
+            if (gk <= 0) continue;
+            ++t.cast;
+            t.F_unoccluded += gk;
+            if (!vis.occluded(y, s + g.normal * lift)) {
+                ++clear;
+                t.F += gk;
+                samples.push_back({h.leaf_at(g.root, s), float(gk)});
+            }
+        }
+        t.partial = clear > 0 && clear < t.cast;
     } else if (length(x - P.center) < 2.0 * P.radius) {
         // The point is near the cluster, or inside it (a floor point and the room around it):
         // no single direction says which of its surfaces face the point, and drawing them by

@@ -138,6 +138,7 @@ def main():
     out = os.path.abspath(argv[0] if argv else os.path.join(HERE, "scenes", "lights_room.blend"))
     build()
     os.makedirs(os.path.dirname(out), exist_ok=True)
+    bpy.context.preferences.filepaths.save_version = 0     # no .blend1 beside it
     bpy.ops.wm.save_as_mainfile(filepath=out, compress=True)
     print("saved", out)
 

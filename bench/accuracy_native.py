@@ -12,7 +12,8 @@ reference stores its own noise (several independent Cycles bakes), the error wit
 removed in quadrature.
 
     python3 bench/accuracy_native.py [--native-dir DIR] [--presets DRAFT,MEDIUM] [--seeds 1,2,3]
-                                     [--set rays_per_link=64 ...] [--md OUT.md] [SCENE ...]
+                                     [--set rays_per_link=64 ...] [--md OUT.md] [--save DIR]
+                                     [SCENE ...]
 
 SCENE: a scene name (default: all of bench/tradeoff/scenes.py: cornell_box, box_room,
 chair_room, full_room, lights_room) or an exported SCENE.npz (its reference is
@@ -96,6 +97,8 @@ def main():
     ap.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                     help="override a Settings field, e.g. --set rays_per_link=64 (repeatable)")
     ap.add_argument("--md", help="also write the table to this markdown file")
+    ap.add_argument("--save", metavar="DIR", help="also save each solve's corners (float32, the "
+                    "reference's order) as DIR/SCENE_PRESET.npz, to judge them again later")
     ap.add_argument("scenes", nargs="*")
     a = ap.parse_args()
     sys.path.insert(0, a.native_dir)
@@ -141,6 +144,12 @@ def main():
                     x = x[si.objects[i].corner_perm]    # solver order -> Blender's
                 parts.append(x)
             x = np.concatenate(parts)
+            if a.save:
+                os.makedirs(a.save, exist_ok=True)
+                tag = preset + ("" if seed is None else f"_seed{seed}")
+                np.savez_compressed(os.path.join(a.save, f"{name}_{tag}.npz"),
+                                    corners=x.astype(np.float32), emitter=emit,
+                                    objects=np.array(meta["objects"]))
             e = cm.corner_error(x, ref, emitter=emit, ref_var=ref_var)
             stats = s.stats()
             row = {"scene": name, "preset": preset + ("" if seed is None else f" seed {seed}"),

@@ -7,11 +7,13 @@ Per scene, Debian's Blender runs ref_scene.py: independent Cycles bakes (seeds 1
 added to refs/SCENE_cycles.npz until it holds --ref-spp samples in at least --min-parts parts;
 the file keeps every part, their spp-weighted mean and its per-corner variance (the reference's
 own noise, bench/corner_metric.py), saved after each part. Run it again to resume or to go
-further; a part already there is never baked again. Logs in REF_DIR/SCENE_cycles.log.
+further; a part already there is never baked again. Blender's logs go to
+$TMPDIR/SCENE_cycles.log (the facts are in each file's meta).
 """
 import argparse
 import os
 import sys
+import tempfile
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -37,7 +39,7 @@ def main():
         r = bt_run.run(bt_scenes.blend(s), "ref_scene.py",
                        ["--ref", ref, "--zip", a.zip, "--ref-spp", a.ref_spp,
                         "--part-spp", a.part_spp, "--min-parts", a.min_parts],
-                       log_path=os.path.join(a.ref_dir, f"{s}_cycles.log"))
+                       log_path=os.path.join(tempfile.gettempdir(), f"{s}_cycles.log"))
         print(f"   {s}: {r['samples']} spp in {len(r['parts'])} parts, noise {r['noise']}; "
               f"{time.perf_counter() - t:.0f} s", flush=True)
 

@@ -94,15 +94,15 @@ def build():
     cv, cf = [], []
     panel(cv, cf, (x0, y0, H), (0, W, 0), (W, 0, 0), n, n)
     mesh("Ceiling", cv, cf, material("Ceiling", (0.8, 0.8, 0.8)), root)
-    # Walls, normals inward. The +x wall has the window: y in [-0.6, 0.6], z in [0.8, 1.8].
+    # Walls, normals (u x v) inward. The +x wall has the window: y in [-0.6, 0.6], z in [0.8, 1.8].
     wv, wf = [], []
-    panel(wv, wf, (x0, y0, 0), (0, 0, H), (0, W, 0), nh, n)                         # -x, normal +x
-    window = lambda i, j: 7 <= i < 13 and 4 <= j < 9                              # noqa: E731
-    panel(wv, wf, (-x0, y0, 0), (0, W, 0), (0, 0, H), n, nh, skip=window)          # +x, normal -x
-    panel(wv, wf, (x0, y0, 0), (W, 0, 0), (0, 0, H), n, nh)                         # -y, normal +y
-    panel(wv, wf, (x0, -y0, 0), (0, 0, H), (W, 0, 0), nh, n)                        # +y, normal -y
+    panel(wv, wf, (x0, y0, 0), (0, W, 0), (0, 0, H), n, nh)                         # -x, normal +x
+    window = lambda i, j: 4 <= i < 9 and 7 <= j < 13                              # noqa: E731
+    panel(wv, wf, (-x0, y0, 0), (0, 0, H), (0, W, 0), nh, n, skip=window)          # +x, normal -x
+    panel(wv, wf, (x0, y0, 0), (0, 0, H), (W, 0, 0), nh, n)                         # -y, normal +y
+    panel(wv, wf, (x0, -y0, 0), (W, 0, 0), (0, 0, H), n, nh)                        # +y, normal -y
     mesh("Walls", wv, wf, material("Walls", (0.7, 0.68, 0.62)), root)
-    # The red wall (-y) is part of "Walls"; the cube in its own collection (a dynamic object).
+    # The cube in its own collection (a dynamic object).
     coll = bpy.data.collections.new("CubeObject")
     root.children.link(coll)
     c, h, k = Vector((-0.2, -0.9, 0.4)), 0.4, 4

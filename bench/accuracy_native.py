@@ -82,11 +82,9 @@ def scene_input(z):
 
 
 def git_commit():
-    def git(*args):
-        return subprocess.run(["git", "-C", ROOT, *args], capture_output=True, text=True).stdout.strip()
-    head = git("rev-parse", "--short", "HEAD") or "unknown"
-    dirty = " + local changes in native/ or addon/" if git("status", "--porcelain", "--", "native", "addon") else ""
-    return head + dirty
+    """HEAD, and the commit of the solver and add-on measured (bench/tradeoff/bt_run.py)."""
+    import bt_run
+    return bt_run.git_commit()
 
 
 def main():

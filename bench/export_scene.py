@@ -1,8 +1,17 @@
 """Export an example .blend's scene (as the add-on gathers it) plus its stored move to .npz,
-so the native solver can be benchmarked outside Blender (bench/update_examples.py).
+so the native solver can be benchmarked outside Blender (bench/update_examples.py,
+bench/accuracy_native.py).
 
     blender -b example_blends/box_room.blend --python bench/export_scene.py -- OUT.npz
+
+Per object i: o{i}_vertices, _loop_starts, _loop_totals, _corner_verts (Blender's order),
+_reflectance, _emission; o{i}_two_sided and o{i}_occluder when not the defaults (an area
+light: one-sided, casts no shadow), o{i}_corner_perm for a mirrored object (the solver gets
+corner_verts[perm] and its output is mapped back with the same permutation), o{i}_written
+(False for what the add-on gathers but never writes: area lights, unwritable meshes);
+"lights": JSON of the Blender lights and the world (core.lights.LightInput fields).
 """
+import json
 import os
 import sys
 
@@ -24,7 +33,15 @@ def main():
         names.append(f"{o.name}\t{o.cluster}")
         for k in ("vertices", "loop_starts", "loop_totals", "corner_verts", "reflectance", "emission"):
             arrays[f"o{i}_{k}"] = getattr(o, k)
+        if o.two_sided is not None:
+            arrays[f"o{i}_two_sided"] = np.asarray(o.two_sided, np.uint8)
+        if not o.occluder:
+            arrays[f"o{i}_occluder"] = np.array(False)
+        if o.corner_perm is not None:
+            arrays[f"o{i}_corner_perm"] = np.asarray(o.corner_perm, np.int64)
+        arrays[f"o{i}_written"] = np.array(o.target is not None)
     arrays["objects"] = np.array(names)
+    arrays["lights"] = np.array(json.dumps([dict(vars(li)) for li in si.lights], default=float))
     mv = scene.get("radiosity_move")
     if mv is not None:
         # The stored move applied as the demo applies it (addon/tools/demo.py): an object, or

@@ -13,6 +13,9 @@ import time
 import bpy
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # bench/
+import corner_metric as cm  # noqa: E402
+
 ATTR_OURS = "Radiosity"
 ATTR_CYCLES = "CyclesBake"
 # Process CPU seconds (all threads) of the last cycles_bake / our_bake: a load-robust companion
@@ -110,20 +113,12 @@ def corner_positions(objs):
     return np.concatenate(out)
 
 
-# --- error measures (shared/NOTES.md) --------------------------------------------------------
+# --- error measures: bench/corner_metric.py, the one definition ----------------------------
 
-def errors(x, r, keep):
-    """rRMSE and NRMSE of x against reference r over the corners `keep` (bool), all channels.
-
-    rRMSE = sqrt(mean(((x - r) / max(r, 0.05 mean r))^2)); NRMSE = RMS(x - r) / RMS(r)."""
-    xs, rs = x[keep].astype(np.float64), r[keep].astype(np.float64)
-    floor = 0.05 * rs.mean()
-    rel = (xs - rs) / np.maximum(rs, floor)
-    return {"rrmse": float(np.sqrt(np.mean(rel ** 2))),
-            "nrmse": float(np.sqrt(np.mean((xs - rs) ** 2)) / np.sqrt(np.mean(rs ** 2))),
-            "mean_ratio": float(xs.mean() / rs.mean()),
-            "rel_p50": float(np.percentile(np.abs(rel), 50)),
-            "rel_p90": float(np.percentile(np.abs(rel), 90))}
+def errors(x, r, emit, ref_var=None, mask=None, floor=None):
+    """corner_metric.corner_error: every corner but emitters' (covered ones included, their
+    share of the error reported apart), rRMSE the headline, NRMSE, the reference's noise."""
+    return cm.corner_error(x, r, emitter=emit, ref_var=ref_var, mask=mask, floor=floor)
 
 
 # --- Cycles ----------------------------------------------------------------------------------
@@ -172,6 +167,108 @@ def cycles_bake(scene, objs, samples, seed):
     if "FINISHED" not in res:
         raise SystemExit(f"Cycles bake failed: {res}")
     return all_corners(objs, ATTR_CYCLES), seconds, settings
+
+
+def sha256(path):
+    import hashlib
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for chunk in iter(lambda: f.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+def _load_parts(path, names, counts, blend_sha):
+    """(parts list of (C,3) float32, part metas, meta) of a cached reference that matches this
+    .blend's objects, corner counts and sha256; None otherwise. A reference saved before parts
+    existed (one bake: `corners` + meta samples/seed) reads as one part."""
+    if not os.path.exists(path):
+        return None
+    z = np.load(path, allow_pickle=False)
+    meta = json.loads(str(z["meta"]))
+    if not (meta["objects"] == names and meta["corners"] == counts
+            and meta["blend_sha256"] == blend_sha):
+        log(f"reference {path} does not match this .blend (sha {meta['blend_sha256'][:8]} vs "
+            f"{blend_sha[:8]}, or its objects/corners): made anew")
+        return None
+    if "parts" in z.files:
+        return [p for p in z["parts"]], meta["parts"], meta
+    one = {k: meta[k] for k in ("samples", "seed", "seconds") if k in meta}
+    one.update(made=meta.get("made"), blender=meta.get("blender"))
+    return [z["corners"]], [one], meta
+
+
+def reference(path, scene, objs, want_spp, part_spp=4096, min_parts=2, make=True):
+    """The cached Cycles reference at PATH, extended to at least want_spp samples in at least
+    min_parts independent bakes (seeds 1, 2, ...: parts of part_spp samples) when make is true;
+    saved after every part, so an interrupted run keeps what it baked.
+
+    The file (np.savez_compressed): corners = the spp-weighted mean of the parts (float32 (C,3)),
+    corners_var = the per-corner variance of that mean (corner_metric.combine_parts; absent with
+    one part), parts (k,C,3), meta = JSON (settings, parts [{samples, seed, seconds, ...}],
+    samples = their sum, objects, corners, blend sha256, the reference's own noise figures).
+    Returns (corners float64, corners_var or None, meta)."""
+    names = [o.name for o in objs]
+    counts = [len(o.data.loops) for o in objs]
+    blend_sha = sha256(bpy.data.filepath)
+    got = _load_parts(path, names, counts, blend_sha)
+    parts, pmeta, meta = got if got else ([], [], {})
+    if not parts and not make:
+        raise SystemExit(f"no matching reference at {path}")
+    total = sum(p["samples"] for p in pmeta)
+    if parts and total >= want_spp and len(parts) >= min_parts or parts and not make:
+        log(f"reference {path}: cached, {total} spp in {len(parts)} part(s)")
+    else:
+        settings = {}
+        while total < want_spp or len(parts) < min_parts:
+            spp = min(part_spp, want_spp - total) if total < want_spp else part_spp
+            seed = max([p.get("seed", 0) for p in pmeta] + [0]) + 1
+            if seed > 100:
+                raise SystemExit("reference seeds must stay below 101 (the trade-off's Cycles runs)")
+            log(f"reference {path}: baking part {len(parts) + 1}, {spp} spp, seed {seed} ...")
+            c = time.process_time()
+            x, seconds, settings = cycles_bake(scene, objs, spp, seed)
+            parts.append(x.astype(np.float32))
+            pmeta.append({"samples": spp, "seed": seed, "seconds": round(seconds, 1),
+                          "cpu_seconds": round(time.process_time() - c, 1),
+                          "made": time.strftime("%Y-%m-%d %H:%M"), "blender": bpy.app.version_string,
+                          "machine_load": [round(v, 2) for v in os.getloadavg()]})
+            total += spp
+            log(f"  part baked in {seconds:.0f} s; {total} spp so far")
+            meta = _save_reference(path, parts, pmeta, settings or meta, objs, names, counts,
+                                   blend_sha)
+    mean, var = cm.combine_parts(np.stack(parts), [p["samples"] for p in pmeta])
+    meta["cached"] = True
+    return mean, var, meta
+
+
+def _save_reference(path, parts, pmeta, settings, objs, names, counts, blend_sha):
+    spp = [p["samples"] for p in pmeta]
+    mean, var = cm.combine_parts(np.stack(parts), spp)
+    emit = emitter_mask(objs)
+    meta = {k: v for k, v in settings.items() if k not in ("samples", "seed", "parts", "noise")}
+    meta.update(samples=int(sum(spp)), seed=[p["seed"] for p in pmeta], parts=pmeta,
+                objects=names, corners=counts, blend=os.path.basename(bpy.data.filepath),
+                blend_sha256=blend_sha, seconds=round(sum(p["seconds"] for p in pmeta), 1),
+                made=pmeta[-1]["made"],
+                bake="COMBINED to a FLOAT_COLOR CORNER attribute, all mesh objects selected; "
+                     "the spp-weighted mean of independent bakes (seeds 1, 2, ...)",
+                script="bench/tradeoff/bt_common.py reference()")
+    if var is not None:
+        e = cm.corner_error(mean, mean, emitter=emit, ref_var=var)
+        meta["noise"] = {"rrmse": e["ref_noise_rrmse"], "nrmse": e["ref_noise_nrmse"],
+                         "rrmse_uncovered": e["ref_noise_rrmse_uncovered"],
+                         "how": "per-corner variance of the weighted mean of the parts "
+                                "(corner_metric.combine_parts), judged corners, scene floor"}
+    arrays = {"corners": mean.astype(np.float32), "parts": np.stack(parts).astype(np.float32),
+              "meta": np.array(json.dumps(meta))}
+    if var is not None:
+        arrays["corners_var"] = var.astype(np.float32)
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    tmp = path + ".tmp.npz"
+    np.savez_compressed(tmp, **arrays)
+    os.replace(tmp, path)
+    return meta
 
 
 # --- our bake --------------------------------------------------------------------------------

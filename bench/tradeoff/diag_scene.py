@@ -4,8 +4,9 @@
     (runs: blender -b SCENE.blend --python bench/tradeoff/diag_scene.py -- --zip Z --ref R
             --preset P [--eps E] --out OUT.json)
 
-Bakes once, then splits the squared error of NRMSE and rRMSE (same corners as the trade-off:
-emitters and reference-zero corners excluded) by surface group: object x the axis its polygon
+Bakes once, then splits the squared error of NRMSE and rRMSE (bench/corner_metric.py, the
+trade-off's corners: every corner but emitters', covered ones included, the scene's floor) by
+covered / uncovered and by surface group: object x the axis its polygon
 faces (e.g. "CornellBox -z" = the ceiling), and by how far the corner is from the nearest
 emitter polygon's centre (ceiling halo). Prints shares and each group's errors.
 """
@@ -45,12 +46,10 @@ def main():
     bt.install_addon(a.zip)
     scene = bpy.context.scene
     objs = bt.mesh_objects(scene)
-    z = np.load(a.ref)
-    ref = z["corners"].astype(np.float64)
-    meta = json.loads(str(z["meta"]))
+    ref, var, meta = bt.cm.load_reference(a.ref)
     assert meta["objects"] == [o.name for o in objs]
     emit = bt.emitter_mask(objs)
-    keep = ~emit & (ref > 0).any(axis=1)
+    keep = ~emit
     owner, _ = bt.corner_owner(objs)
     pos = bt.corner_positions(objs)
     nrm = normals(objs)
@@ -67,7 +66,7 @@ def main():
         lo, hi = epos.min(0), epos.max(0)     # the emitters' box (one light in these scenes)
         d = np.maximum(np.maximum(lo - pos, pos - hi), 0)
         dist = np.linalg.norm(d, axis=1) / diag
-    floor = 0.05 * ref[keep].mean()
+    floor = bt.cm.scene_floor(ref, emit)
     se = ((x - ref) ** 2).sum(1)
     rel2 = (((x - ref) / np.maximum(ref, floor)) ** 2).sum(1)
     tot_se, tot_rel = se[keep].sum(), rel2[keep].sum()
@@ -77,18 +76,23 @@ def main():
         m = m & keep
         if not m.any():
             return
-        e = bt.errors(x, ref, m)
-        rows.append({"group": name, "corners": int(m.sum()), "share_nrmse_sq": float(se[m].sum() / tot_se),
-                     "share_rrmse_sq": float(rel2[m].sum() / tot_rel), **e})
+        e = bt.errors(x, ref, emit, var, mask=m, floor=floor)
+        rows.append({**e, "group": name, "corners": int(m.sum()),
+                     "share_nrmse_sq": float(se[m].sum() / tot_se),
+                     "share_rrmse_sq": float(rel2[m].sum() / tot_rel)})
 
+    covered = bt.cm.covered_mask(ref)
+    add("covered (the reference reads 0)", covered)
+    add("uncovered", ~covered)
     for g in sorted(set(group[keep])):
         add(g, group == g)
     for r0, r1 in ((0, 0.02), (0.02, 0.05), (0.05, 0.1), (0.1, 10)):
         add(f"within {r0:g}-{r1:g} diagonals of the light's box", (dist >= r0) & (dist < r1))
     near = dist < 0.02
     res = {"scene": os.path.basename(bpy.data.filepath), "preset": a.preset, "eps": a.eps,
-           "seconds": sec, "elements": st["elements"], "all": bt.errors(x, ref, keep),
-           "without_near_light": bt.errors(x, ref, keep & ~near), "groups": rows}
+           "seconds": sec, "elements": st["elements"], "all": bt.errors(x, ref, emit, var),
+           "without_near_light": bt.errors(x, ref, emit, var, mask=~near, floor=floor),
+           "groups": rows}
     with open(a.out, "w") as f:
         json.dump(res, f, indent=1)
     bt.result({"ok": True, "out": a.out})

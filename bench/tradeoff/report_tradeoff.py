@@ -45,13 +45,32 @@ def cycles_time_at(cyc, err, key, tkey="seconds"):
 
 
 def ref_noise(d, cyc, key):
-    """Estimated noise of the reference itself: Cycles' error at N spp is sqrt(s^2/N + s^2/Nref),
-    so the reference's part is err_N * sqrt(N / (N + Nref)); taken from the largest N."""
+    """The reference's own noise: measured from its independent parts when it has them
+    (corner_metric: the per-corner variance of their mean; stored per point as ref_noise_*),
+    else estimated from Cycles' curve: Cycles' error at N spp is sqrt(s^2/N + s^2/Nref), so the
+    reference's part is err_N * sqrt(N / (N + Nref)), taken from the largest N."""
+    measured = [p.get("ref_noise_" + key) for p in d["points"] if p.get("ref_noise_" + key) is not None]
+    if measured:
+        return measured[0]
     if not cyc:
         return float("nan")
     best = max(cyc, key=lambda c: c["spp"])
     n, nref = best["spp"], d["reference"]["samples"]
     return best[key] * math.sqrt(n / (n + nref))
+
+
+def noise_measured(d):
+    return any(p.get("ref_noise_rrmse") is not None for p in d["points"])
+
+
+def g(p, key):
+    """A figure of a point, NaN when the JSON predates it."""
+    v = p.get(key)
+    return float("nan") if v is None else v
+
+
+def pct(v):
+    return "–" if v != v else f"{100 * v:.1f} %"
 
 
 def plot(d, path):
@@ -83,7 +102,8 @@ def plot(d, path):
         noise = ref_noise(d, cyc, key)
         if noise == noise:
             ax.axhline(noise, color="gray", ls=":", lw=1,
-                       label=f"reference's own noise (est., {d['reference']['samples']} spp)")
+                       label=f"reference's own noise ({d['reference']['samples']} spp"
+                             f"{', from its parts' if noise_measured(d) else ', est.'})")
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
@@ -94,7 +114,7 @@ def plot(d, path):
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
     fig.suptitle(f"{d['scene']}: error vs time against a {d['reference']['samples']}-spp Cycles "
-                 f"bake ({d['judged_corners']} corners judged)")
+                 f"bake ({d['judged_corners']} corners judged, {d['covered_corners']} of them covered)")
     fig.tight_layout()
     fig.savefig(path, dpi=90)
     plt.close(fig)
@@ -107,10 +127,11 @@ def cpu(p):
 
 def scene_table(d):
     cyc = [p for p in d["points"] if p["kind"] == "cycles"]
-    lines = ["| config | runs | seconds (median) | CPU s | elements | links | rays | rRMSE | NRMSE | "
+    lines = ["| config | runs | seconds (median) | CPU s | elements | links | rays | rRMSE (all) | "
+             "rRMSE, ref. noise removed | covered share | rRMSE uncovered-only | NRMSE | "
              "mean ours/ref | rel. err p50 / p90 | Cycles s at our rRMSE | speed-up (rRMSE) | speed-up (NRMSE) | "
              "speed-up in CPU s (rRMSE) |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for p in d["points"]:
         if p["kind"] == "ours":
             st = p["stats"]
@@ -120,14 +141,17 @@ def scene_table(d):
             our_cpu = p.get("cpu_seconds") or float("nan")
             lines.append(
                 f"| {label(p)} | {p['runs']} | {p['seconds']:.2f} | {cpu(p)} | {st['elements']:,} | "
-                f"{st['links']:,} | {st['rays']:,} | {p['rrmse']:.4f} | {p['nrmse']:.4f} | "
+                f"{st['links']:,} | {st['rays']:,} | {p['rrmse']:.4f} | {g(p, 'rrmse_denoised'):.4f} | "
+                f"{pct(g(p, 'covered_share'))} | {g(p, 'rrmse_uncovered'):.4f} | {p['nrmse']:.4f} | "
                 f"{p['mean_ratio']:.3f} | {p['rel_p50']:.3f} / {p['rel_p90']:.3f} | {tc:.2f}{' (extrap.)' if ext else ''} | "
                 f"{tc / p['seconds']:.2f}×{' (extrap.)' if ext else ''} | "
                 f"{tn / p['seconds']:.2f}×{' (extrap.)' if extn else ''} | "
                 f"{tcpu / our_cpu:.2f}×{' (extrap.)' if extc else ''} |")
         else:
             lines.append(f"| {label(p)} | {p['runs']} | {p['seconds']:.2f} | {cpu(p)} | | | | "
-                         f"{p['rrmse']:.4f} | {p['nrmse']:.4f} | {p['mean_ratio']:.3f} | "
+                         f"{p['rrmse']:.4f} | {g(p, 'rrmse_denoised'):.4f} | "
+                         f"{pct(g(p, 'covered_share'))} | {g(p, 'rrmse_uncovered'):.4f} | "
+                         f"{p['nrmse']:.4f} | {p['mean_ratio']:.3f} | "
                          f"{p['rel_p50']:.3f} / {p['rel_p90']:.3f} | | | | |")
     return "\n".join(lines)
 
@@ -168,39 +192,51 @@ def main():
           "Command (from the repository root, after the build; one headless run, Debian's "
           "Blender 3.4):", "", f"    {a.command.strip()}", "",
           "What it does: per scene, a converged Cycles COMBINED bake to corner colours is the "
-          "reference (non-adaptive, denoising off, 64 diffuse/max bounces, clamping 0, seed 1; "
-          "cached in `bench/tradeoff/refs/SCENE_cycles.npz` with its settings and the .blend's "
-          "sha256, so reruns reuse it). Then, round-robin over the repetitions so the shared "
+          "reference (non-adaptive, denoising off, 64 diffuse/max bounces, clamping 0; the "
+          "spp-weighted mean of independent bakes with seeds 1, 2, …, whose spread gives the "
+          "reference's own noise; cached in `bench/tradeoff/refs/SCENE_cycles.npz` with its "
+          "settings, its parts and the .blend's sha256, so reruns reuse it; "
+          "`bench/tradeoff/run_refs.py` makes them). Then, round-robin over the repetitions so the shared "
           "machine's slow phases hit everything alike: our `bpy.ops.radiosity.bake(full=True)` "
           "at each preset and CUSTOM ε (CUSTOM = MEDIUM with that ε), and Cycles at the sample "
           "counts in each scene's rows (seeds 101, 102, …: never the reference's). Seconds are wall time of the "
           "operator call (ours: gather, solve, write; Cycles: sync, BVH, bake, write), medians of "
           "the runs counted in `runs` (a configuration whose first run took more than "
-          "`once_above` s ran once). Errors over all corners except emitters' and those the "
-          "reference has exactly 0 (covered by an object: the floor under a box); rRMSE = "
-          "√mean(((x−r)/max(r, 0.05·mean r))²) (main), NRMSE = RMS(x−r)/RMS(r); Cycles' errors are "
-          "medians over its seeds. \"Speed-up\" is Cycles' time at our error (log–log interpolation "
+          "`once_above` s ran once). Errors (`bench/corner_metric.py`) over every corner but "
+          "emitters', those the reference reads as exactly 0 (covered by an object: the floor "
+          "under a box, a box's bottom face) included; rRMSE = √mean(((x−r)/max(r, 0.05·mean r))²) "
+          "(main; mean r over the same corners, zeros included, so at r = 0 the denominator is that "
+          "floor), NRMSE = RMS(x−r)/RMS(r); *covered share* = the covered corners' part of rRMSE's "
+          "squared error; *rRMSE uncovered-only* = the same over the uncovered corners alone "
+          "(what tables before issue 16 called rRMSE, up to the floor); *ref. noise removed* = "
+          "√max(0, rRMSE² − n²), n the reference's own noise measured from its independent parts. "
+          "Cycles' errors are medians over its seeds. \"Speed-up\" is Cycles' time at our error (log–log interpolation "
           "on its curve) over ours; \"extrap.\" means our error lies outside Cycles' measured range "
           "and the nearest segment was extended (Cycles error ∝ spp^-½, so this is a fair guess). "
-          "The reference is itself noisy: its estimated share (Cycles' error at its largest N × "
+          "The reference is itself noisy: its own noise (per-corner variance of the mean of its "
+          "independent parts; for a reference of one bake, Cycles' error at its largest N × "
           "√(N/(N+N_ref))) is given per scene; errors near it cannot be resolved.", ""]
-    summary = ["| scene | preset | seconds (wall) | CPU s | elements | rRMSE | NRMSE | Cycles spp at "
+    summary = ["| scene | preset | seconds (wall) | CPU s | elements | rRMSE (all) | rRMSE, ref. noise "
+               "removed | covered share | rRMSE uncovered-only | NRMSE | Cycles spp at "
                "that rRMSE | speed-up vs Cycles at equal rRMSE (wall; CPU) |",
-               "|---|---|---|---|---|---|---|---|---|"]
+               "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     by_preset = {}  # preset -> per scene (rRMSE, NRMSE, CPU s, CPU speed-up, CPU s / MEDIUM's)
     for d in data:
         cyc = [p for p in d["points"] if p["kind"] == "cycles"]
         png = f"tradeoff_{d['scene']}.png"
         plot(d, os.path.join(a.out_dir, png))
         ref = d["reference"]
+        parts = ref.get("parts") or [{"samples": ref["samples"], "seed": ref.get("seed")}]
         md += [f"## {d['scene']}", "",
                f"{d['date']}, Blender {d['blender']}, commit {d.get('commit', 'not recorded')}; "
                f"machine after the run: {d.get('machine_after', 'not recorded')}. "
                f"{d['corners']:,} corners: "
                f"{d['emitter_corners']:,} emitter, {d['covered_corners']:,} covered, "
-               f"{d['judged_corners']:,} judged. Reference: {ref['samples']} spp, "
-               f"{ref['seconds']:.0f} s when made ({ref.get('made', '?')}), cached "
-               f"`{d['scene']}_cycles.npz`. Estimated reference noise: rRMSE "
+               f"{d['judged_corners']:,} judged (covered included). Reference: {ref['samples']} spp "
+               f"({' + '.join(str(q['samples']) for q in parts)}, seeds "
+               f"{', '.join(str(q.get('seed')) for q in parts)}), {ref['seconds']:.0f} s of Cycles "
+               f"when made ({ref.get('made', '?')}), cached `{d['scene']}_cycles.npz`. Its own noise "
+               f"({'from its parts' if noise_measured(d) else 'estimated from Cycles' + chr(39) + ' curve'}): rRMSE "
                f"{ref_noise(d, cyc, 'rrmse'):.4f}, NRMSE {ref_noise(d, cyc, 'nrmse'):.4f}.", "",
                f"![{d['scene']}]({png})", "", scene_table(d), "",
                "Timing of every run (s): " + "; ".join(
@@ -218,13 +254,16 @@ def main():
                 spp, exts = cycles_time_at(cyc, p["rrmse"], "rrmse", "spp")
                 summary.append(f"| {d['scene']} | {p['preset']} | {p['seconds']:.2f} | {cpu(p)} | "
                                f"{p['stats']['elements']:,} | {p['rrmse']:.3f} | "
+                               f"{g(p, 'rrmse_denoised'):.3f} | {pct(g(p, 'covered_share'))} | "
+                               f"{g(p, 'rrmse_uncovered'):.3f} | "
                                f"{p['nrmse']:.3f} | ≈ {spp:.0f}{' (extrap.)' if exts else ''} | "
                                f"{tc / p['seconds']:.2f}×; {tcpu / our_cpu:.2f}×"
                                f"{' (extrap.)' if ext else ''} |")
                 medium = [q for q in d["points"] if q["kind"] == "ours" and q["preset"] == "MEDIUM"]
                 rel = our_cpu / (medium[0].get("cpu_seconds") or float("nan")) if medium else float("nan")
                 by_preset.setdefault(p["preset"], []).append(
-                    (p["rrmse"], p["nrmse"], our_cpu, tcpu / our_cpu, rel, spp))
+                    (p["rrmse"], p["nrmse"], our_cpu, tcpu / our_cpu, rel, spp,
+                     g(p, "rrmse_uncovered"), g(p, "covered_share")))
     def span(vals, fmt):
         vals = [v for v in vals if v == v]
         if not vals:
@@ -232,13 +271,16 @@ def main():
         lo, hi = min(vals), max(vals)
         return fmt.format(lo) if fmt.format(lo) == fmt.format(hi) else f"{fmt.format(lo)}–{fmt.format(hi)}"
 
-    overall = ["| preset | scenes | rRMSE to expect | NRMSE to expect | CPU s | CPU s ÷ MEDIUM's | "
+    overall = ["| preset | scenes | rRMSE to expect (all corners) | rRMSE uncovered-only | covered share | "
+               "NRMSE to expect | CPU s | CPU s ÷ MEDIUM's | "
                "Cycles spp at that rRMSE | speed-up vs Cycles at equal rRMSE (CPU) |",
-               "|---|---|---|---|---|---|---|---|"]
+               "|---|---|---|---|---|---|---|---|---|---|"]
     for preset in ("DRAFT", "MEDIUM", "HIGH"):
         r = by_preset.get(preset)
         if r:
             overall.append(f"| {preset} | {len(r)} | {span([x[0] for x in r], '{:.2f}')} | "
+                           f"{span([x[6] for x in r], '{:.2f}')} | "
+                           f"{span([100 * x[7] for x in r], '{:.0f} %')} | "
                            f"{span([x[1] for x in r], '{:.2f}')} | {span([x[2] for x in r], '{:.1f}')} | "
                            f"{span([x[4] for x in r], '{:.1f}')} | {span([x[5] for x in r], '{:.0f}')} | "
                            f"{span([x[3] for x in r], '{:.2f}')}× |")

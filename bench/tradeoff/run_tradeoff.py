@@ -1,17 +1,20 @@
 """Speed/accuracy trade-off of our bake against Cycles on the example scenes: one command.
 
     python3 bench/tradeoff/run_tradeoff.py [--quick] [--scenes cornell_box box_room ...]
-        [--runs 3] [--once-above 40] [--ref-spp 4096] [--presets ...] [--eps ...] [--spp ...]
-        [--zip build/radiosity.zip] [--report-only]
+        [--runs 3] [--once-above 40] [--ref-spp 16384] [--part-spp 4096] [--presets ...]
+        [--eps ...] [--spp ...] [--zip build/radiosity.zip] [--report-only]
 
-For each scene: Debian's Blender runs tradeoff_scene.py (the cached Cycles reference or a new
-one, our bake at each preset and CUSTOM epsilon, Cycles at 16..1024 spp, interleaved); the JSON
+Scenes (scenes.py): the four example scenes and the lights room (point, spot, area and sun
+lights; bench/tradeoff/scenes/lights_room.blend). For each scene: Debian's Blender runs
+tradeoff_scene.py (the cached Cycles reference, extended to --ref-spp samples in independent
+parts when it has fewer: bench/tradeoff/run_refs.py makes them ahead, resumably; our bake at each preset and CUSTOM epsilon, Cycles at 16..1024 spp, interleaved); the JSON
 lands in bench/results/tradeoff_data/SCENE.json. Then report_tradeoff.py (plain python3 with
 numpy + matplotlib) writes bench/results/tradeoff.md and bench/results/tradeoff_SCENE.png.
 --report-only redoes the tables and plots from the saved JSON.
 
 --quick (for CI: a smoke run, no timing judged): the Cornell box only, DRAFT and 16/64 spp, one
-run, a 256-spp reference unless the cached 4096+ one exists; everything goes to a temporary
+run, the cached reference as it is (never re-made nor extended: a stale one fails the run), or
+a 256-spp one (2 parts) in the temporary directory when there is none; everything goes to a temporary
 directory (or --out-dir), never over the committed results or references.
 """
 import argparse
@@ -25,11 +28,13 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
 import bt_run  # noqa: E402
+import scenes as bt_scenes  # noqa: E402
 
-SCENES = ("cornell_box", "box_room", "chair_room", "full_room")
+SCENES = bt_scenes.SCENES
 # The finest CUSTOM epsilons cost minutes on the bigger rooms (2 cores); HIGH is eps 0.01 already.
 EPS = {"cornell_box": [0.2, 0.1, 0.02, 0.01], "box_room": [0.2, 0.1, 0.02],
-       "chair_room": [0.2, 0.1, 0.02], "full_room": [0.2, 0.1, 0.02]}
+       "chair_room": [0.2, 0.1, 0.02], "full_room": [0.2, 0.1, 0.02],
+       "lights_room": [0.2, 0.1, 0.02]}
 
 
 def main():
@@ -38,7 +43,8 @@ def main():
     p.add_argument("--scenes", nargs="*")
     p.add_argument("--runs", type=int, default=3)
     p.add_argument("--once-above", type=float, default=40.0)
-    p.add_argument("--ref-spp", type=int, default=4096)
+    p.add_argument("--ref-spp", type=int, default=16384)
+    p.add_argument("--part-spp", type=int, default=4096)
     p.add_argument("--zip", default=os.path.join(REPO, "build", "radiosity.zip"))
     p.add_argument("--out-dir")
     p.add_argument("--ref-dir", default=os.path.join(HERE, "refs"))
@@ -66,17 +72,18 @@ def main():
                 cached = os.path.exists(ref)
                 if not cached:
                     ref = os.path.join(out_dir, f"{s}_cycles_quick.npz")
-                args += ["--ref-spp", a.ref_spp if cached else 256, "--presets", "DRAFT",
-                         "--eps", "--spp", 16, 64]
+                args += (["--cached-only"] if cached else
+                         ["--ref-spp", 256, "--part-spp", 128])
+                args += ["--presets", "DRAFT", "--eps", "--spp", 16, 64]
             else:
                 eps = a.eps if a.eps is not None else EPS.get(s, [0.2, 0.1, 0.02])
-                args += ["--ref-spp", a.ref_spp, "--eps", *eps]
+                args += ["--ref-spp", a.ref_spp, "--part-spp", a.part_spp, "--eps", *eps]
                 if a.presets is not None:
                     args += ["--presets", *a.presets]
                 if a.spp is not None:
                     args += ["--spp", *a.spp]
             args += ["--ref", ref]
-            blend = os.path.join(REPO, "example_blends", f"{s}.blend")
+            blend = bt_scenes.blend(s)
             print(f"== {s} ({bt_run.machine()})", flush=True)
             bt_run.run(blend, "tradeoff_scene.py", args,
                        log_path=os.path.join(data_dir, f"{s}.log"))

@@ -24,7 +24,10 @@ def test_light_matches_cycles(run_blender, case):
     if not r["have_ref"]:
         pytest.skip(f"no {r['tag']} reference for {case}")
     assert r["shape_ok"]
-    print(f"\n[{r['_flavour']} {r['tag']}] {case}: NRMSE {r['nrmse']:.4f} "
+    e = r["all"]     # bench/corner_metric.py: every corner, covered ones (under the box) included
+    print(f"\n[{r['_flavour']} {r['tag']}] {case}: NRMSE {e['nrmse']:.4f}, rRMSE {e['rrmse']:.4f} "
+          f"(uncovered-only {e['rrmse_uncovered']:.4f}, covered share "
+          f"{100 * e['covered_share']:.1f} % over {e['covered']} corners); NRMSE "
           + " ".join(f"{k} {v['nrmse']:.4f}" for k, v in r["per_object"].items()))
     assert r["nrmse"] <= TOL, r["per_object"]
 

@@ -1,14 +1,21 @@
 """Our bake of a light_scenes case against its stored converged Cycles reference.
 
     ... lights_compare.py -- --zip Z --tmp T --case point --data DIR [--preset HIGH]
+
+Errors: bench/corner_metric.py (every corner, these scenes have no emitting mesh; covered
+corners, under the box, included and their share of the error apart).
 """
 import os
+import sys
 
 import bpy
 import numpy as np
 
 import light_scenes
 import rt_common as rt
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "bench"))
+import corner_metric as cm  # noqa: E402
 
 case = rt.arg("--case")
 data = rt.arg("--data")
@@ -25,16 +32,20 @@ if ok and out["have_ref"]:
     ref = np.load(ref_path)
     out["shape_ok"] = ours.shape == ref.shape
     if out["shape_ok"]:
-        def nrmse(x, r):
-            return float(np.sqrt(np.mean((x - r) ** 2)) / np.sqrt(np.mean(r ** 2)))
-        out["nrmse"] = nrmse(ours, ref)
+        out["all"] = cm.corner_error(ours, ref)
+        out["nrmse"], out["rrmse"] = out["all"]["nrmse"], out["all"]["rrmse"]
+        floor = cm.scene_floor(ref)
         out["per_object"] = {}
         start = 0
         for o in objs:
             n = len(o.data.loops)
-            out["per_object"][o.name] = {"nrmse": nrmse(ours[start:start + n], ref[start:start + n]),
-                                         "ours_mean": ours[start:start + n].mean(axis=0).tolist(),
-                                         "ref_mean": ref[start:start + n].mean(axis=0).tolist()}
+            m = np.zeros(len(ref), bool)
+            m[start:start + n] = True
+            e = cm.corner_error(ours, ref, mask=m, floor=floor)
+            out["per_object"][o.name] = {
+                **{k: e[k] for k in ("rrmse", "nrmse", "covered", "covered_share") if k in e},
+                "ours_mean": ours[start:start + n].mean(axis=0).tolist(),
+                "ref_mean": ref[start:start + n].mean(axis=0).tolist()}
             start += n
 rt.result(**out)
 if ok and out.get("shape_ok") and rt.arg("--per-face"):

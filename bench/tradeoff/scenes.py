@@ -1,0 +1,20 @@
+"""The scenes the trade-off and the accuracy benchmarks judge, and where their .blend files are.
+
+The four example scenes (example_blends/) and a lights room (bench/tradeoff/scenes/, made by
+make_lights_room.py): point, spot, area and sun lights and a cube in a closed room.
+"""
+import os
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
+
+SCENES = ("cornell_box", "box_room", "chair_room", "full_room", "lights_room")
+
+
+def blend(name):
+    own = os.path.join(HERE, "scenes", f"{name}.blend")
+    return own if os.path.exists(own) else os.path.join(REPO, "example_blends", f"{name}.blend")
+
+
+def ref(name):
+    return os.path.join(HERE, "refs", f"{name}_cycles.npz")

@@ -286,6 +286,10 @@ void Solver::light_contacts() {
             return true;
         };
         const bool own_back = h_.surfaces[si].back;
+        // Polygons of its own object looked at, at most: the pieces of a fanned n-gon all share
+        // its apex, so every piece's box meets every other's (100k pieces: 10^10 tests). Real
+        // meshes meet a few neighbours.
+        int same_left = 4096;
         std::vector<int> stack{h_.root};
         while (!stack.empty()) {
             const int id = stack.back();
@@ -295,15 +299,15 @@ void Solver::light_contacts() {
             // Within one object only front sides touch (below): a back surface skips its own
             // object's clusters (a 100k-piece fanned disc: every piece's box meets every other's).
             if (m.is_cluster()) {
-                if (own_back && m.object == n.object) continue;
+                if (m.object == n.object && (own_back || same_left <= 0)) continue;
                 for (int c : m.children) stack.push_back(c);
                 continue;
             }
             // Another object's polygon, or a front side of another polygon of the same object (a
             // chair's back resting on its seat: Cycles finds that contact unlit too). Not the
             // back of a neighbouring piece of the same plane (a two-sided fanned n-gon).
+            if (m.object == n.object && (own_back || --same_left < 0 || h_.surfaces[size_t(m.surface)].back)) continue;
             if (h_.surfaces[size_t(m.surface)].prim == h_.surfaces[si].prim || dot(m.normal, n.normal) > -1 + 1e-9) continue;
-            if (m.object == n.object && (own_back || h_.surfaces[size_t(m.surface)].back)) continue;
             if (std::fabs(dot(m.poly.v[0] - n.poly.v[0], n.normal)) > tol) continue;
             if (!scene_.objects()[m.object].occluder) continue;
             lights_.contacts[si].push_back(m.surface);

@@ -11,11 +11,12 @@ import time
 
 import numpy as np
 
+from .core import baked
 from .core import job as core_job
 from .core import live as core_live
 from .core import presets, srgb, stats
 from .core.scene_data import InputError
-from . import gather, writer
+from . import baked_state, gather, writer
 
 STATS_KEY = "_last_stats"       # ID property behind the read-only scene.radiosity.last_stats
 # (level, message) of the last bake, for scripts and tests: Blender prints operator reports but
@@ -129,9 +130,11 @@ class BakeRun:
             raise BakeError(str(exc)) from exc
         byte_name = srgb.byte_attribute_name(self.props.attribute_name)
         st = core_live.state_for(scene_key(self.scene))
+        token = baked.new_token()
         st.busy = True          # our writes echo back through depsgraph_update_post
         try:
-            self.written = writer.write_all(items, self.props.attribute_name, byte_items, byte_name)
+            self.written = writer.write_all(items, self.props.attribute_name, byte_items, byte_name,
+                                            token)
             meshes = self.job.leaf_meshes() if self.job.scene_input.adaptive_mesh else None
             if meshes is not None:
                 self.adaptive = writer.write_adaptive(self.job.scene_input.objects, meshes,
@@ -140,13 +143,16 @@ class BakeRun:
             raise BakeError(str(exc)) from exc
         finally:
             st.busy = False
-        for name, mat in self.matrices.items():
-            st.transforms.remember(name, mat)
         cached = self.job.is_cached
         mode = "full" if (cached or self.no_emitter) else self.job.mode
         extra = {"cached": cached, "preset": self.props.preset,
                  "collections": len(self.job.scene_input.clusters),
                  "written_objects": self.written, "report_warnings": len(self.warnings)}
+        kept = self.job.kept()
+        if cached and kept is not None and kept.bake_stats:
+            # The colours are the kept solution's: say which bake made them (the panel shows
+            # that bake, not a rewrite that solved nothing).
+            extra["source"] = dict(kept.bake_stats)
         if self.no_emitter:
             extra["no_emitter"] = True
         elif mode == "full" and not cached and self.job.full_reason:
@@ -172,6 +178,10 @@ class BakeRun:
             mode, time.perf_counter() - self.t0, native_stats,
             self.job.fallback_counts(), extra)
         set_last_stats(self.scene, self.result)
+        if kept is not None and not cached:
+            kept.bake_stats = stats.summary(self.result)
+        baked_state.record(self.scene, token, self.matrices, self.result)
+        baked_state.refresh(self.scene, self.view_layer)
         return self.result
 
     def cancel(self):

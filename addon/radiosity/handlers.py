@@ -104,6 +104,8 @@ def on_depsgraph_update(scene, depsgraph=None):
     st = core_live.state_for(bake.scene_key(scene))
     if st.busy:
         return          # inside our own bake/write
+    if st.unjudged:
+        settle(scene)   # the first evaluation after a load or an undo: matrices are right now
     if depsgraph is None:
         depsgraph = bpy.context.evaluated_depsgraph_get()
     was = st.stale
@@ -213,8 +215,7 @@ def pump(timeout=None):
 def live_toggled(props, context):
     """Off: drop a queued re-bake. On: bring an out-of-date bake up to date (moves made while
     Live was off count); a scene never baked stays unbaked."""
-    scene = context.scene
-    st = core_live.state_for(bake.scene_key(scene))
+    st = settle(context.scene)
     if not props.live:
         st.take()
     elif st.shown.baked and st.stale:
@@ -238,27 +239,61 @@ def _rekey():
             baked_state.rekey(old, new[0])
 
 
+def settle(scene, writes=True):
+    """Judge again, after a load or an undo, which bake the meshes of `scene` show; returns its
+    live state. After an undo, last_stats follows the bake shown and, with Live on, an
+    out-of-date bake is re-baked (writes=False, from a panel's draw, leaves that to the
+    handlers: drawing may not write)."""
+    st = core_live.state_for(bake.scene_key(scene))
+    why = st.unjudged
+    if not why or (why == "undo" and not writes):
+        return st
+    baked_state.refresh(scene, _view_layer_for(scene))
+    if why != "undo":
+        return st
+    props = scene.radiosity
+    record = st.shown.record
+    if record is not None and record.stats:
+        # last_stats describes the colours shown: undo may have kept the stats of a later
+        # bake (a scene Blender did not re-read) while the meshes went back.
+        text = core_stats.to_json(record.stats)
+        if props.last_stats != text:
+            bake.set_last_stats(scene, record.stats)
+    if props.live and st.shown.baked and (st.stale or st.job is not None):
+        _queue(st)
+    redraw()
+    return st
+
+
+def _settle_all():
+    try:
+        bpy.context.evaluated_depsgraph_get()      # matrices of re-read objects, evaluated
+    except (AttributeError, RuntimeError):
+        pass
+    for scene in bpy.data.scenes:
+        if getattr(scene, "radiosity", None) is not None:
+            settle(scene)
+    return None
+
+
+def _unjudge(why):
+    for scene in bpy.data.scenes:
+        if getattr(scene, "radiosity", None) is not None:
+            core_live.state_for(bake.scene_key(scene)).unjudged = why
+    # The depsgraph evaluation that follows settles each scene (on_depsgraph_update); this
+    # timer settles any the evaluation did not report.
+    if not bpy.app.timers.is_registered(_settle_all):
+        bpy.app.timers.register(_settle_all, first_interval=0.2)
+
+
 @persistent
 def on_undo_post(*_args):
-    """After undo or redo: judge which bake the meshes show now. With Live on an out-of-date
-    bake is re-baked (incrementally from the kept solution); a live job still running solves
-    what the scene was before the undo, so it is followed by another."""
+    """After undo or redo: judge which bake the meshes show now (once the depsgraph has been
+    evaluated). With Live on an out-of-date bake is re-baked, incrementally from the kept
+    solution; a live job still running solves what the scene was before the undo, so it is
+    followed by another."""
     _rekey()
-    for scene in bpy.data.scenes:
-        props = getattr(scene, "radiosity", None)
-        if props is None:
-            continue
-        st = baked_state.refresh(scene, _view_layer_for(scene))
-        record = st.shown.record
-        if record is not None and record.stats:
-            # last_stats describes the colours shown: undo may have kept the stats of a later
-            # bake (a scene Blender did not re-read) while the meshes went back.
-            text = core_stats.to_json(record.stats)
-            if props.last_stats != text:
-                bake.set_last_stats(scene, record.stats)
-        if props.live and st.shown.baked and (st.stale or st.job is not None):
-            _queue(st)
-    redraw()
+    _unjudge("undo")
 
 
 def drop_caches():
@@ -270,9 +305,7 @@ def drop_caches():
 @persistent
 def on_load_post(*_args):
     drop_caches()
-    for scene in bpy.data.scenes:
-        if getattr(scene, "radiosity", None) is not None:
-            baked_state.refresh(scene, _view_layer_for(scene))
+    _unjudge("load")
 
 
 _HOOKS = (
@@ -293,7 +326,8 @@ def unregister():
     for hook, fn in _HOOKS:
         while fn in hook:
             hook.remove(fn)
-    if bpy.app.timers.is_registered(_live_timer):
-        bpy.app.timers.unregister(_live_timer)
+    for timer in (_live_timer, _settle_all):
+        if bpy.app.timers.is_registered(timer):
+            bpy.app.timers.unregister(timer)
     _status(None)
     drop_caches()

@@ -28,8 +28,8 @@ FULL_TIP = ("Bake diffuse light into a colour attribute of every visible mesh, s
 
 
 class RADIOSITY_OT_bake(bpy.types.Operator):
-    """Bake diffuse light into a colour attribute of every visible mesh; incrementally where
-    the kept solution allows"""
+    # Blender shows bl_description as the tooltip verbatim (a docstring's line breaks too).
+    bl_description = BAKE_TIP
     bl_idname = "radiosity.bake"
     bl_label = "Bake Radiosity"
     bl_options = {"REGISTER", "UNDO"}
@@ -128,8 +128,8 @@ def status_text(run, progress, elapsed):
 
 
 class RADIOSITY_OT_clear(bpy.types.Operator):
-    """Forget the solution kept in memory for incremental re-bakes; the baked colours stay.
-    The next bake solves from scratch"""
+    bl_description = ("Forget the solution kept in memory for incremental re-bakes (the baked "
+                      "colours stay); the next bake solves from scratch")
     bl_idname = "radiosity.clear"
     bl_label = "Forget Kept Solution"
     bl_options = {"REGISTER"}
@@ -171,8 +171,9 @@ def any_shows_bake(context):
 
 
 class RADIOSITY_OT_show_colors(bpy.types.Operator):
-    """Show the baked colours as they are: Solid shading, colour from the active colour
-    attribute, Flat lighting (Studio lighting would shade over the bake)"""
+    bl_description = ("Show the baked colours as they are: Solid shading, colour from the "
+                      "active colour attribute, Flat lighting (Studio lighting would shade over "
+                      "the bake)")
     bl_idname = "radiosity.show_colors"
     bl_label = "Show Baked Colours"
     bl_options = {"REGISTER"}
@@ -191,7 +192,7 @@ class RADIOSITY_OT_show_colors(bpy.types.Operator):
 
 
 class RADIOSITY_OT_restore_shading(bpy.types.Operator):
-    """Go back to the viewport shading used before Show Baked Colours"""
+    bl_description = "Go back to the viewport shading used before Show Baked Colours"
     bl_idname = "radiosity.restore_shading"
     bl_label = "Back to Previous Shading"
     bl_options = {"REGISTER"}

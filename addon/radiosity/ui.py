@@ -1,11 +1,11 @@
 """Panels: 3D viewport sidebar (tab "Radiosity") and Render properties."""
 import json
 import textwrap
+import time
 
 import bpy
 
-from . import bake, operators
-from .core import live as core_live
+from . import handlers, operators
 from .core import stats as core_stats
 
 CHAR_PIXELS = 7         # about one character of the UI font at scale 1 (for wrapping only)
@@ -53,7 +53,7 @@ def draw_settings(layout, context):
     else:
         col.operator("radiosity.show_colors", icon="SHADING_SOLID")
     col.operator("radiosity.clear", icon="TRASH")
-    st = core_live.all_states().get(bake.scene_key(context.scene))
+    st = handlers.settle(context.scene, writes=False)
     draw_state(layout, st, props.live, chars)
     shown = st.shown.record.stats if st is not None and st.shown.record is not None else None
     draw_stats(layout, json.dumps(shown) if shown else props.last_stats, chars)
@@ -64,8 +64,9 @@ def draw_state(layout, st, live, chars=40):
     if st is None:
         return
     if st.job is not None:
-        box = layout.box()
-        box.label(text=f"Live update running: {st.progress * 100:.0f} %", icon="SORTTIME")
+        elapsed = time.monotonic() - (st.job_started or time.monotonic())
+        layout.box().label(text=f"Live update running: {st.progress * 100:.0f} %, {elapsed:.0f} s",
+                           icon="SORTTIME")
         return
     if st.pending and live:
         layout.box().label(text="Live update queued", icon="SORTTIME")

@@ -88,7 +88,7 @@ def test_panel_words():
             "objects": 4, "input_surfaces": 3992, "elements": 1, "links": 2, "rays": 3}
     d = core_stats.describe(full)
     assert d["headline"] == "Bake: solved from scratch, 20.24 s"
-    assert d["details"][0].startswith("Why from scratch: no earlier solution was kept")
+    assert d["details"][0].startswith("Why from scratch: no solution was kept")
     assert ("Polygons", 3992) in d["counts"]
     live = dict(full, mode="incremental", live=True, seconds=1.84, moved=1, full_reason=None)
     d = core_stats.describe(live)

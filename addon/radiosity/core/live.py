@@ -53,9 +53,14 @@ class LiveState:
         self.job_started = None      # monotonic time it started (the status text shows it)
         self.progress = 0.0          # its last polled progress, 0..1
         self.runs = 0                # how many live re-bakes ran (tests read it)
+        # "load" or "undo" until the bake shown has been judged again: world matrices are
+        # right only once the depsgraph has been evaluated after either (Blender 4+ does not
+        # store them: load_post and undo_post see identity matrices for re-read objects).
+        self.unjudged = None
 
     def show(self, shown):
         """The viewport now shows `shown` (core.baked.Shown): moves are judged against it."""
+        self.unjudged = None
         self.shown = shown
         self.transforms.reset(shown.record.matrices if shown.record is not None else {})
         self.moved = set(shown.moved)

@@ -60,8 +60,8 @@ SUMMARY_KEYS = ("mode", "seconds", "live", "full_reason", "moved", "added", "rem
 
 _REASONS = {
     "full bake requested": "a full bake was asked for",
-    "no kept solution": "no earlier solution was kept (first bake, file opened, undo past it "
-                        "or solution cleared)",
+    "no kept solution": "no solution was kept (first bake, file opened or solution "
+                        "forgotten)",
     "settings changed": "the quality or output settings changed",
     "duplicate object names": "two objects share a name",
     "lights added, removed or changed type since the last bake":

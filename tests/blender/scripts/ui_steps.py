@@ -77,6 +77,20 @@ class Waiter:
         return WAIT_STEP
 
 
+def pause(seconds):
+    """Step: let Blender run (redraw, handle events) for `seconds`."""
+    state = {}
+
+    def step():
+        if "t" not in state:
+            state["t"] = time.monotonic()
+        if time.monotonic() - state["t"] < seconds:
+            return WAIT_STEP
+        state.clear()
+        return None
+    return step
+
+
 def install_and_open(blend):
     bpy.ops.preferences.addon_install(filepath=os.path.abspath(rt.arg("--zip")), overwrite=True)
     bpy.ops.preferences.addon_enable(module="radiosity")

@@ -136,7 +136,15 @@ def after_live():
 def undo():
     S["runs_before_undo"] = ui.live_runs()
     out.setdefault("undo", []).append(op(bpy.ops.ed.undo))
-    out.setdefault("stale_right_after_undo", []).append(ui.live_state().stale)
+
+
+def judged():
+    """The add-on judges the colours once Blender has evaluated the undone scene."""
+    st = ui.live_state()
+    if st.unjudged:
+        return ui.WAIT_STEP
+    out.setdefault("stale_right_after_undo", []).append(st.stale)
+    return None
 
 
 def redo():
@@ -204,11 +212,11 @@ ui.run(
     touch_during_job,
     ui.Waiter(lambda: ui.live_runs() > S["runs_before_move"] and quiet(), 120, "live re-bake"),
     settle_step(), after_live,
-    undo, settle_step(), record("2_after_undo", ("C0", "C1")),
+    undo, judged, settle_step(), record("2_after_undo", ("C0", "C1")),
     redo, settle_step(), record("3_after_redo", ("C0", "C1")),
     live_off_move, move_to(lambda: np.array(S["P1"]) + np.array((-40.0, 30.0, 0.0))),
     settle_step(), live_off_record_moved,
     *pressed_bake(), bake_again("C2"),
-    undo, settle_step(), record("5_live_off_after_undo", ("C1", "C2")),
+    undo, judged, settle_step(), record("5_live_off_after_undo", ("C1", "C2")),
     *pressed_bake(), bake_again("C3"), compare_rebake,
     undo_to_start, ui.finish, first=1.0)

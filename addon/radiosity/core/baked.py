@@ -14,8 +14,9 @@ import uuid
 
 import numpy as np
 
-RECORDS_KEPT = 32           # in memory: enough for any undo history a session walks through
-RECORDS_SAVED = 4           # in the file: the newest bakes (a saved file shows one of them)
+RECORDS_KEPT = 16           # in memory: the bakes an undo history walks back through
+RECORDS_SAVED = 2           # in the file: a saved file shows the newest (every record holds
+                            # a matrix per object: a furnished scene's would weigh megabytes)
 # Matrices are float32 in Blender: compare with a relative tolerance, or a room hundreds of
 # units across would differ in its last bits after an undo re-read.
 MATRIX_RTOL = 1e-6

@@ -50,6 +50,7 @@ class BakeRun:
         self.t0 = time.perf_counter()
         self.live = live
         self.scene, self.view_layer, self.depsgraph = scene, view_layer, depsgraph
+        self.scene_name, self.view_layer_name = scene.name, view_layer.name
         self.full = full
         self.props = scene.radiosity
         self.warnings = []
@@ -117,8 +118,24 @@ class BakeRun:
                 raise BakeError(f"solver failed: {exc}") from exc
         return self
 
+    def _rebind(self):
+        """An undo during the job may have re-read the scene at another address (its Python
+        references then raise ReferenceError): find it again by name."""
+        try:
+            self.scene.name, self.view_layer.name
+            return
+        except ReferenceError:
+            pass
+        import bpy
+        scene = bpy.data.scenes.get(self.scene_name)
+        if scene is None:
+            raise BakeError(f"the scene '{self.scene_name}' was removed during the bake")
+        self.scene, self.props = scene, scene.radiosity
+        self.view_layer = scene.view_layers.get(self.view_layer_name) or scene.view_layers[0]
+
     def finish(self):
         """Write all meshes (after the whole solve succeeded), then stats and caches."""
+        self._rebind()
         native_stats = self.job.native_stats()
         for w in native_stats.get("warnings", None) or []:
             self.warnings.append(f"solver: {w}")

@@ -7,6 +7,7 @@ the background/batch bake (run()) and the headless tests (pump()).
 """
 from dataclasses import dataclass, field
 import time
+import weakref
 
 import numpy as np
 
@@ -68,9 +69,17 @@ def cache_keys():
 
 
 def cache_rekey(old, new):
-    """The same scene under a new key (its address changed): the kept solution follows it."""
+    """The same scene under a new key (its address changed): the kept solution follows it, and
+    so do running jobs (an incremental job finding its entry gone under its old key would leave
+    the entry's radiance and matrices behind the native solver it has just updated)."""
     if old in _CACHE:
         _CACHE[new] = _CACHE.pop(old)
+    for job in list(_JOBS):
+        if job.cache_key == old:
+            job.cache_key = new
+
+
+_JOBS = weakref.WeakSet()       # every SolveJob alive, for cache_rekey
 
 
 class SolveJob:
@@ -96,6 +105,7 @@ class SolveJob:
         self._native_stats = None
         self.native_full = False    # the native update solved in full (its warning says why)
         self._work_before = {}      # cumulative native work counters before an update
+        _JOBS.add(self)
 
     # -- setup -------------------------------------------------------------------------------
     def prepare(self):

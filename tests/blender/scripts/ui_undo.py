@@ -206,17 +206,18 @@ def pressed_bake():
     return [bake_button, ui.Waiter(bake_done, 120, "the bake")]
 
 
-ui.run(
-    setup, prepare, ui.open_sidebar, ui.click_radiosity_tab, *pressed_bake(), first_bake,
-    move_to(lambda: scene()["radiosity_move"]["location"], rt.arg("--move", "translate")),
-    touch_during_job,
-    ui.Waiter(lambda: ui.live_runs() > S["runs_before_move"] and quiet(), 120, "live re-bake"),
-    settle_step(), after_live,
-    undo, judged, settle_step(), record("2_after_undo", ("C0", "C1")),
-    redo, settle_step(), record("3_after_redo", ("C0", "C1")),
-    live_off_move, move_to(lambda: np.array(S["P1"]) + np.array((-40.0, 30.0, 0.0))),
-    settle_step(), live_off_record_moved,
-    *pressed_bake(), bake_again("C2"),
-    undo, judged, settle_step(), record("5_live_off_after_undo", ("C1", "C2")),
-    *pressed_bake(), bake_again("C3"), compare_rebake,
-    undo_to_start, ui.finish, first=1.0)
+if __name__ == "__main__":       # ui_undo_during.py imports the steps
+    ui.run(
+        setup, prepare, ui.open_sidebar, ui.click_radiosity_tab, *pressed_bake(), first_bake,
+        move_to(lambda: scene()["radiosity_move"]["location"], rt.arg("--move", "translate")),
+        touch_during_job,
+        ui.Waiter(lambda: ui.live_runs() > S["runs_before_move"] and quiet(), 120, "live re-bake"),
+        settle_step(), after_live,
+        undo, judged, settle_step(), record("2_after_undo", ("C0", "C1")),
+        redo, settle_step(), record("3_after_redo", ("C0", "C1")),
+        live_off_move, move_to(lambda: np.array(S["P1"]) + np.array((-40.0, 30.0, 0.0))),
+        settle_step(), live_off_record_moved,
+        *pressed_bake(), bake_again("C2"),
+        undo, judged, settle_step(), record("5_live_off_after_undo", ("C1", "C2")),
+        *pressed_bake(), bake_again("C3"), compare_rebake,
+        undo_to_start, ui.finish, first=1.0)

@@ -14,6 +14,7 @@ Live on and flagged in the panel with Live off. Loading a file drops the kept so
 belongs to the scene that was closed).
 """
 import time
+import traceback
 
 import bpy
 from bpy.app.handlers import persistent
@@ -127,6 +128,11 @@ def _finish_live(st, scene, run):
         run.finish()
     except bake.BakeError as exc:
         last_errors.append(str(exc))
+    except Exception as exc:
+        # Printed, kept, and not raised: an exception would unregister the live timer and
+        # leave the job in place, so Live would stop for the rest of the session.
+        traceback.print_exc()
+        last_errors.append(f"live re-bake failed: {exc!r}")
     st.runs += 1
 
 

@@ -5,6 +5,7 @@ run_ui_window(script, *args) runs tests/blender/scripts/<script> with `--zip Z -
 and returns its RESULT dict ("_log" holds the output). Screenshots go to DIR:
 $RADIOSITY_SHOTS/<test name> when set (to look at them), else the test's tmp_path.
 """
+import importlib.util
 import json
 import os
 import shutil
@@ -12,7 +13,21 @@ import subprocess
 
 import pytest
 
-from conftest import SCRIPTS, TIMEOUT, _blender, _path_without_our_python
+
+def _harness():
+    """tests/blender/conftest.py's helpers. Loaded from its path under a name of its own: with
+    several test folders in one pytest run, `import conftest` finds whichever came first."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    spec = importlib.util.spec_from_file_location("radiosity_blender_harness",
+                                                  os.path.join(here, "conftest.py"))
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+_h = _harness()
+SCRIPTS, TIMEOUT, _blender, _path_without_our_python = (
+    _h.SCRIPTS, _h.TIMEOUT, _h._blender, _h._path_without_our_python)
 
 WINDOW = "1600x1000"
 

@@ -1,5 +1,5 @@
-# cmake -DSRC=<addon/radiosity> -DSTAGE=<dir> -DNATIVE=<module file> -P stage_addon.cmake
-# Lays out STAGE/radiosity/ = Python sources + manifest + the native module.
+# cmake -DSRC=<addon/radiosity> -DSTAGE=<dir> -DNATIVE=<module file>[|<module file>...] -P stage_addon.cmake
+# Lays out STAGE/radiosity/ = Python sources + manifest + the native modules (one per Python).
 foreach(var SRC STAGE NATIVE)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "stage_addon.cmake: -D${var}=... missing")
@@ -15,4 +15,5 @@ file(GLOB stale ${STAGE}/radiosity/radiosity_native*.so ${STAGE}/radiosity/radio
 if(stale)
   file(REMOVE ${stale})
 endif()
+string(REPLACE "|" ";" NATIVE "${NATIVE}")
 file(COPY ${NATIVE} DESTINATION ${STAGE}/radiosity)

@@ -21,11 +21,26 @@ if "$PY" -c 'import sys, sysconfig, os; sys.exit(0 if os.path.exists(os.path.joi
 fi
 NUMPY=numpy
 if "$PY" -c 'import numpy' 2>/dev/null; then NUMPY=""; fi
-# pybind11 >= 2.12 supports numpy 1.x (Debian's Blender) and 2.x (bpy wheels) at run time.
+# pybind11 >= 2.12 supports numpy 1.x (Debian's Blender) and 2.x (bpy wheels) at run time, and
+# >= 2.13 Python 3.13 (the second solver module, for Blender 5.1+).
 # matplotlib: the benchmark reports' plots (bench/tradeoff/report_tradeoff.py, run_scaling.py),
 # which run in this Python, not in Blender's.
-$PY -m pip install -q "pybind11>=2.12" "pytest>=7" $NUMPY matplotlib
+$PY -m pip install -q "pybind11>=2.13" "pytest>=7" $NUMPY matplotlib
 if [ "${RADIOSITY_SKIP_BPY:-0}" != 1 ]; then
   # Blender as a Python module: the newest wheel for this Python (cp311: 4.5/5.0).
   $PY -m pip install -q bpy || echo "warning: pip could not install bpy; the bpy flavour of the add-on tests will be skipped"
+fi
+# Blender 5.1 and later embed CPython 3.13: the build makes a second solver module with its
+# headers (native/python/extra_pythons.cmake) and the module313 flavour of the add-on tests runs
+# bpy 5.2 (LTS, cp313 wheels only) in it. Debian 12 has no 3.13 package; the project's machine
+# image has one in pyenv, which scripts/find_python.sh finds (or name one in $PYTHON313).
+if PY313=$(bash "$(dirname "$0")/find_python.sh" 3.13); then
+  if [ "${RADIOSITY_SKIP_BPY:-0}" != 1 ]; then
+    "$PY313" -m pip install -q "bpy==${RADIOSITY_BPY313_VERSION:-5.2.3}" \
+      || echo "warning: pip could not install bpy for $PY313; the module313 flavour of the add-on tests will be skipped"
+  fi
+else
+  echo "warning: no CPython 3.13 (PATH, pyenv or \$PYTHON313): the add-on zip will not load in" \
+       "Blender 5.1 and later, and the module313 flavour of the add-on tests will be skipped." \
+       "Install a CPython 3.13 with its headers (e.g. pyenv install 3.13) and run this again."
 fi

@@ -1,14 +1,18 @@
 """Radiosity for Blender: hierarchical radiosity baked into colour attributes.
 
-Works as a legacy add-on (bl_info, Blender 3.4-4.1) and as a 4.2+ extension (blender_manifest.toml;
-the package is then bl_ext.<repo>.radiosity, hence relative imports only). This file imports no
-bpy at module level so that the bpy-free core (radiosity.core) can be imported by plain pytest.
+Works as a legacy add-on (bl_info, Blender 3.4-4.1) and as a 4.2-5.2 extension
+(blender_manifest.toml; the package is then bl_ext.<repo>.radiosity, hence relative imports only).
+The compiled solver is there once per CPython version a supported Blender embeds: 3.11 (Debian's
+3.4, official 4.1-5.0) and 3.13 (5.1-5.2); Python's import takes the one matching the running
+Blender (bake.load_native). This file imports no bpy at module level so that the bpy-free core
+(radiosity.core) can be imported by plain pytest.
 """
 
 bl_info = {
     "name": "Radiosity",
     "author": "Radiosity for Blender developers",
     "version": (0, 1, 0),
+    # The oldest Blender; bl_info has no newest one (blender_manifest.toml has, for 4.2+).
     "blender": (3, 4, 0),
     "location": "3D Viewport > Sidebar > Radiosity; Properties > Render > Radiosity",
     "description": "Bake diffuse global illumination (hierarchical radiosity) into colour "

@@ -7,6 +7,7 @@
 
 Errors raise BakeError (message names object and problem); nothing is written before finish().
 """
+import os
 import time
 
 import numpy as np
@@ -14,7 +15,7 @@ import numpy as np
 from .core import baked
 from .core import job as core_job
 from .core import live as core_live
-from .core import presets, srgb, stats
+from .core import native_files, presets, srgb, stats
 from .core.scene_data import InputError
 from . import baked_state, gather, writer
 
@@ -32,8 +33,8 @@ def load_native():
     try:
         from . import radiosity_native
     except ImportError as exc:
-        raise BakeError(f"the native solver module could not be loaded ({exc}); the add-on zip "
-                        f"must be built for this Blender's Python") from exc
+        # Names this Blender's Python and the Pythons the zip has a solver for.
+        raise BakeError(native_files.load_error(os.path.dirname(__file__), exc)) from exc
     return radiosity_native
 
 

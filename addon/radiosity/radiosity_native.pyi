@@ -23,7 +23,10 @@ class Settings:
     tolerance: float                # estimated remaining relative error to stop iterating
     closure_rays: int               # escape rays per leaf for the closure correction (0 = off)
     threads: int                    # 0 = all cores
-    crease_angle_deg: float         # corners average across faces within this angle, default 35
+    crease_angle_deg: float         # gather_rays = 0 only: corners average across faces within this angle, default 35
+    # Final gather at every corner (the point and normal Cycles bakes): rays per output point;
+    # 0 = the leaf element's average at the corner. Presets: DRAFT 64, MEDIUM 256, HIGH 1024.
+    gather_rays: int
     seed: int
     def __init__(self) -> None: ...
     @staticmethod

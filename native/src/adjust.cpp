@@ -701,6 +701,18 @@ void Solver::update(Control* control) {
     }
     prune_elements();
     lap("prune");
+    // output.cpp: after moves alone (or material changes) the output keeps what no moved box
+    // can change; an addition or removal re-orders what the cluster samplers draw: anew.
+    if (!topology) {
+        FinalGather::Moves mv;
+        mv.moved = moved_objects.empty() ? std::vector<char>(scene_.objects().size(), 0) : moved_objects;
+        mv.clips = replay_clips_;
+        if (moved_objects.empty()) mv.clips.clear();
+        final_gather(0.95, 1.0, &mv);
+    } else {
+        final_gather(0.95, 1.0);
+    }
+    lap("output");
     // A record stays true only while every change of geometry is replayed into it: after an
     // addition or removal (surface table re-ordered, see above) none is trusted.
     replaying_ = false;

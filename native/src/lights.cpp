@@ -97,10 +97,10 @@ struct Sampled {
     bool partial = false;  // some samples that could see the light did, some did not
 };
 
-// Monte Carlo estimate of irradiance / pi over polygon `poly` (normal n) from one light, with
-// visibility; m stratified samples.
-template <class Contact>
-Sampled estimate(const ILight& l, const Poly& poly, const Vec3& n, int m, Rng& rng, const Visibility& vis,
+// Monte Carlo estimate of irradiance / pi over the points `where(i, rng)` gives (on a plane
+// of normal n) from one light, with visibility; m stratified samples.
+template <class Where, class Contact>
+Sampled estimate(const ILight& l, const Where& where, const Vec3& n, int m, Rng& rng, const Visibility& vis,
                  double lift, double far, const Contact& contact) {
     double s1 = 0, s2 = 0, s_unocc = 0;
     int seen = 0, hidden = 0;
@@ -109,7 +109,7 @@ Sampled estimate(const ILight& l, const Poly& poly, const Vec3& n, int m, Rng& r
     Vec3 nu, nv;  // hemisphere frame
     if (l.type == LightDesc::Type::Sky) frame(n, nu, nv);
     for (int i = 0; i < m; ++i) {
-        const Vec3 p = poly.sample((i + rng.next()) / m, rng.next());
+        const Vec3 p = where(i, rng);
         const Vec3 o = p + n * lift;
         const double a = rng.next(), b = rng.next();
         const bool touching = contact(p);
@@ -172,6 +172,25 @@ Sampled estimate(const ILight& l, const Poly& poly, const Vec3& n, int m, Rng& r
 }
 
 }  // namespace
+
+PointLight direct_light_at(const SceneDesc& scene, const Hierarchy& h, const Visibility& vis, const Vec3& x,
+                           const Vec3& n, bool covered, int m, uint64_t seed) {
+    PointLight out;
+    const double far = 4.0 * h.scene_diag, lift = 1e-5 * h.scene_diag;
+    for (const ILight& l : internal_lights(scene, h)) {
+        Rng rng(Hierarchy::mix(seed ^ l.salt, 0x70u));
+        const bool sky = l.type == LightDesc::Type::Sky;
+        // A point light without a radius casts a hard shadow: one ray says all there is.
+        const bool hard = (l.type == LightDesc::Type::Point || l.type == LightDesc::Type::Spot) && l.radius <= 0;
+        const int mm = sky ? 4 * m : hard ? 1 : m;
+        const Sampled r = estimate(l, [&x](int, Rng&) { return x; }, n, mm, rng, vis, lift, far,
+                                   [covered](const Vec3&) { return covered; });
+        out.E += r.mean;
+        out.partial |= r.partial;
+        out.rays += mm;
+    }
+    return out;
+}
 
 void Solver::set_light(int index, const LightDesc& l) {
     if (index < 0 || index >= int(scene_.lights().size()))
@@ -276,7 +295,9 @@ void Solver::light_contacts() {
                 for (int c : m.children) stack.push_back(c);
                 continue;
             }
-            if (m.object == n.object || dot(m.normal, n.normal) > -1 + 1e-9) continue;
+            // Any other polygon, of another object or of the same one (a chair's back resting on
+            // its seat: Cycles finds that contact unlit too), but not the surface's own other side.
+            if (h_.surfaces[size_t(m.surface)].prim == h_.surfaces[si].prim || dot(m.normal, n.normal) > -1 + 1e-9) continue;
             if (std::fabs(dot(m.poly.v[0] - n.poly.v[0], n.normal)) > tol) continue;
             if (!scene_.objects()[m.object].occluder) continue;
             lights_.contacts[si].push_back(m.surface);
@@ -284,8 +305,10 @@ void Solver::light_contacts() {
     }, 32);
 }
 
-bool Solver::light_in_contact(int surface, const Vec3& p) const {
-    if (size_t(surface) >= lights_.contacts.size()) return false;
+bool Solver::light_in_contact(int surface, const Vec3& p) const { return light_contact(surface, p) >= 0; }
+
+int Solver::light_contact(int surface, const Vec3& p) const {
+    if (size_t(surface) >= lights_.contacts.size()) return -1;
     const double tol = 1e-9 * h_.scene_diag;
     for (int t : lights_.contacts[surface]) {
         const Node& m = h_.nodes[h_.surfaces[t].root];
@@ -294,9 +317,9 @@ bool Solver::light_in_contact(int surface, const Vec3& p) const {
             const Vec3 e = m.poly.v[(k + 1) % m.poly.n] - m.poly.v[k];
             inside = dot(cross(e, p - m.poly.v[k]), m.normal) >= -tol * length(e);
         }
-        if (inside) return true;
+        if (inside) return t;
     }
-    return false;
+    return -1;
 }
 
 bool Solver::light_corner_in_contact(const Primitive& p, int k) const {
@@ -330,7 +353,10 @@ void Solver::light_compute(const std::vector<int>& ids) {
             for (const ILight& l : ls) {
                 Rng rng(Hierarchy::mix(Hierarchy::mix(settings_.seed ^ l.salt, n.key), uint64_t(k)));
                 const bool sky = l.type == LightDesc::Type::Sky;
-                const Sampled r = estimate(l, c, n.normal, sky ? 4 * m : m, rng, *vis_, lift, far,
+                const int mm = sky ? 4 * m : m;
+                // Stratified over the child along its first coordinate.
+                auto where = [&c, mm](int s, Rng& g) { return c.sample((s + g.next()) / mm, g.next()); };
+                const Sampled r = estimate(l, where, n.normal, mm, rng, *vis_, lift, far,
                                            [&](const Vec3& p) { return light_in_contact(n.surface, p); });
                 e += r.mean;
                 if (sky) var += r.var;
@@ -596,6 +622,12 @@ Rgb Solver::leaf_irradiance(int id) const {
 }
 
 std::vector<float> Solver::corner_irradiance(int object) const {
+    if (object < 0 || object >= int(scene_.objects().size()))
+        throw std::out_of_range("unknown object " + std::to_string(object));
+    if (settings_.gather_rays > 0) {  // output.cpp: the final gather's points
+        std::vector<float> v = output_.corner_irradiance(h_, object);
+        if (v.size() == scene_.objects()[size_t(object)].corner_count() * 3) return v;
+    }
     return corner_values(object, [this](int id) { return leaf_irradiance(id); });
 }
 

@@ -1,6 +1,7 @@
-// Per-corner output: the radiance of the leaf element at each input corner (the hierarchy
-// evaluated at that point, so shadows finer than the input mesh still shape the corner
-// values), averaged over the faces that share the vertex unless a crease separates them.
+// Per-corner output. By default a final gather at every corner point (final_gather.h), run as
+// the last phase of a solve or an update. With gather_rays = 0: the radiance of the leaf
+// element at each input corner (the hierarchy evaluated at that point), averaged over the
+// faces that share the vertex unless a crease separates them.
 #include <cmath>
 #include <limits>
 
@@ -33,7 +34,55 @@ std::vector<float> Solver::all_corner_radiance() const {
 }
 
 std::vector<float> Solver::corner_radiance(int object) const {
+    if (object < 0 || object >= int(scene_.objects().size()))
+        throw std::out_of_range("unknown object " + std::to_string(object));
+    if (settings_.gather_rays > 0) {
+        std::vector<float> v = output_.corner_radiance(h_, object);
+        if (v.size() == scene_.objects()[size_t(object)].corner_count() * 3) return v;
+    }
     return corner_values(object, [this](int id) { return h_.nodes[id].L; });
+}
+
+void Solver::final_gather(double from, double to, const FinalGather::Moves* moves) {
+    if (settings_.gather_rays <= 0 || L_ref_ <= 0) {
+        output_.clear();
+        return;
+    }
+    if (lights_.contacts.size() != h_.surfaces.size()) light_contacts();  // lights.cpp
+    FinalGather::Config c;
+    c.rays = settings_.gather_rays;
+    c.min_rays = settings_.gather_min_rays;
+    c.light_samples = std::max(4, settings_.gather_rays / 8);
+    c.threads = settings_.threads;
+    c.seed = settings_.seed;
+    const FinalGather::Solution s{scene_, h_, *vis_, links_,
+                                  [this](int surface, const Vec3& p) { return light_contact(surface, p); }};
+    auto progress = [&](double f) {
+        check_cancel();
+        set_progress(from + (to - from) * f);
+    };
+    try {
+        if (moves) {
+            FinalGather::Moves m = *moves;
+            m.cast_all = !settings_.replay_rays;
+            output_.retrace(s, c, m, progress);
+        }
+        else
+            output_.trace(s, c, progress);
+    } catch (...) {
+        output_.clear();  // half a trace is no trace (corners fall back to the leaves)
+        throw;
+    }
+    const FinalGather::Counts& k = output_.counts();
+    stats_.gather_points = k.points;
+    stats_.gather_corners = k.corners;
+    stats_.gather_covered = k.covered;
+    stats_.gather_links = k.links;
+    stats_.gather_rays = k.rays;
+    stats_.gather_bytes = int64_t(output_.bytes());
+    stats_.gather_kept = k.kept;
+    stats_.gather_replayed = k.replayed;
+    stats_.gather_fresh_points = k.fresh_points;
 }
 
 std::vector<float> Solver::corner_values(int object, const std::function<Rgb(int)>& leaf_value) const {

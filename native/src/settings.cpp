@@ -13,16 +13,24 @@ Settings Settings::preset(const std::string& name) {
         s.min_area_fraction = 1e-4;
         s.rays_per_link = 8;
         s.tolerance = 2e-4;
+        s.gather_rays = 64;
+        s.gather_min_rays = 2;
     } else if (name == "MEDIUM") {
         s.error_threshold = 0.05;
         s.min_area_fraction = 2e-5;
         s.rays_per_link = 16;
         s.tolerance = 1e-4;
+        s.gather_rays = 256;
+        // Every link at least 8 rays: the many small links are the gather's noise (two full
+        // solves with other seeds: box room 0.70 % NRMSE apart with 2, 0.31 % with 8).
+        s.gather_min_rays = 8;
     } else if (name == "HIGH") {
         s.error_threshold = 0.01;
         s.min_area_fraction = 4e-6;
         s.rays_per_link = 32;
         s.tolerance = 1e-5;
+        s.gather_rays = 1024;
+        s.gather_min_rays = 16;
     } else {
         throw std::invalid_argument("unknown preset '" + name + "' (DRAFT, MEDIUM or HIGH)");
     }
@@ -42,6 +50,8 @@ void Settings::validate() const {
     if (!(std::isfinite(tolerance) && tolerance > 0)) bad("tolerance must be a positive number");
     if (threads < 0) bad("threads must be >= 0");
     if (!(crease_angle_deg >= 0 && crease_angle_deg <= 180)) bad("crease_angle_deg must be in [0, 180]");
+    if (gather_rays < 0 || gather_rays > 65536) bad("gather_rays must be in [0, 65536] (0 = no final gather)");
+    if (gather_min_rays < 1 || gather_min_rays > 4096) bad("gather_min_rays must be in [1, 4096]");
     if (closure_rays < 0) bad("closure_rays must be >= 0");
     if (!(std::isfinite(closure_refine_tolerance) && closure_refine_tolerance >= 0))
         bad("closure_refine_tolerance must be >= 0");

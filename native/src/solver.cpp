@@ -100,6 +100,7 @@ void Solver::solve(Control* control) {
 
     pending_moves_.clear();
     materials_changed_ = false;
+    output_.clear();  // output.cpp: traced at the end, when there is light
     if (L_ref_ <= 0) {
         stats_.no_emitters = true;
         stats_.warnings.push_back("the scene has no emitter: every radiance is 0");
@@ -133,8 +134,10 @@ void Solver::solve(Control* control) {
         compute_closure();
         lap("closure");
         stats_.iteration_capped = false;
-        iterate_to(settings_.tolerance, settings_.max_iterations, 0.8, 1.0);
+        iterate_to(settings_.tolerance, settings_.max_iterations, 0.8, 0.9);
         lap("gather");
+        final_gather(0.9, 1.0);  // output.cpp
+        lap("output");
         stats_.seconds_solve = since(t2);
     }
     if (stats_.element_nodes >= settings_.max_elements) stats_.capped = true;

@@ -487,6 +487,151 @@ Link evaluate_with(const Hierarchy& h, const Vis& vis, int src, int rcv, int ray
 
 }  // namespace
 
+namespace {
+
+PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int src, const Vec3& x, const Vec3& n,
+                                  int rcv_leaf, int rays, uint64_t seed, std::vector<std::pair<int, float>>& samples) {
+    constexpr int kExactClusterSurfaces = 12;
+    PointTransfer t;
+    const Node& P = h.nodes[size_t(src)];
+    const Node& R = h.nodes[size_t(rcv_leaf)];
+    const double lift = 1e-6 * h.scene_diag;
+    const Vec3 y = x + n * lift;  // the ray origin, off the receiving surface
+    Rng rng(seed);
+    rays = std::max(rays, 1);
+    const size_t first = samples.size();
+    if (!P.is_cluster()) {
+        if (P.pocket != R.pocket) return t;
+        const double F = point_polygon_form_factor(x, n, P.poly, P.normal);
+        if (!(F > 0)) return t;
+        t.F_unoccluded = F;
+        // As element_link does for one cubature point: rays only to the part of the sender in
+        // front of the point's tangent plane, weighted by the point-to-point kernel.
+        const FrontPart front = front_part(P.poly, x, n);
+        const LatinHypercube strata(rng, rays, 2);
+        thread_local std::vector<std::pair<int, double>> hits;
+        hits.clear();
+        double wsum = 0, wclear = 0;
+        int clear = 0, counted = 0;
+        for (int r = 0; r < rays; ++r) {
+            const double u1 = strata.at(r)[0], u2 = strata.at(r)[1];
+            const Vec3 s = front.n ? front.sample(u1, u2) : P.poly.sample(u1, u2);
+            const Vec3 yx = s - y;
+            const double d2 = length2(yx);
+            const double w = d2 > 0 ? std::max(0.0, dot(yx, n)) * std::max(0.0, -dot(yx, P.normal)) / (d2 * d2) : 0.0;
+            if (w <= 0) continue;
+            ++counted;
+            ++t.cast;
+            wsum += w;
+            if (!vis.occluded(y, s + P.normal * lift)) {
+                ++clear;
+                wclear += w;
+                hits.push_back({P.children.empty() ? src : h.leaf_at(src, s), w});
+            }
+        }
+        t.partial = clear > 0 && clear < counted;
+        if (wsum <= 0) {
+            samples.push_back({src, float(F)});  // no ray counted: the whole sender, unoccluded
+            t.F = F;
+        } else {
+            for (const auto& hx : hits) samples.push_back({hx.first, float(F * hx.second / wsum)});
+            t.F = F * wclear / wsum;
+        }
+    } else if (length(x - P.center) < 2.0 * P.radius) {
+        // The point is near the cluster, or inside it (a floor point and the room around it):
+        // no single direction says which of its surfaces face the point, and drawing them by
+        // their facing toward the cluster's centre missed the floor beside a block's foot
+        // (3.5x too dark there). Its children are asked instead, down to surfaces near the
+        // point, the rays shared by area.
+        PointTransfer sum;
+        for (int c : P.children) {
+            const Node& C = h.nodes[size_t(c)];
+            if (C.dead || !(C.area > 0)) continue;
+            const int r = std::max(1, int(std::lround(rays * C.area / P.area)));
+            const PointTransfer t1 = point_transfer_with(h, vis, c, x, n, rcv_leaf, r, Hierarchy::mix(seed, C.key), samples);
+            sum.F += t1.F;
+            sum.F_unoccluded += t1.F_unoccluded;
+            sum.cast += t1.cast;
+            sum.partial |= t1.partial;
+        }
+        return sum;
+    } else if (P.surf_end - P.surf_begin <= kExactClusterSurfaces) {
+        // A cluster of a few surfaces (a lamp's quad, a box): each one exactly, as an element
+        // sender, the rays shared among them. Drawn by area they cost variance for nothing.
+        const int m = P.surf_end - P.surf_begin;
+        PointTransfer sum;
+        for (int i = P.surf_begin; i < P.surf_end; ++i) {
+            const SurfaceGeom& g = h.surface_geom[size_t(i)];
+            if (g.pocket != R.pocket || h.nodes[size_t(g.root)].dead) continue;
+            const PointTransfer t1 = point_transfer_with(h, vis, g.root, x, n, rcv_leaf, std::max(1, rays / m),
+                                                    Hierarchy::mix(seed, uint64_t(i)), samples);
+            sum.F += t1.F;
+            sum.F_unoccluded += t1.F_unoccluded;
+            sum.cast += t1.cast;
+            sum.partial |= t1.partial;
+        }
+        return sum;
+    } else {
+        Vec3 d = x - P.center;
+        const double r0 = length(d);
+        if (!(r0 > 1e-9 * h.scene_diag)) return t;
+        d = d / r0;
+        thread_local FacingSampler::Buffers buf;
+        FacingSampler ps(h, src, d, rcv_leaf, buf);
+        const double total = ps.total();
+        if (!(total > 0)) return t;
+        const LatinHypercube strata(rng, rays, 3);
+        int clear = 0;
+        for (int k = 0; k < rays; ++k) {
+            Vec3 ny;
+            int sroot = -1;
+            const Vec3 s = ps.sample(rng, strata.at(k), &ny, &sroot);
+            const Vec3 yx = s - y;
+            const double d2 = length2(yx);
+            const double pdf = dot(ny, d);  // the sampler's density over area, times total
+            if (d2 <= 0 || pdf <= 0) continue;
+            // Irradiance / pi estimator: kernel cos cos / (pi r^2) over the density cos_d / total.
+            const double g = std::max(0.0, dot(yx, n)) * std::max(0.0, -dot(yx, ny)) / (d2 * d2) * total / (kPi * pdf * rays);
+            if (g <= 0) continue;
+            ++t.cast;
+            t.F_unoccluded += g;
+            if (!vis.occluded(y, s + ny * lift)) {
+                ++clear;
+                t.F += g;
+                samples.push_back({h.leaf_at(sroot, s), float(g)});
+            }
+        }
+        t.partial = clear > 0 && clear < t.cast;
+    }
+    // Same leaf twice: one sample (fewer to keep per point).
+    std::vector<std::pair<int, float>> mine(samples.begin() + std::ptrdiff_t(first), samples.end());
+    merge_samples(mine);
+    samples.resize(first);
+    samples.insert(samples.end(), mine.begin(), mine.end());
+    return t;
+}
+
+}  // namespace
+
+bool PointRayStream::occluded(const Vec3& a, const Vec3& b) {
+    const int k = n++;
+    bool blocked;
+    if (old && old->count <= 64 && k < old->count && !meets_any(*changed, a, b)) {
+        blocked = ((old->blocked >> k) & 1) != 0;
+    } else {
+        blocked = vis.occluded(a, b);
+        ++cast;
+    }
+    if (blocked && k < 64) out.blocked |= uint64_t(1) << k;
+    out.count = n;
+    return blocked;
+}
+
+PointTransfer point_transfer(const Hierarchy& h, PointRayStream& rays_out, int src, const Vec3& x, const Vec3& n,
+                             int rcv_leaf, int rays, uint64_t seed, std::vector<std::pair<int, float>>& samples) {
+    return point_transfer_with(h, rays_out, src, x, n, rcv_leaf, rays, seed, samples);
+}
+
 Link evaluate_link(const Hierarchy& h, const Visibility& vis, int src, int rcv, int rays, uint64_t seed) {
     RayLog log{vis};
     Link l = evaluate_with(h, log, src, rcv, rays, seed);

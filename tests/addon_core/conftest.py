@@ -4,6 +4,7 @@
 with the real compiled module: $RADIOSITY_NATIVE_DIR, else build/native/, else build-addon/native/.
 """
 import glob
+import importlib.machinery
 import importlib.util
 import os
 import sys
@@ -26,11 +27,19 @@ def _real_native():
     dirs = [os.environ.get("RADIOSITY_NATIVE_DIR"), os.path.join(REPO, "build", "native"),
             os.path.join(REPO, "build-addon", "native")]
     for d in filter(None, dirs):
-        for so in sorted(glob.glob(os.path.join(d, "radiosity_native*.so"))):
+        # The build holds one module per CPython version (cp311, cp313): take this Python's.
+        for suffix in importlib.machinery.EXTENSION_SUFFIXES:
+            so = os.path.join(d, "radiosity_native" + suffix)
+            if not os.path.exists(so):
+                continue
             try:
                 return _load("radiosity_native", so), None
             except ImportError as exc:
                 return None, f"{so}: {exc}"
+        found = glob.glob(os.path.join(d, "radiosity_native*.so"))
+        if found:
+            return None, (f"no radiosity_native for Python {sys.version.split()[0]} in {d} "
+                          f"(there: {', '.join(sorted(map(os.path.basename, found)))})")
     return None, "no compiled radiosity_native found (build it or set RADIOSITY_NATIVE_DIR)"
 
 

@@ -1,9 +1,14 @@
 """Harness: run a script inside real Blender, either flavour.
 
-Flavours (env RADIOSITY_BLENDER_FLAVOURS, comma list, default "binary,module"):
-  binary - `$BLENDER (default: blender) -b --factory-startup --python-exit-code 1 --python S -- ARGS`
-  module - `$RADIOSITY_BPY_PYTHON (default: python3) S -- ARGS` with the PyPI `bpy` module.
-A flavour that is not installed is skipped with the reason.
+Flavours (env RADIOSITY_BLENDER_FLAVOURS, comma list, default "binary,module,module313"):
+  binary    - `$BLENDER (default: blender) -b --factory-startup --python-exit-code 1 --python S -- ARGS`
+              (Debian's Blender 3.4, Python 3.11)
+  module    - `$RADIOSITY_BPY_PYTHON (default: python3) S -- ARGS` with the PyPI `bpy` module
+              (bpy 5.0, Python 3.11)
+  module313 - the same in CPython 3.13 (`$RADIOSITY_BPY313_PYTHON`, else what
+              scripts/find_python.sh 3.13 finds; bpy 5.2 LTS): any moduleXYZ means Python X.YZ.
+A flavour that is not installed is skipped with the reason, or fails the test when
+RADIOSITY_REQUIRE_FLAVOURS=1 (CI: a flavour that quietly stopped running is a failure there).
 
 The add-on zip: $RADIOSITY_ZIP, else <repo>/build/radiosity.zip. Without one, and only when
 RADIOSITY_FAKE_NATIVE=1, a zip is made from addon/radiosity plus the pure-numpy stand-in
@@ -12,6 +17,7 @@ tests/addon_core/fake_native (plumbing checks only; numeric checks skip on it).
 import functools
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -23,20 +29,38 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
 SCRIPTS = os.path.join(HERE, "scripts")
 FLAVOURS = [f.strip() for f in os.environ.get("RADIOSITY_BLENDER_FLAVOURS",
-                                              "binary,module").split(",") if f.strip()]
+                                              "binary,module,module313").split(",") if f.strip()]
 TIMEOUT = float(os.environ.get("RADIOSITY_TEST_TIMEOUT", "900"))
 
 
+def _flavour_python(flavour):
+    """(interpreter, None) for a module flavour, or (None, why not)."""
+    if flavour == "module":
+        py = os.environ.get("RADIOSITY_BPY_PYTHON", "python3")
+        exe = shutil.which(py)
+        return (exe, None) if exe else (None, f"{py} not found")
+    digits = flavour[len("module"):]
+    version = f"{digits[0]}.{digits[1:]}"
+    py = os.environ.get(f"RADIOSITY_BPY{digits}_PYTHON")
+    if py:
+        exe = shutil.which(py)
+        return (exe, None) if exe else (None, f"{py} not found")
+    r = subprocess.run(["bash", os.path.join(REPO, "scripts", "find_python.sh"), version],
+                       capture_output=True, text=True, timeout=60)
+    if r.returncode != 0:
+        return None, f"no CPython {version} (scripts/find_python.sh {version})"
+    return r.stdout.strip(), None
+
+
 @functools.lru_cache(None)
-def _bpy_python():
-    py = os.environ.get("RADIOSITY_BPY_PYTHON", "python3")
-    exe = shutil.which(py)
+def _bpy_python(flavour):
+    exe, why = _flavour_python(flavour)
     if exe is None:
-        return None, f"{py} not found"
+        return None, why
     r = subprocess.run([exe, "-c", "import bpy, sys; print(bpy.app.version_string)"],
                        capture_output=True, text=True, timeout=300)
     if r.returncode != 0:
-        return None, f"`{py} -c 'import bpy'` failed: {r.stderr.strip()[-300:]}"
+        return None, f"`{exe} -c 'import bpy'` failed: {r.stderr.strip()[-300:]}"
     return exe, r.stdout.strip()
 
 
@@ -46,18 +70,24 @@ def _blender():
     return (exe, None) if exe else (None, "no blender binary on PATH (set $BLENDER)")
 
 
+def _unavailable(why):
+    if os.environ.get("RADIOSITY_REQUIRE_FLAVOURS") == "1":
+        pytest.fail(f"{why} (RADIOSITY_REQUIRE_FLAVOURS=1)")
+    pytest.skip(why)
+
+
 def flavour_command(flavour):
     """(argv prefix before the script path's args) or pytest.skip."""
     if flavour == "binary":
         exe, why = _blender()
         if exe is None:
-            pytest.skip(why)
+            _unavailable(why)
         return lambda script: [exe, "-b", "--factory-startup", "--python-exit-code", "1",
                                "--python", script]
-    if flavour == "module":
-        exe, info = _bpy_python()
+    if re.fullmatch(r"module(\d\d+)?", flavour):
+        exe, info = _bpy_python(flavour)
         if exe is None:
-            pytest.skip(f"bpy module flavour unavailable: {info}")
+            _unavailable(f"bpy {flavour} flavour unavailable: {info}")
         return lambda script: [exe, script]
     raise ValueError(flavour)
 

@@ -47,6 +47,23 @@ struct LightState {
     bool recheck = false;          // lights or placements changed: try merging light splits
 };
 
+class Hierarchy;
+class SceneDesc;
+class Visibility;
+
+// Direct light at one point (the output's final gather, final_gather.cpp): irradiance / pi at
+// x (internal frame) with unit normal n from every point, spot and sun light and the sky of
+// `scene`, m stratified samples per light (4m for the sky, one for a point or spot light
+// without a radius), shadow rays through `vis`. A covered point (lying on another object's
+// face: a floor under a box) gets nothing, as in Cycles.
+struct PointLight {
+    Rgb E;
+    bool partial = false;  // a shadow edge of some light crosses the samples
+    int rays = 0;
+};
+PointLight direct_light_at(const SceneDesc& scene, const Hierarchy& h, const Visibility& vis, const Vec3& x,
+                           const Vec3& n, bool covered, int m, uint64_t seed);
+
 // A mesh of leaf elements (adaptive-mesh output): world-space vertices, Blender's polygon
 // layout, one value per polygon. T-vertex free: a vertex of a finer neighbour that lies on a
 // coarser element's edge is inserted into that element's boundary (an n-gon).

@@ -21,7 +21,13 @@ struct Settings {
     int max_refine_rounds = 8;          // refine/solve alternations
     double tolerance = 1e-5;            // estimated remaining relative error of the iteration
     int threads = 0;                    // 0 = all cores
+    // Corner-leaf output only (gather_rays = 0): corners average across faces within this angle.
     double crease_angle_deg = 35.0;
+    // Output by a final gather at each corner (final_gather.h): rays per output point, shared
+    // among the links that reach it by the light they bring; 0 = the leaf element's average
+    // at the corner instead (the computational mesh as it is, no gather).
+    int gather_rays = 256;
+    int gather_min_rays = 8;  // ... and at least this many for every link that reaches the point
     int closure_rays = 32;              // escape rays per leaf for the closure correction
     // Closure-driven refinement (refine.cpp): an enclosed leaf whose form factors sum further
     // than this from 1 has the links at its ancestors split toward it (0 = off), at most

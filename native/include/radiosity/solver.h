@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "radiosity/final_gather.h"
 #include "radiosity/gather_plan.h"
 #include "radiosity/hierarchy.h"
 #include "radiosity/lights.h"
@@ -213,6 +214,7 @@ private:
     void light_initial();                        // before the first linking: split and light
     void light_contacts();                       // coplanar touching surfaces (a box on a floor)
     bool light_in_contact(int surface, const Vec3& p) const;
+    int light_contact(int surface, const Vec3& p) const;  // the surface touching there, or -1
     bool light_corner_in_contact(const Primitive& p, int k) const;
     void light_keep(std::vector<int>& refs);     // pruning keeps light-split children
     double light_power(double total_area) const; // for the reference radiance
@@ -227,8 +229,13 @@ private:
     void at_first_bounce_where_buried(const std::vector<Aabb>& now, const std::vector<char>& moved,
                                       const std::function<void()>& judge_links);
     LightState lights_;
-    // output.cpp: per-corner values of any per-leaf quantity
+    // output.cpp: per-corner values of any per-leaf quantity (gather_rays = 0)
     std::vector<float> corner_values(int object, const std::function<Rgb(int)>& leaf_value) const;
+    // output.cpp: the final gather at every output point (the "output" phase of a solve or an
+    // update), progress from `from` to `to`.
+    // With `moves` (an update that moved objects or changed materials only): FinalGather::retrace.
+    void final_gather(double from, double to, const FinalGather::Moves* moves = nullptr);
+    FinalGather output_;
     // solver.cpp
     void compute_reference();
     // pockets.cpp: every surface's closed pocket (Node::pocket) and the clusters' pocket sets.

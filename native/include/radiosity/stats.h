@@ -58,6 +58,14 @@ struct Stats {
     int64_t memory_bytes = 0;       // estimated memory of elements and links at the end
     bool iteration_capped = false;  // max_iterations reached before the tolerance
     bool no_emitters = false;
+    // The output's final gather (final_gather.h): points traced (one per vertex and normal),
+    // corners, covered corners (lying on another object's face: unlit), point-link
+    // evaluations, rays, and the bytes its trace keeps for re-output without rays.
+    int64_t gather_points = 0, gather_corners = 0, gather_covered = 0, gather_links = 0, gather_rays = 0;
+    int64_t gather_bytes = 0;
+    // After an update: point-link transfers kept as they were, replayed (only rays through a
+    // moved box cast), and points traced anew.
+    int64_t gather_kept = 0, gather_replayed = 0, gather_fresh_points = 0;
     double seconds_build = 0, seconds_link = 0, seconds_solve = 0, seconds_total = 0;
     std::vector<std::string> warnings;
     // Wall time of each phase of the last solve or update, in order (for profiling and the

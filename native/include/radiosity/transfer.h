@@ -23,6 +23,44 @@ Link evaluate_link(const Hierarchy& h, const Visibility& vis, int src, int rcv, 
 Link reevaluate_link(const Hierarchy& h, const Visibility& vis, const Link& old, int rays, uint64_t seed,
                      const std::vector<Aabb>& changed);
 
+// What sender node `src` sends to one point (the output's final gather): x with unit normal n
+// on a surface whose leaf is `rcv_leaf` (only the sender's surfaces in that leaf's pocket
+// take part). Appends to `samples` (sender leaf, weight) pairs whose weighted sum of leaf
+// radiances is the irradiance / pi arriving at x from src, visibility included, so their
+// weights sum to the point's coupling with src. An element sender: the exact point-to-polygon
+// form factor times the kernel-weighted share of clear rays, each landing on the leaf it
+// hits; a cluster: its surfaces drawn by projected area toward x, weighted by the true
+// kernel over that density. `rays` rays, jittered by `seed`.
+struct PointTransfer {
+    double F = 0;            // coupling, visibility included (sum of the appended weights)
+    double F_unoccluded = 0;
+    int cast = 0;            // rays that count (cast or replayed; PointRayStream::cast: cast)
+    bool partial = false;    // some rays blocked, some clear
+};
+// The outcomes of a point transfer's rays, in the order cast (blocked: bit k for ray k; kept
+// for up to 64 rays).
+struct PointRays {
+    int count = 0;
+    uint64_t blocked = 0;
+};
+// The rays of one point transfer: cast through `vis`, or, with `old` (the same transfer's
+// record, same seed and ray count) and `changed` (boxes where the geometry changed since), a
+// ray that meets none of the boxes takes its recorded outcome (the segment and everything
+// along it are the same). `out` is the fresh record; `cast` counts the rays really cast.
+struct PointRayStream {
+    explicit PointRayStream(const Visibility& v, const PointRays* o = nullptr, const std::vector<Aabb>* c = nullptr)
+        : vis(v), old(o), changed(c) {}
+    const Visibility& vis;
+    const PointRays* old = nullptr;
+    const std::vector<Aabb>* changed = nullptr;
+    PointRays out;
+    int n = 0;
+    int64_t cast = 0;
+    bool occluded(const Vec3& a, const Vec3& b);
+};
+PointTransfer point_transfer(const Hierarchy& h, PointRayStream& rays_out, int src, const Vec3& x, const Vec3& n,
+                             int rcv_leaf, int rays, uint64_t seed, std::vector<std::pair<int, float>>& samples);
+
 // Unoccluded element-to-element coupling of a receiver polygon (not necessarily a node yet)
 // from an element sender: the cubature average of the point-to-polygon form factor.
 double unoccluded_coupling(const Poly& rcv, const Vec3& rcv_n, const Node& src);

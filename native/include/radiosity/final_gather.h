@@ -1,0 +1,134 @@
+// The output: every Blender corner's radiance at the corner itself (the point and normal
+// Cycles bakes it at), by a final gather from the hierarchical solution -- the "local pass"
+// of Lischinski, Tampieri and Greenberg (1993) and the final gather of Smits, Arvo and
+// Greenberg's clustering (1994). The solution's leaves are a computational mesh: piecewise
+// constant, a leaf straddling a lamp's edge or a contact line holds one average. The points
+// where the user looks get their light anew from the links that reach the leaf holding them
+// (and its ancestors, cluster links included), re-evaluated from the point itself: exact
+// point-to-polygon form factors, visibility by rays from the point, senders at their leaf
+// radiance; lamps (point, spot, sun, sky) by shadow rays from the point.
+//
+// What a point sees is kept (a trace: per point the leaves it reads and their weights, its
+// direct light and closure fill), so output after a change of radiance alone (emission,
+// reflectance, a light dimmed) costs no ray; geometry changes re-trace.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <utility>
+#include <vector>
+
+#include "radiosity/hierarchy.h"
+#include "radiosity/link.h"
+#include "radiosity/scene.h"
+#include "radiosity/transfer.h"
+#include "radiosity/visibility.h"
+
+namespace radiosity {
+
+class FinalGather {
+public:
+    // What a trace reads of the solution, borrowed for the call.
+    struct Solution {
+        const SceneDesc& scene;
+        const Hierarchy& h;
+        const Visibility& vis;
+        const std::vector<Link>& links;
+        // The surface of another polygon lying on a surface at a point, turned against it (a
+        // box's bottom on a floor: lights.cpp's contact test), or -1.
+        std::function<int(int surface, const Vec3& p)> contact;
+    };
+    struct Config {
+        int rays = 256;      // ray budget per point, shared among its links by the light they bring
+        int min_rays = 4;    // every link at least (its coupling counts for the closure)
+        int light_samples = 16;
+        int threads = 0;
+        uint64_t seed = 1;
+    };
+    struct Counts {
+        int64_t points = 0, corners = 0, covered = 0;
+        int64_t links = 0;       // point-link evaluations
+        int64_t rays = 0;
+        int64_t refined = 0;     // links given more rays because a shadow edge crossed them
+        int64_t samples = 0;     // kept (leaf, weight) pairs
+        int64_t kept = 0;        // retrace: point-link transfers kept as they were (no ray could change)
+        int64_t replayed = 0;    // ... replayed (rays through a moved box cast again)
+        int64_t fresh_points = 0;  // retrace: points traced anew
+    };
+
+    // Traces every output point of the scene's objects. `progress(f)` is called with f in
+    // [0, 1] from the calling thread and may throw (cancellation).
+    void trace(const Solution& s, const Config& c, const std::function<void(double)>& progress);
+    // What changed in the geometry since the last trace (an update that moved objects only).
+    struct Moves {
+        std::vector<char> moved;        // per object
+        std::vector<Aabb> clips;        // old and new boxes of the moved objects
+        // Cast every ray again instead (same budgets and seeds: the result is the same, bit
+        // for bit; Settings::replay_rays off, to check that).
+        bool cast_all = false;
+        bool lights_changed = false;  // set by retrace: the lamps differ from the last trace's
+    };
+    // The trace after moves: a point that did not move keeps what its rays found where no ray
+    // of it meets a moved box (a link whose rays' hull with the point meets none keeps its
+    // samples; others replay their rays, casting only those through a box), and gathers the
+    // links new at its leaf afresh. Moved points, and any point when the corners changed, are
+    // traced anew. The result is what trace() gives for the same links and ray budgets.
+    void retrace(const Solution& s, const Config& c, const Moves& moves, const std::function<void(double)>& progress);
+    bool traced() const { return traced_; }
+    void clear();
+    // Per corner (RGB interleaved) of one object, from the trace and the current leaf
+    // radiances: outgoing radiance, or irradiance / pi (lighting only). Empty when the object
+    // was not traced (added since, or no trace yet).
+    std::vector<float> corner_radiance(const Hierarchy& h, int object) const { return values(h, object, false); }
+    std::vector<float> corner_irradiance(const Hierarchy& h, int object) const { return values(h, object, true); }
+    const Counts& counts() const { return counts_; }
+    // Bytes kept by the trace (points, their records and samples, the corner map).
+    size_t bytes() const;
+
+private:
+    // One link's transfer to a point, as traced: its samples, coupling and ray outcomes.
+    struct Record {
+        int link = -1;
+        uint32_t begin = 0, end = 0;  // its samples in Point::samples
+        float F = 0;                  // coupling, visibility included (for the closure)
+        uint16_t rays = 0;            // ray budget it was traced with
+        bool own = false;             // a link at the leaf itself (not inherited)
+        bool refined = false;         // traced again with more rays (a shadow edge)
+        PointRays outcome;            // for replay after a move
+    };
+    struct Point {
+        int object = -1, prim = -1, k = 0;  // the corner it was made for (first of its corners)
+        Vec3 x, n;
+        uint64_t seed = 0;
+        int leaf = -1;       // the leaf holding it (its reflectance, emission, and fill radiance)
+        bool covered = false;
+        // Covered: the leaf of the covering polygon's other side at the point. What lies
+        // beyond the contact is what Cycles' rays from there find (a box's dark inside under
+        // it, the underside of the floor under the box's bottom), and that side's radiance is
+        // what the point gathers; -1 when the covering polygon is one-sided.
+        int beyond = -1;
+        Rgb direct;          // lamps' irradiance / pi
+        // Closure (as the solver's at the leaf): factors on own and inherited couplings, and
+        // the share of the hemisphere taken to see the leaf's own radiance.
+        double c_own = 1, c_inherited = 1, fill = 0;
+        std::vector<std::pair<int, float>> samples;  // (node, weight): irradiance / pi = sum w L
+        std::vector<Record> records;
+    };
+    struct Job;
+    std::vector<Job> make_jobs(const Solution& s);
+    std::vector<float> values(const Hierarchy& h, int object, bool irradiance) const;
+    // A point traced afresh, or (with `old` and `moves`) re-traced after moves.
+    void trace_point(const Solution& s, const Config& c, Point& pt, const Point* old, const Moves* moves,
+                     Counts& counts) const;
+    void run(const Solution& s, const Config& c, std::vector<Job>& jobs, const Moves* moves,
+             const std::function<void(double)>& progress);
+
+    bool traced_ = false;
+    Config config_;
+    std::vector<LightDesc> lights_;  // as last traced (a light changed: every point's lamps again)
+    std::vector<Point> points_;
+    std::vector<std::vector<int>> corner_point_;  // per object, per corner: its point (-1: none)
+    Counts counts_;
+};
+
+}  // namespace radiosity

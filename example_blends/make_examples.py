@@ -299,6 +299,18 @@ def add_camera(scene, location, look_at, lens_deg=70.0, resolution=(800, 600)):
     return ob
 
 
+def look_through_camera():
+    """Every 3D viewport of every workspace opens looking through the scene camera.
+
+    The factory layout's viewport stands about 15 units from the origin: inside these rooms
+    (hundreds of units across) it faces a bare wall, so a user opening the file saw grey."""
+    for screen in bpy.data.screens:
+        for area in screen.areas:
+            for space in area.spaces:
+                if space.type == "VIEW_3D" and space.region_3d is not None:
+                    space.region_3d.view_perspective = "CAMERA"
+
+
 def footprint(ob):
     """XY corners of the object's bounding box in world space (for overlap checks)."""
     corners = [ob.matrix_world @ Vector(c) for c in ob.bound_box]
@@ -372,6 +384,7 @@ def finish(scene, name, out_dir, expected_surfaces, expected_objects):
     polys = sum(len(o.data.polygons) for o in meshes)
     assert corners < 20000, (name, corners)
     path = os.path.join(out_dir, name + ".blend")
+    look_through_camera()
     bpy.context.preferences.filepaths.save_version = 0  # no .blend1 backups next to the files
     bpy.ops.wm.save_as_mainfile(filepath=path, compress=True)
     print(f"[make_examples] {name}: {n_surf} input surfaces, {n_obj} objects, "

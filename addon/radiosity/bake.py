@@ -12,11 +12,12 @@ import time
 
 import numpy as np
 
+from .core import baked
 from .core import job as core_job
 from .core import live as core_live
 from .core import native_files, presets, srgb, stats
 from .core.scene_data import InputError
-from . import gather, writer
+from . import baked_state, gather, writer
 
 STATS_KEY = "_last_stats"       # ID property behind the read-only scene.radiosity.last_stats
 # (level, message) of the last bake, for scripts and tests: Blender prints operator reports but
@@ -50,6 +51,7 @@ class BakeRun:
         self.t0 = time.perf_counter()
         self.live = live
         self.scene, self.view_layer, self.depsgraph = scene, view_layer, depsgraph
+        self.scene_name, self.view_layer_name = scene.name, view_layer.name
         self.full = full
         self.props = scene.radiosity
         self.warnings = []
@@ -117,8 +119,24 @@ class BakeRun:
                 raise BakeError(f"solver failed: {exc}") from exc
         return self
 
+    def _rebind(self):
+        """An undo during the job may have re-read the scene at another address (its Python
+        references then raise ReferenceError): find it again by name."""
+        try:
+            self.scene.name, self.view_layer.name
+            return
+        except ReferenceError:
+            pass
+        import bpy
+        scene = bpy.data.scenes.get(self.scene_name)
+        if scene is None:
+            raise BakeError(f"the scene '{self.scene_name}' was removed during the bake")
+        self.scene, self.props = scene, scene.radiosity
+        self.view_layer = scene.view_layers.get(self.view_layer_name) or scene.view_layers[0]
+
     def finish(self):
         """Write all meshes (after the whole solve succeeded), then stats and caches."""
+        self._rebind()
         native_stats = self.job.native_stats()
         for w in native_stats.get("warnings", None) or []:
             self.warnings.append(f"solver: {w}")
@@ -130,9 +148,11 @@ class BakeRun:
             raise BakeError(str(exc)) from exc
         byte_name = srgb.byte_attribute_name(self.props.attribute_name)
         st = core_live.state_for(scene_key(self.scene))
+        token = baked.new_token()
         st.busy = True          # our writes echo back through depsgraph_update_post
         try:
-            self.written = writer.write_all(items, self.props.attribute_name, byte_items, byte_name)
+            self.written = writer.write_all(items, self.props.attribute_name, byte_items, byte_name,
+                                            token)
             meshes = self.job.leaf_meshes() if self.job.scene_input.adaptive_mesh else None
             if meshes is not None:
                 self.adaptive = writer.write_adaptive(self.job.scene_input.objects, meshes,
@@ -141,13 +161,16 @@ class BakeRun:
             raise BakeError(str(exc)) from exc
         finally:
             st.busy = False
-        for name, mat in self.matrices.items():
-            st.transforms.remember(name, mat)
         cached = self.job.is_cached
         mode = "full" if (cached or self.no_emitter) else self.job.mode
         extra = {"cached": cached, "preset": self.props.preset,
                  "collections": len(self.job.scene_input.clusters),
                  "written_objects": self.written, "report_warnings": len(self.warnings)}
+        kept = self.job.kept()
+        if cached and kept is not None and kept.bake_stats:
+            # The colours are the kept solution's: say which bake made them (the panel shows
+            # that bake, not a rewrite that solved nothing).
+            extra["source"] = dict(kept.bake_stats)
         if self.no_emitter:
             extra["no_emitter"] = True
         elif mode == "full" and not cached and self.job.full_reason:
@@ -173,6 +196,10 @@ class BakeRun:
             mode, time.perf_counter() - self.t0, native_stats,
             self.job.fallback_counts(), extra)
         set_last_stats(self.scene, self.result)
+        if kept is not None and not cached:
+            kept.bake_stats = stats.summary(self.result)
+        baked_state.record(self.scene, token, self.matrices, self.result)
+        baked_state.refresh(self.scene, self.view_layer)
         return self.result
 
     def cancel(self):

@@ -1,18 +1,28 @@
-"""Live re-bake and cache hygiene.
+"""Live re-bake, undo/redo and cache hygiene.
 
 depsgraph_update_post notices transform changes of baked objects (Object updates with
-is_updated_transform whose matrix_world differs from the one at the last bake, so the echo of our
-own colour writes — a Mesh update — never triggers), debounces with bpy.app.timers and re-bakes.
-Timers never fire inside a blocking `blender -b --python` script, so `pump()` runs whatever is
-pending synchronously; tests and scripts call it (``import radiosity; radiosity.pump()``).
-load_post/undo_post drop every cache (the kept solution refers to data that no longer exists).
+is_updated_transform whose matrix_world differs from the bake the viewport shows, so the echo
+of our own colour writes, a Mesh update, never triggers), debounces with bpy.app.timers and
+re-bakes. Timers never fire inside a blocking `blender -b --python` script, so `pump()` runs
+whatever is pending synchronously; tests and scripts call it (``import radiosity;
+radiosity.pump()``).
+
+Undo and redo keep the kept solution: it is native state, valid whatever Blender re-reads, and
+the next bake updates it incrementally to wherever undo put the objects. What they change is
+which colours the meshes hold (baked_state judges that): out of date colours are re-baked with
+Live on and flagged in the panel with Live off. Loading a file drops the kept solution (it
+belongs to the scene that was closed).
 """
+import time
+import traceback
+
 import bpy
 from bpy.app.handlers import persistent
 
-from . import bake
+from . import bake, baked_state
 from .core import job as core_job
 from .core import live as core_live
+from .core import stats as core_stats
 
 TIMER_STEP = 0.1
 last_errors = []        # messages of failed live re-bakes (no operator to report them to)
@@ -25,6 +35,17 @@ def _scene_by_key(key):
     return None
 
 
+def _view_layer_for(scene):
+    """The window's view layer when it shows `scene`, else the scene's first one."""
+    try:
+        ctx = bpy.context
+        if ctx.scene == scene and ctx.view_layer is not None:
+            return ctx.view_layer
+    except (AttributeError, RuntimeError):
+        pass        # timers and handlers may run without a window context
+    return scene.view_layers[0]
+
+
 def _context_for(scene):
     """(view_layer, depsgraph) to bake `scene` with; the window's view layer when possible."""
     ctx = bpy.context
@@ -32,35 +53,74 @@ def _context_for(scene):
         if ctx.scene == scene and ctx.view_layer is not None:
             return ctx.view_layer, ctx.evaluated_depsgraph_get()
     except (AttributeError, RuntimeError):
-        pass        # timers may run without a window context
+        pass
     view_layer = scene.view_layers[0]
     return view_layer, view_layer.depsgraph
 
 
-def _moved_objects(st, depsgraph):
-    for upd in depsgraph.updates:
-        if not upd.is_updated_transform or not isinstance(upd.id, bpy.types.Object):
-            continue
-        obj = upd.id.original
-        if st.transforms.moved(obj.name_full, obj.matrix_world):
-            return True
-    return False
+# -- what the user sees while a live re-bake runs ----------------------------------------------
+def _windows():
+    wm = getattr(bpy.context, "window_manager", None)
+    return list(wm.windows) if wm is not None else []
+
+
+def _status(text):
+    """Status bar text in every window (None clears it); a live job has no operator to own it."""
+    for win in _windows():
+        try:
+            with bpy.context.temp_override(window=win):
+                win.workspace.status_text_set(text)
+        except (AttributeError, RuntimeError, TypeError):
+            pass    # a window closing, or a Blender without temp_override: the panel still shows it
+
+
+def redraw():
+    """Panels read module state, which Blender does not watch: ask for a redraw."""
+    for win in _windows():
+        for area in win.screen.areas:
+            if area.type in ("VIEW_3D", "PROPERTIES"):
+                area.tag_redraw()
+
+
+def live_status_text(st, now=None):
+    """Status bar text of a running live re-bake (shown with its progress and time so far)."""
+    now = time.monotonic() if now is None else now
+    elapsed = now - (st.job_started or now)
+    return (f"Radiosity: live update after a move… {st.progress * 100:.0f} %   "
+            f"{elapsed:.0f} s")
+
+
+# -- live re-bake ------------------------------------------------------------------------------
+def _queue(st):
+    st.request()
+    if not bpy.app.timers.is_registered(_live_timer):
+        bpy.app.timers.register(_live_timer, first_interval=core_live.DEBOUNCE_SECONDS)
 
 
 @persistent
 def on_depsgraph_update(scene, depsgraph=None):
     props = getattr(scene, "radiosity", None)
-    if props is None or not props.live:
+    if props is None:
         return
     st = core_live.state_for(bake.scene_key(scene))
     if st.busy:
         return          # inside our own bake/write
+    if st.unjudged:
+        settle(scene)   # the first evaluation after a load or an undo: matrices are right now
     if depsgraph is None:
         depsgraph = bpy.context.evaluated_depsgraph_get()
-    if _moved_objects(st, depsgraph):
-        st.request()
-        if not bpy.app.timers.is_registered(_live_timer):
-            bpy.app.timers.register(_live_timer, first_interval=core_live.DEBOUNCE_SECONDS)
+    was = st.stale
+    rebake = False
+    for upd in depsgraph.updates:
+        if not upd.is_updated_transform or not isinstance(upd.id, bpy.types.Object):
+            continue
+        obj = upd.id.original
+        st.track(obj.name_full, obj.matrix_world)
+        rebake = rebake or st.needs_rebake(obj.name_full, obj.matrix_world)
+    if rebake and props.live:
+        _queue(st)
+    if st.stale != was:
+        redraw()
 
 
 def _finish_live(st, scene, run):
@@ -68,6 +128,11 @@ def _finish_live(st, scene, run):
         run.finish()
     except bake.BakeError as exc:
         last_errors.append(str(exc))
+    except Exception as exc:
+        # Printed, kept, and not raised: an exception would unregister the live timer and
+        # leave the job in place, so Live would stop for the rest of the session.
+        traceback.print_exc()
+        last_errors.append(f"live re-bake failed: {exc!r}")
     st.runs += 1
 
 
@@ -95,7 +160,9 @@ def _start_live(key, st, synchronous):
         _finish_live(st, scene, run)
     else:
         run.job.start()
-        st.job = run
+        st.job, st.job_started, st.progress = run, time.monotonic(), 0.0
+        _status(live_status_text(st))
+        redraw()
 
 
 def _step(synchronous):
@@ -110,16 +177,22 @@ def _step(synchronous):
                 except Exception:
                     pass
             else:
-                run.job.poll()
+                st.progress = run.job.poll()
             if run.job.state == core_job.RUNNING:
+                if not synchronous:
+                    _status(live_status_text(st))
+                    redraw()
                 busy = True
                 continue
-            st.job = None
+            st.job = st.job_started = None
             scene = _scene_by_key(key)
             if run.job.state == core_job.DONE and scene is not None:
                 _finish_live(st, scene, run)
             elif run.job.state == core_job.FAILED:
                 last_errors.append(f"solver failed: {run.job.error}")
+            if not synchronous:
+                _status(None)
+                redraw()
             if st.pending:
                 busy = True     # moved again while solving: go once more
             continue
@@ -137,7 +210,6 @@ def _live_timer():
 
 def pump(timeout=None):
     """Run pending live re-bakes to completion now (headless scripts, tests). Returns runs."""
-    import time
     deadline = None if timeout is None else time.monotonic() + timeout
     before = sum(st.runs for st in core_live.all_states().values())
     while _step(synchronous=True):
@@ -147,26 +219,99 @@ def pump(timeout=None):
 
 
 def live_toggled(props, context):
-    """Turning live on remembers nothing new; the last bake's matrices are the baseline."""
+    """Off: drop a queued re-bake. On: bring an out-of-date bake up to date (moves made while
+    Live was off count); a scene never baked stays unbaked."""
+    st = settle(context.scene)
     if not props.live:
-        st = core_live.all_states().get(bake.scene_key(context.scene))
-        if st is not None:
-            st.take()
+        st.take()
+    elif st.shown.baked and st.stale:
+        _queue(st)
+
+
+# -- undo, redo, load --------------------------------------------------------------------------
+def _rekey():
+    """Scene keys carry the scene's address; should undo have re-read a scene elsewhere, carry
+    its kept solution, live state and records over by name (never lose a bake to undo)."""
+    current = {bake.scene_key(s) for s in bpy.data.scenes}
+    by_name = {}
+    for s in bpy.data.scenes:
+        by_name.setdefault(s.name_full, []).append(bake.scene_key(s))
+    known = set(core_job.cache_keys()) | set(core_live.all_states()) | baked_state.keys()
+    for old in known - current:
+        new = by_name.get(old.rsplit("@", 1)[0], [])
+        if len(new) == 1:
+            core_job.cache_rekey(old, new[0])
+            core_live.rekey(old, new[0])
+            baked_state.rekey(old, new[0])
+
+
+def settle(scene, writes=True):
+    """Judge again, after a load or an undo, which bake the meshes of `scene` show; returns its
+    live state. After an undo, last_stats follows the bake shown and, with Live on, an
+    out-of-date bake is re-baked (writes=False, from a panel's draw, leaves that to the
+    handlers: drawing may not write)."""
+    st = core_live.state_for(bake.scene_key(scene))
+    why = st.unjudged
+    if not why or (why == "undo" and not writes):
+        return st
+    baked_state.refresh(scene, _view_layer_for(scene))
+    if why != "undo":
+        return st
+    props = scene.radiosity
+    record = st.shown.record
+    if record is not None and record.stats:
+        # last_stats describes the colours shown: undo may have kept the stats of a later
+        # bake (a scene Blender did not re-read) while the meshes went back.
+        text = core_stats.to_json(record.stats)
+        if props.last_stats != text:
+            bake.set_last_stats(scene, record.stats)
+    if props.live and st.shown.baked and (st.stale or st.job is not None):
+        _queue(st)
+    redraw()
+    return st
+
+
+def _settle_all():
+    try:
+        bpy.context.evaluated_depsgraph_get()      # matrices of re-read objects, evaluated
+    except (AttributeError, RuntimeError):
+        pass
+    for scene in bpy.data.scenes:
+        if getattr(scene, "radiosity", None) is not None:
+            settle(scene)
+    return None
+
+
+def _unjudge(why):
+    for scene in bpy.data.scenes:
+        if getattr(scene, "radiosity", None) is not None:
+            core_live.state_for(bake.scene_key(scene)).unjudged = why
+    # The depsgraph evaluation that follows settles each scene (on_depsgraph_update); this
+    # timer settles any the evaluation did not report.
+    if not bpy.app.timers.is_registered(_settle_all):
+        bpy.app.timers.register(_settle_all, first_interval=0.2)
+
+
+@persistent
+def on_undo_post(*_args):
+    """After undo or redo: judge which bake the meshes show now (once the depsgraph has been
+    evaluated). With Live on an out-of-date bake is re-baked, incrementally from the kept
+    solution; a live job still running solves what the scene was before the undo, so it is
+    followed by another."""
+    _rekey()
+    _unjudge("undo")
 
 
 def drop_caches():
     core_live.drop_all()
     core_job.cache_drop()
+    baked_state.forget()
 
 
 @persistent
 def on_load_post(*_args):
     drop_caches()
-
-
-@persistent
-def on_undo_post(*_args):
-    drop_caches()
+    _unjudge("load")
 
 
 _HOOKS = (
@@ -187,6 +332,8 @@ def unregister():
     for hook, fn in _HOOKS:
         while fn in hook:
             hook.remove(fn)
-    if bpy.app.timers.is_registered(_live_timer):
-        bpy.app.timers.unregister(_live_timer)
+    for timer in (_live_timer, _settle_all):
+        if bpy.app.timers.is_registered(timer):
+            bpy.app.timers.unregister(timer)
+    _status(None)
     drop_caches()

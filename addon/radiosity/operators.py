@@ -1,10 +1,11 @@
-"""Operators: radiosity.bake, radiosity.clear, radiosity.show_colors."""
+"""Operators: radiosity.bake, radiosity.clear, radiosity.show_colors, radiosity.restore_shading."""
+import time
+
 import bpy
 from bpy.props import BoolProperty
 
 from . import bake
 from .core import job as core_job
-from .core import live as core_live
 
 TIMER_STEP = 0.1
 
@@ -19,8 +20,16 @@ def _report_warnings(op, run):
         _report(op, "WARNING", w)
 
 
+BAKE_TIP = ("Bake diffuse light into a colour attribute of every visible mesh. Updates the kept "
+            "solution incrementally where it can (objects moved, added or removed, materials or "
+            "lights changed), else solves from scratch")
+FULL_TIP = ("Bake diffuse light into a colour attribute of every visible mesh, solving from "
+            "scratch: the kept solution is dropped")
+
+
 class RADIOSITY_OT_bake(bpy.types.Operator):
-    """Bake diffuse global illumination into a colour attribute of every visible mesh"""
+    # Blender shows bl_description as the tooltip verbatim (a docstring's line breaks too).
+    bl_description = BAKE_TIP
     bl_idname = "radiosity.bake"
     bl_label = "Bake Radiosity"
     bl_options = {"REGISTER", "UNDO"}
@@ -31,6 +40,11 @@ class RADIOSITY_OT_bake(bpy.types.Operator):
     @classmethod
     def poll(cls, context):
         return context.scene is not None and context.view_layer is not None
+
+    @classmethod
+    def description(cls, context, properties):
+        # Bake and Full are this operator with two settings: each button says what it does.
+        return FULL_TIP if properties.full else BAKE_TIP
 
     def _start(self, context):
         return bake.BakeRun(context.scene, context.view_layer,
@@ -65,6 +79,7 @@ class RADIOSITY_OT_bake(bpy.types.Operator):
         except bake.BakeError as exc:
             _report(self, "ERROR", str(exc))
             return {"CANCELLED"}
+        self._t0 = time.monotonic()
         wm = context.window_manager
         self._timer = wm.event_timer_add(TIMER_STEP, window=context.window)
         wm.progress_begin(0, 100)
@@ -90,8 +105,8 @@ class RADIOSITY_OT_bake(bpy.types.Operator):
         progress = run.job.poll()
         context.window_manager.progress_update(int(progress * 100))
         if context.workspace is not None:
-            context.workspace.status_text_set(
-                f"Radiosity: solving… {progress * 100:.0f} %   (Esc to cancel)")
+            context.workspace.status_text_set(status_text(run, progress,
+                                                          time.monotonic() - self._t0))
         if run.job.state == core_job.RUNNING:
             return {"RUNNING_MODAL"}
         self._cleanup(context)
@@ -105,40 +120,101 @@ class RADIOSITY_OT_bake(bpy.types.Operator):
         return self._done(run)
 
 
+def status_text(run, progress, elapsed):
+    """Status bar text of the modal bake. The native progress can rest on one figure for a
+    while (it is reported between phases, not within them): the seconds show it is alive."""
+    what = "updating" if run.job.mode == "incremental" and not run.job.is_cached else "solving"
+    return (f"Radiosity: {what}… {progress * 100:.0f} %   {elapsed:.0f} s   (Esc to cancel)")
+
+
 class RADIOSITY_OT_clear(bpy.types.Operator):
-    """Drop the kept radiosity solution (the next bake solves from scratch)"""
+    bl_description = ("Forget the solution kept in memory for incremental re-bakes (the baked "
+                      "colours stay); the next bake solves from scratch")
     bl_idname = "radiosity.clear"
-    bl_label = "Clear Radiosity Solution"
+    bl_label = "Forget Kept Solution"
     bl_options = {"REGISTER"}
 
     def execute(self, context):
-        key = bake.scene_key(context.scene)
-        core_job.cache_drop(key)
-        core_live.state_for(key).transforms.clear()
+        core_job.cache_drop(bake.scene_key(context.scene))
         return {"FINISHED"}
 
 
+# Shading of each 3D view before Show Baked Colours, by the space's address (UI data: undo does
+# not touch it), so the user can go back.
+_SAVED_SHADING = {}
+_BAKED_SHADING = ("SOLID", "VERTEX", "FLAT")     # VERTEX is labelled "Attribute" in the UI
+
+
+def _views(context):
+    """The 3D view the button was pressed in, else every 3D view of the screen."""
+    space = getattr(context, "space_data", None)
+    if space is not None and space.type == "VIEW_3D":
+        return [space]
+    screen = context.screen
+    if screen is None:
+        return []
+    return [s for a in screen.areas if a.type == "VIEW_3D" for s in a.spaces
+            if s.type == "VIEW_3D"]
+
+
+def _shading_of(space):
+    sh = space.shading
+    return (sh.type, sh.color_type, sh.light)
+
+
+def shows_bake(space):
+    return _shading_of(space) == _BAKED_SHADING
+
+
+def any_shows_bake(context):
+    return any(shows_bake(s) for s in _views(context))
+
+
 class RADIOSITY_OT_show_colors(bpy.types.Operator):
-    """Show colour attributes in the 3D viewports' Solid shading"""
+    bl_description = ("Show the baked colours as they are: Solid shading, colour from the "
+                      "active colour attribute, Flat lighting (Studio lighting would shade over "
+                      "the bake)")
     bl_idname = "radiosity.show_colors"
     bl_label = "Show Baked Colours"
     bl_options = {"REGISTER"}
 
     def execute(self, context):
-        screen = context.screen
-        if screen is None:
-            self.report({"WARNING"}, "no screen (background mode?)")
+        views = _views(context)
+        if not views:
+            self.report({"WARNING"}, "no 3D viewport (background mode?)")
             return {"CANCELLED"}
-        for area in screen.areas:
-            if area.type == "VIEW_3D":
-                for space in area.spaces:
-                    if space.type == "VIEW_3D":
-                        space.shading.type = "SOLID"
-                        space.shading.color_type = "VERTEX"   # labelled "Attribute" in the UI
+        for space in views:
+            if not shows_bake(space):
+                _SAVED_SHADING[space.as_pointer()] = _shading_of(space)
+            sh = space.shading
+            sh.type, sh.color_type, sh.light = _BAKED_SHADING
         return {"FINISHED"}
 
 
-CLASSES = (RADIOSITY_OT_bake, RADIOSITY_OT_clear, RADIOSITY_OT_show_colors)
+class RADIOSITY_OT_restore_shading(bpy.types.Operator):
+    bl_description = "Go back to the viewport shading used before Show Baked Colours"
+    bl_idname = "radiosity.restore_shading"
+    bl_label = "Back to Previous Shading"
+    bl_options = {"REGISTER"}
+
+    def execute(self, context):
+        views = _views(context)
+        if not views:
+            self.report({"WARNING"}, "no 3D viewport (background mode?)")
+            return {"CANCELLED"}
+        for space in views:
+            # Unknown (a file opened showing the bake): Blender's default Solid look.
+            kind, color, light = _SAVED_SHADING.pop(space.as_pointer(),
+                                                    ("SOLID", "MATERIAL", "STUDIO"))
+            sh = space.shading
+            sh.type = kind
+            sh.color_type = color
+            sh.light = light
+        return {"FINISHED"}
+
+
+CLASSES = (RADIOSITY_OT_bake, RADIOSITY_OT_clear, RADIOSITY_OT_show_colors,
+           RADIOSITY_OT_restore_shading)
 
 
 def register():

@@ -1,6 +1,7 @@
 """Writing corner colours into original meshes."""
 import bpy
 
+from .baked_state import TOKEN_KEY
 from .gather import WriteTarget
 
 COLOR_TYPE, COLOR_DOMAIN = "FLOAT_COLOR", "CORNER"
@@ -58,9 +59,10 @@ def write_byte_copy(me, name, byte_rgba):
     attr.data.foreach_set("color_srgb", bytes_to_color_srgb(byte_rgba))
 
 
-def write_all(items, attribute_name, byte_items=None, byte_name=None):
+def write_all(items, attribute_name, byte_items=None, byte_name=None, token=None):
     """items: [(ObjectInput, rgba)]; byte_items: None or [(ObjectInput, uint8 (C,4))] written
-    as `byte_name`. Resolve every mesh first, then write; returns count."""
+    as `byte_name`; token: the bake's token, stored in each mesh (see baked_state). Resolve
+    every mesh first, then write; returns count."""
     resolved = []
     bytes_of = {id(o): b for o, b in (byte_items or [])}
     for obj_input, rgba in items:
@@ -76,6 +78,9 @@ def write_all(items, attribute_name, byte_items=None, byte_name=None):
     for me, rgba, b in resolved:
         if b is not None:
             write_byte_copy(me, byte_name, b)   # first: the float attribute is made active last
+        if token is not None:
+            # Undo re-reads a mesh with its ID properties: the token stays with its colours.
+            me[TOKEN_KEY] = token
         write_mesh(me, attribute_name, rgba)
     return len(resolved)
 

@@ -7,6 +7,7 @@ the background/batch bake (run()) and the headless tests (pump()).
 """
 from dataclasses import dataclass, field
 import time
+import weakref
 
 import numpy as np
 
@@ -44,6 +45,7 @@ class CachedSolution:
     lights: list = field(default_factory=list)           # LightInput.key() per native light, last solved
     leaf_meshes: list = None                             # per object: leaf_mesh dict or None
     in_use: bool = False     # an incremental job owns the solver right now
+    bake_stats: dict = None  # stats.summary of the bake that solved `radiance` (the panel)
 
 
 # Module-level cache keyed by a scene key chosen by the caller (the Blender layer uses the
@@ -64,6 +66,20 @@ def cache_drop(key=None):
 
 def cache_keys():
     return list(_CACHE)
+
+
+def cache_rekey(old, new):
+    """The same scene under a new key (its address changed): the kept solution follows it, and
+    so do running jobs (an incremental job finding its entry gone under its old key would leave
+    the entry's radiance and matrices behind the native solver it has just updated)."""
+    if old in _CACHE:
+        _CACHE[new] = _CACHE.pop(old)
+    for job in list(_JOBS):
+        if job.cache_key == old:
+            job.cache_key = new
+
+
+_JOBS = weakref.WeakSet()       # every SolveJob alive, for cache_rekey
 
 
 class SolveJob:
@@ -89,6 +105,7 @@ class SolveJob:
         self._native_stats = None
         self.native_full = False    # the native update solved in full (its warning says why)
         self._work_before = {}      # cumulative native work counters before an update
+        _JOBS.add(self)
 
     # -- setup -------------------------------------------------------------------------------
     def prepare(self):
@@ -260,6 +277,15 @@ class SolveJob:
     @property
     def is_cached(self):
         return self.cached is not None
+
+    def kept(self):
+        """The cache entry that holds this job's result, or None (not kept, or dropped since)."""
+        entry = _CACHE.get(self.cache_key) if self.cache_key is not None else None
+        if entry is None:
+            return None
+        if self.cached is not None:
+            return entry if entry is self.cached else None
+        return entry if entry.radiance is self._radiance else None
 
     # -- running -------------------------------------------------------------------------------
     def _launch(self, incremental_call, full_call):

@@ -1,10 +1,12 @@
-"""bpy-free state of the 'live' re-bake: transform cache, debounce and re-entry guard."""
+"""bpy-free state of the 'live' re-bake: transform cache, debounce, re-entry guard, and what the
+viewport shows (core.baked) with what moved since."""
 import time
 
 import numpy as np
 
+from . import baked
+
 DEBOUNCE_SECONDS = 0.3
-MATRIX_TOLERANCE = 1e-7
 
 
 class TransformCache:
@@ -19,6 +21,12 @@ class TransformCache:
     def remember(self, name, matrix):
         self._m[name] = np.array(matrix, dtype=np.float64).reshape(4, 4)
 
+    def reset(self, matrices):
+        """Forget everything, then remember {name: matrix} (the bake the viewport shows)."""
+        self._m.clear()
+        for name, m in matrices.items():
+            self.remember(name, m)
+
     def knows(self, name):
         return name in self._m
 
@@ -27,19 +35,60 @@ class TransformCache:
         old = self._m.get(name)
         if old is None:
             return False
-        new = np.array(matrix, dtype=np.float64).reshape(4, 4)
-        return not np.allclose(old, new, rtol=0.0, atol=MATRIX_TOLERANCE)
+        return not baked.same_matrix(old, matrix)
 
 
 class LiveState:
-    """One per scene key: is a re-bake pending, since when, and are we inside our own write."""
+    """One per scene key: is a re-bake pending, since when, are we inside our own write, which
+    bake the viewport shows and which of its objects moved since."""
 
     def __init__(self):
+        # World matrices of the bake the viewport shows: the baseline moves are judged against.
         self.transforms = TransformCache()
+        self.shown = baked.Shown()
+        self.moved = set()           # names moved since the bake shown (depsgraph updates)
         self.pending_since = None
         self.busy = False            # re-entry guard: set while we bake/write
         self.job = None              # the running asynchronous live job, if any
+        self.job_started = None      # monotonic time it started (the status text shows it)
+        self.progress = 0.0          # its last polled progress, 0..1
         self.runs = 0                # how many live re-bakes ran (tests read it)
+        # "load" or "undo" until the bake shown has been judged again: world matrices are
+        # right only once the depsgraph has been evaluated after either (Blender 4+ does not
+        # store them: load_post and undo_post see identity matrices for re-read objects).
+        self.unjudged = None
+
+    def show(self, shown):
+        """The viewport now shows `shown` (core.baked.Shown): moves are judged against it."""
+        self.unjudged = None
+        self.shown = shown
+        self.transforms.reset(shown.record.matrices if shown.record is not None else {})
+        self.moved = set(shown.moved)
+
+    def track(self, name, matrix):
+        """A transform update of object `name`: is it away from where the bake shown has it?"""
+        if not self.transforms.knows(name):
+            return
+        if self.transforms.moved(name, matrix):
+            self.moved.add(name)
+        else:
+            self.moved.discard(name)
+
+    @property
+    def stale(self):
+        """Why the colours shown do not fit the scene any more, or None."""
+        return self.shown.reason(self.moved)
+
+    def needs_rebake(self, name, matrix):
+        """Does this transform differ from what the running live job, or else the bake shown,
+        solved with? (An update that only echoes the running job's own state must not queue
+        another re-bake: that one would find nothing to solve and overwrite the stats of the
+        update the user watched with a cached rewrite.)"""
+        base = getattr(self.job, "matrices", None) if self.job is not None else None
+        if base is None:
+            return self.transforms.moved(name, matrix)
+        old = base.get(name)
+        return old is not None and not baked.same_matrix(old, matrix)
 
     def request(self, now=None):
         self.pending_since = time.monotonic() if now is None else now
@@ -83,3 +132,8 @@ def drop_all():
 
 def all_states():
     return dict(_STATES)
+
+
+def rekey(old, new):
+    if old in _STATES:
+        _STATES[new] = _STATES.pop(old)

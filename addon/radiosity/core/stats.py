@@ -50,3 +50,88 @@ def to_json(stats):
 
 def from_json(text):
     return json.loads(text) if text else {}
+
+
+# -- in plain words (the panel) -----------------------------------------------------------------
+# What a cached bake's "source" keeps of the bake that solved the colours it rewrites.
+SUMMARY_KEYS = ("mode", "seconds", "live", "full_reason", "moved", "added", "removed",
+                "replaced", "emission_changed", "reflectance_changed", "lights_changed",
+                "no_emitter", "preset")
+
+_REASONS = {
+    "full bake requested": "a full bake was asked for",
+    "no kept solution": "no solution was kept (first bake, file opened or solution "
+                        "forgotten)",
+    "settings changed": "the quality or output settings changed",
+    "duplicate object names": "two objects share a name",
+    "lights added, removed or changed type since the last bake":
+        "lights were added, removed or changed type",
+    "the kept solution is being updated by another bake":
+        "another bake was updating the kept solution",
+}
+_CHANGES = (("moved", "moved"), ("added", "added"), ("removed", "removed"),
+            ("replaced", "changed shape"), ("emission_changed", "changed emission"),
+            ("reflectance_changed", "changed colour"), ("lights_changed", "lights changed"))
+
+
+def summary(stats):
+    return {k: stats[k] for k in SUMMARY_KEYS if k in stats}
+
+
+def plain_reason(reason):
+    """full_reason as a user reads it."""
+    if not reason:
+        return None
+    text = str(reason)
+    if text.startswith("the solver solved in full: "):
+        text = text[len("the solver solved in full: "):]
+    for tail in (": solved in full", " (solved in full)"):
+        if tail in text:
+            text = text.replace(tail, "")
+    return _REASONS.get(text, text)
+
+
+def _changes(bake):
+    parts = []
+    for key, words in _CHANGES:
+        n = int(bake.get(key, 0) or 0)
+        if n:
+            parts.append(f"{n} {'object' if n == 1 else 'objects'} {words}"
+                         if key != "lights_changed" else f"{n} {words}")
+    return ", ".join(parts)
+
+
+def describe(stats):
+    """Lines for the panel: the bake that made the colours shown, in plain words, then counts.
+
+    A cached bake solved nothing (it rewrote the kept solution's colours): the lines describe
+    the bake that solved them, which its "source" keeps."""
+    if not stats:
+        return {"headline": None, "details": [], "counts": []}
+    cached = bool(stats.get("cached"))
+    bake = (stats.get("source") or stats) if cached else stats
+    who = "Live update" if bake.get("live") else "Bake"
+    seconds = float(bake.get("seconds", 0.0))
+    details = []
+    if bake.get("no_emitter"):
+        headline = f"{who}: no light in the scene, {seconds:.2f} s"
+        details.append("Nothing emits light: every colour is black")
+    elif cached and not stats.get("source"):
+        headline = f"{who}: kept colours re-written, {seconds:.2f} s"
+    elif bake.get("mode") == "incremental":
+        headline = f"{who}: incremental, {seconds:.2f} s"
+        changed = _changes(bake)
+        if changed:
+            details.append(f"Changed: {changed}")
+    else:
+        headline = f"{who}: solved from scratch, {seconds:.2f} s"
+        why = plain_reason(bake.get("full_reason"))
+        if why:
+            details.append(f"Why from scratch: {why}")
+    if cached and stats.get("source"):
+        details.append(f"Re-written from the kept solution in {float(stats.get('seconds', 0)):.2f} s")
+    rays = "Rays (this update)" if bake.get("mode") == "incremental" else "Rays"
+    counts = [("Objects", stats.get("objects", 0)), ("Polygons", stats.get("input_surfaces", 0)),
+              ("Elements", stats.get("elements", 0)), ("Links", stats.get("links", 0)),
+              (rays, stats.get("rays", 0))]
+    return {"headline": headline, "details": details, "counts": counts}

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "test_util.h"
 
@@ -25,6 +26,13 @@ Poly square(double x0, double y0, double x1, double y1, double z, bool up) {
               : quad({x0, y0, z}, {x0, y1, z}, {x1, y1, z}, {x1, y0, z});
 }
 
+// A preset with the final gather on, at the budget measured for it (Settings::gather_rays).
+Settings gathered(const char* preset) {
+    Settings st = Settings::preset(preset);
+    st.gather_rays = std::string(preset) == "DRAFT" ? 64 : std::string(preset) == "MEDIUM" ? 256 : 1024;
+    return st;
+}
+
 }  // namespace
 
 TEST(FinalGather, UnoccludedCornersMatchThePointToPolygonIrradiance) {
@@ -39,7 +47,7 @@ TEST(FinalGather, UnoccludedCornersMatchThePointToPolygonIrradiance) {
                      1, 1, Rgb{}, Rgb::all(Le), false);
     const Poly lamp = square(1.3, 1.1, 2.9, 2.7, 1.5, false);
     for (const char* preset : {"DRAFT", "MEDIUM"}) {
-        Solver s(sc, Settings::preset(preset));
+        Solver s(sc, gathered(preset));
         s.solve();
         const std::vector<float> c = s.corner_radiance(floor);
         const std::vector<Vec3> pts = corner_points(sc, floor);
@@ -66,7 +74,7 @@ TEST(FinalGather, CeilingAboveATwoSidedLampMatchesTheClosedForm) {
     scenes::add_grid(sc, "lamp", -1, {Vec3{1.1, 0.95, zl}, Vec3{1.9, 0.95, zl}, Vec3{1.9, 2.05, zl}, Vec3{1.1, 2.05, zl}},
                      1, 1, Rgb{}, Rgb::all(Le), true);
     const Poly lamp_up = square(1.1, 0.95, 1.9, 2.05, zl, true);
-    Solver s(sc, Settings::preset("MEDIUM"));
+    Solver s(sc, gathered("MEDIUM"));
     s.solve();
     const std::vector<float> c = s.corner_radiance(ceiling);
     const std::vector<Vec3> pts = corner_points(sc, ceiling);
@@ -89,7 +97,7 @@ TEST(FinalGather, FurnaceStaysExact) {
     // gather's couplings at an enclosed point must close to 1 as the leaves' do.
     for (const char* preset : {"DRAFT", "MEDIUM"}) {
         const double rho = 0.5, e = 1.0, exact = e / (1 - rho);
-        Solver s(scenes::furnace_room_with_box(rho, e, 4), Settings::preset(preset));
+        Solver s(scenes::furnace_room_with_box(rho, e, 4), gathered(preset));
         s.solve();
         double worst = 0;
         for (size_t o = 0; o < s.scene().objects().size(); ++o)
@@ -109,7 +117,7 @@ TEST(FinalGather, CornersUnderABoxOnAGriddedFloorAreUnlit) {
     const int box = scenes::add_box(sc, "box", -1, {1.5, 1.5, 0}, {2.5, 2.5, 1}, 2, Rgb::all(0.5), Rgb{});
     scenes::add_grid(sc, "lamp", -1, {Vec3{1, 1, 3}, Vec3{1, 3, 3}, Vec3{3, 3, 3}, Vec3{3, 1, 3}}, 1, 1, Rgb{},
                      Rgb::all(10), false);
-    Solver s(sc, Settings::preset("MEDIUM"));
+    Solver s(sc, gathered("MEDIUM"));
     s.solve();
     const ObjectDesc& fo = sc.objects()[size_t(floor)];
     const std::vector<float> c = s.corner_radiance(floor);
@@ -161,7 +169,7 @@ TEST(FinalGather, DimmingTheLampScalesEveryCorner) {
                                        6, 6, Rgb::all(0.5), Rgb{}, false);
     const int lamp = scenes::add_grid(sc, "lamp", -1, {Vec3{1, 1, 2}, Vec3{1, 3, 2}, Vec3{3, 3, 2}, Vec3{3, 1, 2}}, 1, 1,
                                       Rgb{}, Rgb::all(10), false);
-    Solver s(sc, Settings::preset("MEDIUM"));
+    Solver s(sc, gathered("MEDIUM"));
     s.solve();
     const std::vector<float> before = s.corner_radiance(floor);
     s.set_emission(lamp, {Rgb::all(3)});

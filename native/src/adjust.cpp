@@ -560,6 +560,9 @@ void Solver::update(Control* control) {
             ch.moved[obj] = 1;
         }
         vis_->commit();
+        // lights.cpp: which polygons lie on which follows the placements (the lights' code clears
+        // it only when the scene has lights; the output's contact test needs it either way).
+        lights_.contacts.clear();
         lap("place");
         for (Aabb& c : ch.clips) {  // ray ends are lifted off surfaces: a hair of margin
             c.lo -= Vec3{1e-5, 1e-5, 1e-5};

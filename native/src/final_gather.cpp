@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cmath>
 
+#include "radiosity/gather_plan.h"
 #include "radiosity/lights.h"
 #include "radiosity/parallel.h"
 #include "radiosity/transfer.h"
@@ -20,11 +21,6 @@ namespace {
 // differ most, at the foot of a box, their contact states differ and they do not share.
 constexpr bool kShareVertexPoints = true;
 
-// Whether a corner lies on the faces of other objects turned against its own (a floor vertex
-// under a box, the corners of the box's bottom): Cycles bakes such corners unlit. Cycles
-// shades a corner inside its own face, so at the foot of a box the floor corners of faces
-// under the box are unlit and those of faces beside it lit (their rays find the box in one
-// half of the hemisphere and the room in the other): the test looks just inside the face.
 // Where the corner is baked (internal frame): as Cycles does, just inside the first of the
 // polygon's loop triangles that holds the corner (a quad splits into corners 0-1-2 and 0-2-3),
 // moved from the vertex toward that triangle's centroid. Cycles moves it by
@@ -52,6 +48,12 @@ Vec3 sample_point(const ObjectDesc& o, const Primitive& p, int k, double scene_d
     return v + to_c * (std::min(d, 3e-5 * scene_diag) / d);
 }
 
+// Whether a corner lies on the faces of other objects turned against its own (a floor vertex
+// under a box, the corners of the box's bottom): Cycles bakes such corners unlit. Cycles
+// shades a corner inside its own face, so at the foot of a box the floor corners of faces
+// under the box are unlit and those of faces beside it lit (their rays find the box in one
+// half of the hemisphere and the room in the other): the test looks at the sample
+// point, just inside the face.
 // Returns the node beyond the contact (the covering polygon's other side's leaf there, or -2
 // for a one-sided one), or -1 when the corner is not covered.
 int corner_covered(const FinalGather::Solution& s, const Primitive& p, const Vec3& inside) {
@@ -244,20 +246,13 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
         (u.own ? f_own : f_inherited) += rec.F;
         pt.records.push_back(rec);
     }
-    // Closure at the point, as the solver's at the leaf (gather.cpp compute_closure): where no
-    // escape ray of the leaf found open space, the point's couplings must sum to 1. An excess
-    // is taken from the inherited couplings (averaged over larger receivers), or from its own
-    // when those alone pass 1; a shortfall sees surfaces as bright as the leaf.
-    const double f = f_own + f_inherited;
-    if (enclosed && f > 0.25 && f < 4.0) {
-        if (f > 1.0 && f_own >= 1.0) {
-            pt.c_own = 1.0 / f_own;
-            pt.c_inherited = 0.0;
-        } else if (f > 1.0) {
-            pt.c_inherited = (1.0 - f_own) / f_inherited;
-        } else {
-            pt.fill = 1.0 - f;
-        }
+    // Closure at the point, as the solver's at the leaf: where no escape ray of the leaf found
+    // open space, the point's couplings must sum to 1.
+    if (enclosed) {
+        const ClosureFactors cf = closure_factors(f_own, f_inherited);  // gather_plan.h
+        pt.c_own = cf.c_own;
+        pt.c_inherited = cf.c_inherited;
+        pt.fill = cf.fill;
     }
 }
 
@@ -393,17 +388,10 @@ void FinalGather::retrace(const Solution& s, const Config& c, const Moves& moves
         trace(s, c, progress);
         return;
     }
-    auto same = [](const LightDesc& a, const LightDesc& b) {
-        return a.type == b.type && a.position.x == b.position.x && a.position.y == b.position.y &&
-               a.position.z == b.position.z && a.direction.x == b.direction.x && a.direction.y == b.direction.y &&
-               a.direction.z == b.direction.z && a.radius == b.radius && a.angle == b.angle &&
-               a.spot_size == b.spot_size && a.spot_blend == b.spot_blend && a.spot_cos_falloff == b.spot_cos_falloff &&
-               a.intensity.r == b.intensity.r && a.intensity.g == b.intensity.g && a.intensity.b == b.intensity.b;
-    };
     Moves m = moves;
     const auto& now = s.scene.lights();
     m.lights_changed = now.size() != lights_.size();
-    for (size_t i = 0; i < now.size() && !m.lights_changed; ++i) m.lights_changed = !same(now[i], lights_[i]);
+    for (size_t i = 0; i < now.size() && !m.lights_changed; ++i) m.lights_changed = !now[i].same_light(lights_[i]);
     lights_ = now;
     std::vector<Job> jobs = make_jobs(s);
     run(s, c, jobs, &m, progress);
@@ -419,14 +407,15 @@ std::vector<float> FinalGather::values(const Hierarchy& h, int object, bool irra
         const Node& leaf = h.nodes[size_t(h.live_element(p.leaf))];
         Rgb v;
         if (!p.covered) {
-            Rgb own, inherited;
+            Rgb own, all;
             for (const Record& r : p.records) {
                 Rgb e;
                 for (uint32_t i = r.begin; i < r.end; ++i)
                     e += h.nodes[size_t(h.live_element(p.samples[i].first))].L * double(p.samples[i].second);
-                (r.own ? own : inherited) += e;
+                all += e;
+                if (r.own) own += e;
             }
-            const Rgb e = p.direct + own * p.c_own + inherited * p.c_inherited + leaf.L * p.fill;
+            const Rgb e = p.direct + closure_gathered(own, all, p.c_own, p.c_inherited, p.fill, leaf.L);
             v = irradiance ? e : leaf.emission + leaf.rho * e;
         } else {
             const Rgb e = p.beyond >= 0 ? h.nodes[size_t(h.live_element(p.beyond))].L : Rgb{};

@@ -138,7 +138,7 @@ void Solver::compute_closure() {
             const double f = sums.total[leaves_[i]], own = sums.own[leaves_[i]], inherited = f - own;
             n.closure = n.closure_own = 1.0;
             n.closure_fill = 0.0;
-            if (settings_.closure_rays > 0 && f > 0.25 && f < 4.0) {  // far off 1 (DRAFT can be): a missing link, not a small error
+            if (settings_.closure_rays > 0 && f > 0.25 && f < 4.0) {  // closure_factors' range  // far off 1 (DRAFT can be): a missing link, not a small error
                 if (n.enclosed < 0) decide_enclosed(leaves_[i], nullptr);
                 if (n.enclosed == 1) {
                     // The leaf's own links were evaluated for it; links at its ancestors and
@@ -160,14 +160,10 @@ void Solver::compute_closure() {
                     // with the missing ones, and the closed rooms absorbed 4-14 % more power
                     // than their lamps emit (bench/results/brightness.md). A furnace stays
                     // exact: there every radiance is the leaf's own.
-                    if (f > 1.0 && own >= 1.0) {
-                        n.closure_own = 1.0 / own;
-                        n.closure = 0.0;
-                    } else if (f > 1.0) {
-                        n.closure = (1.0 - own) / inherited;
-                    } else {
-                        n.closure_fill = 1.0 - f;
-                    }
+                    const ClosureFactors c = closure_factors(own, inherited);  // gather_plan.h
+                    n.closure_own = c.c_own;
+                    n.closure = c.c_inherited;
+                    n.closure_fill = c.fill;
                 }
             }
             // Guard, open or closed: the iteration contracts only if every leaf reflects less

@@ -48,9 +48,7 @@ void Solver::final_gather(double from, double to, const FinalGather::Moves* move
         output_.clear();
         return;
     }
-    // lights.cpp: which polygons lie on which, from the current placements (kept up to date
-    // by the lights' code only when the scene has lights; a move changes them either way).
-    light_contacts();
+    if (lights_.contacts.size() != h_.surfaces.size()) light_contacts();  // lights.cpp
     FinalGather::Config c;
     c.rays = settings_.gather_rays;
     c.min_rays = settings_.gather_min_rays;

@@ -198,6 +198,14 @@ Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
     return l;
 }
 
+// The surface_order position in [begin, end) whose area covers x in Hierarchy::area_prefix
+// (x from area_prefix[begin] up): a cluster's surfaces drawn by area in O(log n).
+int surface_at_area(const Hierarchy& h, int begin, int end, double x) {
+    const double* pre = h.area_prefix.data();
+    const int i = int(std::upper_bound(pre + begin + 1, pre + end + 1, x) - (pre + 1));
+    return std::min(std::max(i, begin), end - 1);
+}
+
 // Picks surfaces of a node in proportion to their projected area toward d: the surfaces
 // that can take part in a transfer along d are the ones worth a ray. A cluster's surfaces
 // come from the contiguous Hierarchy::surface_geom range; the buffers are the thread's own
@@ -258,9 +266,7 @@ public:
             const double lo = pre[begin_], span = pre[end_] - lo;
             for (int tries = 0; tries < 4096; ++tries) {
                 const double x = lo + (tries == 0 ? u[0] : rng.next()) * span;
-                int i = int(std::upper_bound(pre + begin_ + 1, pre + end_ + 1, x) - (pre + 1));
-                i = std::min(std::max(i, begin_), end_ - 1);
-                const SurfaceGeom& g = h_.surface_geom[size_t(i)];
+                const SurfaceGeom& g = h_.surface_geom[size_t(surface_at_area(h_, begin_, end_, x))];
                 const double c = dot(g.normal, d_);
                 if (c <= 0 || !h_.holds_pocket(other_, g.pocket)) continue;
                 pick = &g;  // after 4096 tries: the last taking part
@@ -485,10 +491,6 @@ Link evaluate_with(const Hierarchy& h, const Vis& vis, int src, int rcv, int ray
     return l;
 }
 
-}  // namespace
-
-namespace {
-
 PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int src, const Vec3& x, const Vec3& n,
                                   int rcv_leaf, int rays, uint64_t seed, std::vector<std::pair<int, float>>& samples) {
     constexpr int kExactClusterSurfaces = 12;
@@ -549,9 +551,7 @@ PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int s
         int clear = 0;
         for (int k = 0; k < rays; ++k) {
             const double* u = strata.at(k);
-            int i = int(std::upper_bound(pre + P.surf_begin + 1, pre + P.surf_end + 1, lo + u[0] * span) - (pre + 1));
-            i = std::min(std::max(i, P.surf_begin), P.surf_end - 1);
-            const SurfaceGeom& g = h.surface_geom[size_t(i)];
+            const SurfaceGeom& g = h.surface_geom[size_t(surface_at_area(h, P.surf_begin, P.surf_end, lo + u[0] * span))];
             if (g.pocket != R.pocket || h.nodes[size_t(g.root)].dead) continue;
             const Vec3 s = g.poly.sample(g.share, u[1], u[2]);
             const Vec3 yx = s - y;
@@ -579,11 +579,7 @@ PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int s
             const Node& C = h.nodes[size_t(c)];
             if (C.dead || !(C.area > 0)) continue;
             const int r = std::max(1, int(std::lround(rays * C.area / P.area)));
-            const PointTransfer t1 = point_transfer_with(h, vis, c, x, n, rcv_leaf, r, Hierarchy::mix(seed, C.key), samples);
-            sum.F += t1.F;
-            sum.F_unoccluded += t1.F_unoccluded;
-            sum.cast += t1.cast;
-            sum.partial |= t1.partial;
+            sum += point_transfer_with(h, vis, c, x, n, rcv_leaf, r, Hierarchy::mix(seed, C.key), samples);
         }
         return sum;
     } else if (P.surf_end - P.surf_begin <= kExactClusterSurfaces) {
@@ -594,12 +590,8 @@ PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int s
         for (int i = P.surf_begin; i < P.surf_end; ++i) {
             const SurfaceGeom& g = h.surface_geom[size_t(i)];
             if (g.pocket != R.pocket || h.nodes[size_t(g.root)].dead) continue;
-            const PointTransfer t1 = point_transfer_with(h, vis, g.root, x, n, rcv_leaf, std::max(1, rays / m),
-                                                    Hierarchy::mix(seed, uint64_t(i)), samples);
-            sum.F += t1.F;
-            sum.F_unoccluded += t1.F_unoccluded;
-            sum.cast += t1.cast;
-            sum.partial |= t1.partial;
+            sum += point_transfer_with(h, vis, g.root, x, n, rcv_leaf, std::max(1, rays / m), Hierarchy::mix(seed, uint64_t(i)),
+                                       samples);
         }
         return sum;
     } else {

@@ -42,6 +42,28 @@ inline Rgb closure_gathered(const Rgb& own, const Rgb& all, double c_own, double
     return own * c_own + (all - own) * c_inherited + L * fill;
 }
 
+// The closure factors of an enclosed receiver (a leaf, or an output point of one) whose
+// couplings sum to `own` through its own links and `inherited` through the rest: the reasons
+// are at gather.cpp compute_closure. Sums far off 1 (a missing link, not a small error) are
+// left alone.
+struct ClosureFactors {
+    double c_own = 1, c_inherited = 1, fill = 0;
+};
+inline ClosureFactors closure_factors(double own, double inherited) {
+    ClosureFactors c;
+    const double f = own + inherited;
+    if (!(f > 0.25 && f < 4.0)) return c;
+    if (f > 1.0 && own >= 1.0) {
+        c.c_own = 1.0 / own;
+        c.c_inherited = 0.0;
+    } else if (f > 1.0) {
+        c.c_inherited = (1.0 - own) / inherited;
+    } else {
+        c.fill = 1.0 - f;
+    }
+    return c;
+}
+
 // The unit sweep straight from the hierarchy: every sender counts as radiance 1 and each
 // leaf's coupling sums go to `sums`, exactly as GatherPlan::sweep(true) computes them. One
 // such sweep reads every link once, as building a plan does, so for a single unit sweep (the

@@ -33,6 +33,14 @@ struct LightDesc {
 
     // Throws InputError naming the light.
     void validate() const;
+    // Whether `o` lights the scene exactly as this one does (the name aside).
+    bool same_light(const LightDesc& o) const {
+        return type == o.type && position.x == o.position.x && position.y == o.position.y &&
+               position.z == o.position.z && direction.x == o.direction.x && direction.y == o.direction.y &&
+               direction.z == o.direction.z && radius == o.radius && angle == o.angle && spot_size == o.spot_size &&
+               spot_blend == o.spot_blend && spot_cos_falloff == o.spot_cos_falloff && intensity.r == o.intensity.r &&
+               intensity.g == o.intensity.g && intensity.b == o.intensity.b;
+    }
 };
 
 // Per-node direct-light cache kept by the solver (lights.cpp). Values are irradiance / pi

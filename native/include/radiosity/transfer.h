@@ -36,6 +36,14 @@ struct PointTransfer {
     double F_unoccluded = 0;
     int cast = 0;            // rays that count (cast or replayed; PointRayStream::cast: cast)
     bool partial = false;    // some rays blocked, some clear
+    // Parts of one sender (a cluster's children or surfaces) add up.
+    PointTransfer& operator+=(const PointTransfer& o) {
+        F += o.F;
+        F_unoccluded += o.F_unoccluded;
+        cast += o.cast;
+        partial |= o.partial;
+        return *this;
+    }
 };
 // The outcomes of a point transfer's rays, in the order cast (blocked: bit k for ray k; kept
 // for up to 64 rays).

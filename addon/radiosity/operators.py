@@ -170,6 +170,14 @@ def any_shows_bake(context):
     return any(shows_bake(s) for s in _views(context))
 
 
+def _views_or_warn(op, context):
+    """The 3D viewports to change; none (and a warning) in background mode."""
+    views = _views(context)
+    if not views:
+        op.report({"WARNING"}, "no 3D viewport (background mode?)")
+    return views
+
+
 class RADIOSITY_OT_show_colors(bpy.types.Operator):
     bl_description = ("Show the baked colours as they are: Solid shading, colour from the "
                       "active colour attribute, Flat lighting (Studio lighting would shade over "
@@ -179,9 +187,8 @@ class RADIOSITY_OT_show_colors(bpy.types.Operator):
     bl_options = {"REGISTER"}
 
     def execute(self, context):
-        views = _views(context)
+        views = _views_or_warn(self, context)
         if not views:
-            self.report({"WARNING"}, "no 3D viewport (background mode?)")
             return {"CANCELLED"}
         for space in views:
             if not shows_bake(space):
@@ -198,9 +205,8 @@ class RADIOSITY_OT_restore_shading(bpy.types.Operator):
     bl_options = {"REGISTER"}
 
     def execute(self, context):
-        views = _views(context)
+        views = _views_or_warn(self, context)
         if not views:
-            self.report({"WARNING"}, "no 3D viewport (background mode?)")
             return {"CANCELLED"}
         for space in views:
             # Unknown (a file opened showing the bake): Blender's default Solid look.

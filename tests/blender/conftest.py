@@ -174,35 +174,51 @@ def run_blender(request, addon_zip, tmp_path):
     return run
 
 
-@pytest.fixture
-def run_blender_ui(addon_zip, tmp_path):
-    """Interactive Blender 3.x+ under Xvfb (modal operator, Esc, undo). Binary flavour only."""
+def window_tools():
+    """(blender, xvfb-run) for a Blender with its window under Xvfb; skips without either."""
     exe, why = _blender()
     if exe is None:
         pytest.skip(why)
     xvfb = shutil.which("xvfb-run")
     if xvfb is None:
         pytest.skip("xvfb-run not installed (apt-get install xvfb)")
+    return exe, xvfb
+
+
+def run_in_window(tools, addon_zip, tmp_path, script, args, screen="1280x1024", extra=(), stdout_tail=6000):
+    """Runs tests/blender/scripts/SCRIPT in Blender's window under Xvfb (private user dirs, the
+    add-on zip, `extra` and `args` after --) and returns its last RESULT line as a dict, with
+    "_log" (the command and the output's tails) and "_output" (all of it)."""
+    exe, xvfb = tools
+    env = dict(os.environ)
+    for var, sub in (("BLENDER_USER_CONFIG", "config"), ("BLENDER_USER_SCRIPTS", "scripts"),
+                     ("BLENDER_USER_DATAFILES", "datafiles")):
+        env[var] = str(tmp_path / "user" / sub)
+    env["PATH"] = _path_without_our_python(env.get("PATH", ""))
+    env["PYTHONPATH"] = SCRIPTS + os.pathsep + env.get("PYTHONPATH", "")
+    env["PYTHONDONTWRITEBYTECODE"] = "1"
+    cmd = [xvfb, "-a", "-s", f"-screen 0 {screen}x24", exe, "--factory-startup",
+           "--enable-event-simulate", "--python-exit-code", "1",
+           "--python", os.path.join(SCRIPTS, script), "--", "--zip", addon_zip,
+           *extra, *map(str, args)]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=TIMEOUT, env=env)
+    log = (f"$ {' '.join(cmd)}\n--- stdout\n{proc.stdout[-stdout_tail:]}\n--- stderr\n"
+           f"{proc.stderr[-4000:]}")
+    results = [l[len("RESULT "):] for l in proc.stdout.splitlines() if l.startswith("RESULT ")]
+    if not results:
+        pytest.fail(f"UI run gave no result (exit {proc.returncode})\n{log}")
+    data = json.loads(results[-1])
+    data["_log"] = log
+    data["_output"] = proc.stdout + proc.stderr
+    return data
+
+
+@pytest.fixture
+def run_blender_ui(addon_zip, tmp_path):
+    """Interactive Blender 3.x+ under Xvfb (modal operator, Esc, undo). Binary flavour only."""
+    tools = window_tools()
 
     def run(script, *args):
-        env = dict(os.environ)
-        for var, sub in (("BLENDER_USER_CONFIG", "config"), ("BLENDER_USER_SCRIPTS", "scripts"),
-                         ("BLENDER_USER_DATAFILES", "datafiles")):
-            env[var] = str(tmp_path / "user" / sub)
-        env["PATH"] = _path_without_our_python(env.get("PATH", ""))
-        env["PYTHONPATH"] = SCRIPTS + os.pathsep + env.get("PYTHONPATH", "")
-        env["PYTHONDONTWRITEBYTECODE"] = "1"
-        cmd = [xvfb, "-a", "-s", "-screen 0 1280x1024x24", exe, "--factory-startup",
-               "--enable-event-simulate", "--python-exit-code", "1",
-               "--python", os.path.join(SCRIPTS, script), "--", "--zip", addon_zip,
-               *map(str, args)]
-        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=TIMEOUT, env=env)
-        log = f"$ {' '.join(cmd)}\n--- stdout\n{proc.stdout[-6000:]}\n--- stderr\n{proc.stderr[-4000:]}"
-        results = [l[len("RESULT "):] for l in proc.stdout.splitlines() if l.startswith("RESULT ")]
-        if not results:
-            pytest.fail(f"UI run gave no result (exit {proc.returncode})\n{log}")
-        data = json.loads(results[-1])
-        data["_log"] = log
-        return data
+        return run_in_window(tools, addon_zip, tmp_path, script, args)
 
     return run

@@ -25,10 +25,11 @@ class Settings:
     threads: int                    # 0 = all cores
     crease_angle_deg: float         # gather_rays = 0 only: corners average across faces within this angle, default 35
     # Final gather at every corner (the point and normal Cycles bakes): rays per output point;
-    # 0 = the leaf element's average at the corner (the default and every preset's, until a known
-    # fault is fixed: README "Known limits"). Measured with DRAFT 64, MEDIUM 256, HIGH 1024.
+    # 0 = the leaf element's average at the corner (a default-constructed Settings); the presets
+    # give DRAFT 64, MEDIUM 256, HIGH 1024.
     gather_rays: int
     gather_min_rays: int            # at least this many rays for every link that reaches a point
+    cycles_corner_points: bool      # corner points where Cycles bakes them (world-space step); False: scale-relative
     seed: int
     def __init__(self) -> None: ...
     @staticmethod

@@ -136,6 +136,7 @@ PYBIND11_MODULE(radiosity_native, m) {
         .def_readwrite("crease_angle_deg", &Settings::crease_angle_deg)
         .def_readwrite("gather_rays", &Settings::gather_rays)
         .def_readwrite("gather_min_rays", &Settings::gather_min_rays)
+        .def_readwrite("cycles_corner_points", &Settings::cycles_corner_points)
         .def_readwrite("closure_rays", &Settings::closure_rays)
         .def_readwrite("closure_refine_tolerance", &Settings::closure_refine_tolerance)
         .def_readwrite("closure_refine_passes", &Settings::closure_refine_passes)

@@ -25,11 +25,14 @@ constexpr bool kShareVertexPoints = true;
 // polygon's loop triangles that holds the corner (a quad splits into corners 0-1-2 and 0-2-3),
 // moved from the vertex toward that triangle's centroid. Cycles moves it by
 // min(distance, 1e-4 x max(largest |world coordinate|, 1)), 0.1-0.5 mm in a room modelled in
-// metres; here by min(distance, 3e-5 of the scene's size), about the same in such a room but
-// the same at any scale and offset (the solver's results do not depend on either). Enough to
-// put the floor corners of faces under a box on the unlit side of the box's edge, and those
-// of faces beside it on the lit side.
-Vec3 sample_point(const ObjectDesc& o, const Primitive& p, int k, double scene_diag) {
+// metres. Where light changes within a millimetre (a lamp hung 1 mm under a ceiling: the
+// form factor differs by 1 % between the four corners' points of one vertex) only the same
+// point gives the same value, so by default (Config::cycles_points) the step is Cycles' own,
+// at most 1 % of the distance (Cycles', at a scale of millimetres, would reach the centroid).
+// Otherwise it is 3e-5 of the scene's size: the same at any scale and offset, as the rest of
+// the solver. Either puts the floor corners of faces under a box on the unlit side of the
+// box's edge, and those of faces beside it on the lit side.
+Vec3 sample_point(const ObjectDesc& o, const Primitive& p, int k, const Hierarchy& h, bool cycles_points) {
     const Vec3 v = p.poly.v[size_t(k)];
     Vec3 c = p.poly.centroid();
     const int total = o.loop_totals[size_t(p.face)];
@@ -45,7 +48,13 @@ Vec3 sample_point(const ObjectDesc& o, const Primitive& p, int k, double scene_d
     const Vec3 to_c = c - v;
     const double d = length(to_c);
     if (!(d > 0)) return v;
-    return v + to_c * (std::min(d, 3e-5 * scene_diag) / d);
+    double step = 3e-5 * h.scene_diag;
+    if (cycles_points) {
+        const Vec3 w = o.vertices[size_t(o.corner_verts[size_t(p.corner[size_t(k)])])];
+        const double m = std::max({std::fabs(w.x), std::fabs(w.y), std::fabs(w.z), 1.0});
+        step = std::min(1e-4 * m / h.unit, 0.01 * d);
+    }
+    return v + to_c * (std::min(d, step) / d);
 }
 
 // Whether a corner lies on the faces of other objects turned against its own (a floor vertex
@@ -151,15 +160,24 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
     struct Use { int link; bool own; double weight; };
     thread_local std::vector<Use> use;
     use.clear();
+    auto use_link = [&](int li, bool own) {
+        const Link& l = s.links[size_t(li)];
+        const Node& src = h.nodes[size_t(l.src)];
+        // The light at stake, for sharing the ray budget: the coupling as the link saw it
+        // unoccluded, times the sender's brightest leaf.
+        use.push_back({li, own, l.K_unoccluded * std::max(src.Lmax.max(), src.L.max())});
+    };
     auto take = [&](int node, bool own) {
         for (int li : h.nodes[size_t(node)].in_links) {
             const Link& l = s.links[size_t(li)];
-            if (l.dead || !l.active || l.occluded) continue;
-            const Node& src = h.nodes[size_t(l.src)];
-            // The light at stake, for sharing the ray budget: the coupling as the link saw it
-            // unoccluded, times the sender's brightest leaf.
-            use.push_back({li, own, l.K_unoccluded * std::max(src.Lmax.max(), src.L.max())});
+            if (!l.dead && l.active && !l.occluded) use_link(li, own);
         }
+        // Links the solver found fully occluded from the receiver's cubature points are still
+        // part of what the receiver covers (they are kept for a move to reopen): a point of
+        // it may see the sender all the same, e.g. a corner on the rim of a shadow that covers
+        // the rest of a large leaf.
+        for (int32_t k = occluded_.begin[size_t(node)]; k < occluded_.begin[size_t(node) + 1]; ++k)
+            use_link(occluded_.links[size_t(k)], own);
     };
     for (int a = pt.leaf; a >= 0 && !h.nodes[size_t(a)].is_cluster(); a = h.nodes[size_t(a)].parent) take(a, a == pt.leaf);
     for (int a : h.ancestors_of_surface(L.surface)) take(a, false);
@@ -247,12 +265,49 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
         pt.records.push_back(rec);
     }
     // Closure at the point, as the solver's at the leaf: where no escape ray of the leaf found
-    // open space, the point's couplings must sum to 1.
-    if (enclosed) {
+    // open space, the point's couplings must sum to 1 -- unless the point itself sees out.
+    // A ceiling leaf over a lamp hung 1 mm below it finds no way out with its 32 rays, but its
+    // points near the lamp's rim see 3 % of their hemisphere through the gap, dark: filling
+    // that with the leaf's own radiance read them 3 % too bright.
+    if (enclosed && !point_escapes(s, x, n, pt.seed, counts)) {
         const ClosureFactors cf = closure_factors(f_own, f_inherited);  // gather_plan.h
         pt.c_own = cf.c_own;
         pt.c_inherited = cf.c_inherited;
         pt.fill = cf.fill;
+    }
+}
+
+bool FinalGather::point_escapes(const Solution& s, const Vec3& x, const Vec3& n, uint64_t seed, Counts& counts) {
+    // Cosine-distributed, stratified over an 8 x 8 grid of the unit square: a gap of a fraction
+    // g of the projected hemisphere goes unseen with probability about (1 - g)^64, and what it
+    // then costs (a fill of g) is at most 1 / (64 e) = 0.6 % of the leaf's radiance.
+    constexpr int kSide = 8;
+    const double far = 4.0 * s.h.scene_diag;
+    const double lift = 1e-5 * s.h.scene_diag;
+    Rng rng(Hierarchy::mix(seed, 0xe5ca9eu));
+    const Vec3 t = std::fabs(n.x) > 0.5 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
+    const Vec3 u = normalize(cross(n, t)), v = cross(n, u);
+    const Vec3 o = x + n * lift;
+    for (int i = 0; i < kSide * kSide; ++i) {
+        const double r1 = (i % kSide + rng.next()) / kSide, r2 = (i / kSide + rng.next()) / kSide;
+        const double phi = 2 * kPi * r1, sr = std::sqrt(r2);
+        const Vec3 d = u * (std::cos(phi) * sr) + v * (std::sin(phi) * sr) + n * std::sqrt(1 - r2);
+        ++counts.rays;
+        if (!s.vis.occluded(o, o + d * far, 0.0)) return true;
+    }
+    return false;
+}
+
+void FinalGather::OccludedLinks::build(const Hierarchy& h, const std::vector<Link>& links) {
+    begin.assign(h.nodes.size() + 1, 0);
+    for (const Link& l : links)
+        if (!l.dead && l.occluded && !l.active && size_t(l.rcv) < h.nodes.size()) ++begin[size_t(l.rcv) + 1];
+    for (size_t i = 1; i < begin.size(); ++i) begin[i] += begin[i - 1];
+    this->links.assign(size_t(begin.back()), -1);
+    std::vector<int32_t> at(begin.begin(), begin.end() - 1);
+    for (size_t i = 0; i < links.size(); ++i) {
+        const Link& l = links[i];
+        if (!l.dead && l.occluded && !l.active && size_t(l.rcv) < h.nodes.size()) this->links[size_t(at[size_t(l.rcv)]++)] = int32_t(i);
     }
 }
 
@@ -261,49 +316,72 @@ std::vector<FinalGather::Job> FinalGather::make_jobs(const Solution& s) {
     const auto& objects = s.scene.objects();
     corner_point_.assign(objects.size(), {});
     for (size_t o = 0; o < objects.size(); ++o) corner_point_[o].assign(objects[o].corner_count(), -1);
-    std::vector<Job> jobs;
-    std::vector<std::vector<std::vector<int>>> at_vertex(objects.size());
-    counts_.covered = 0;
+    // Every corner's sample point and contact state first: whether its vertex may share a
+    // point depends on all of the vertex's corners.
+    struct Corner {
+        int prim, k, corner, vertex;
+        Vec3 x;
+        int beyond;
+    };
+    std::vector<Corner> corners;
+    std::vector<std::vector<char>> touched(objects.size());  // per object, per vertex: lies on a contact
+    std::vector<std::vector<char>> seen(objects.size());
     for (size_t pi = 0; pi < h.prims.size(); ++pi) {
         const Primitive& p = h.prims[pi];
         if (p.object < 0 || p.front < 0) continue;
         const ObjectDesc& o = objects[size_t(p.object)];
-        auto& by_vertex = at_vertex[size_t(p.object)];
-        if (by_vertex.empty()) by_vertex.resize(o.vertices.size());
-        const int root = h.surfaces[size_t(p.front)].root;
-        const Vec3 n = h.nodes[size_t(root)].normal;
+        std::vector<char>& done = seen[size_t(p.object)];
+        if (done.empty()) {
+            done.assign(o.corner_count(), 0);
+            touched[size_t(p.object)].assign(o.vertices.size(), 0);
+        }
         for (int k = 0; k < p.poly.n; ++k) {
             const int corner = p.corner[size_t(k)];
             // An n-gon's corner is in several fan pieces: Cycles bakes it in the first
             // triangle that holds it, here the first piece.
-            if (corner_point_[size_t(p.object)][size_t(corner)] >= 0) continue;
-            const int v = o.corner_verts[size_t(corner)];
-            const Vec3 x = sample_point(o, p, k, h.scene_diag);
-            const int beyond = corner_covered(s, p, x);
-            const bool cov = beyond != -1;
-            int found = -1;
-            if (kShareVertexPoints)
-                for (int j : by_vertex[size_t(v)])
-                    if (dot(jobs[size_t(j)].n, n) > 1.0 - 1e-9 && jobs[size_t(j)].covered == cov) { found = j; break; }
-            if (found < 0) {
-                Job j;
-                j.object = p.object;
-                j.prim = int(pi);
-                j.k = k;
-                j.x = x;
-                j.n = n;
-                j.leaf = h.leaf_at(root, x);
-                j.surface = p.front;
-                j.covered = cov;
-                j.beyond = beyond >= 0 ? beyond : -1;
-                j.seed = Hierarchy::mix(config_.seed, Hierarchy::mix(h.nodes[size_t(root)].key, uint64_t(k) + 0x6a7u));
-                found = int(jobs.size());
-                jobs.push_back(j);
-                by_vertex[size_t(v)].push_back(found);
-            }
-            corner_point_[size_t(p.object)][size_t(corner)] = found;
-            counts_.covered += cov;
+            if (done[size_t(corner)]) continue;
+            done[size_t(corner)] = 1;
+            Corner c{int(pi), k, corner, o.corner_verts[size_t(corner)], sample_point(o, p, k, h, config_.cycles_points), -1};
+            c.beyond = corner_covered(s, p, c.x);
+            if (c.beyond != -1) touched[size_t(p.object)][size_t(c.vertex)] = 1;
+            corners.push_back(c);
         }
+    }
+    std::vector<Job> jobs;
+    std::vector<std::vector<std::vector<int>>> at_vertex(objects.size());
+    counts_.covered = 0;
+    for (const Corner& c : corners) {
+        const Primitive& p = h.prims[size_t(c.prim)];
+        auto& by_vertex = at_vertex[size_t(p.object)];
+        if (by_vertex.empty()) by_vertex.resize(objects[size_t(p.object)].vertices.size());
+        const int root = h.surfaces[size_t(p.front)].root;
+        const Vec3 n = h.nodes[size_t(root)].normal;
+        const bool cov = c.beyond != -1;
+        int found = -1;
+        // A vertex on a contact line (some corner of it covered) shares no point: the side
+        // of the contact a corner's sample point lies on decides what it sees (lit, or in the
+        // shadow of the object standing there), as it does in Cycles.
+        if (kShareVertexPoints && !touched[size_t(p.object)][size_t(c.vertex)])
+            for (int j : by_vertex[size_t(c.vertex)])
+                if (dot(jobs[size_t(j)].n, n) > 1.0 - 1e-9 && jobs[size_t(j)].covered == cov) { found = j; break; }
+        if (found < 0) {
+            Job j;
+            j.object = p.object;
+            j.prim = c.prim;
+            j.k = c.k;
+            j.x = c.x;
+            j.n = n;
+            j.leaf = h.leaf_at(root, c.x);
+            j.surface = p.front;
+            j.covered = cov;
+            j.beyond = c.beyond >= 0 ? c.beyond : -1;
+            j.seed = Hierarchy::mix(config_.seed, Hierarchy::mix(h.nodes[size_t(root)].key, uint64_t(c.k) + 0x6a7u));
+            found = int(jobs.size());
+            jobs.push_back(j);
+            by_vertex[size_t(c.vertex)].push_back(found);
+        }
+        corner_point_[size_t(p.object)][size_t(c.corner)] = found;
+        counts_.covered += cov;
     }
     // Corners of zero-area faces (no primitive) take a point of their vertex, if any.
     for (size_t o = 0; o < objects.size(); ++o) {
@@ -320,6 +398,7 @@ void FinalGather::run(const Solution& s, const Config& c, std::vector<Job>& jobs
                       const std::function<void(double)>& progress) {
     std::vector<Point> old;
     if (moves) old.swap(points_);
+    occluded_.build(s.h, s.links);
     points_.assign(jobs.size(), Point{});
     std::atomic<int64_t> n_links{0}, n_rays{0}, n_refined{0}, n_samples{0}, n_kept{0}, n_replayed{0}, n_fresh{0};
     const size_t block = 512;
@@ -359,6 +438,7 @@ void FinalGather::run(const Solution& s, const Config& c, std::vector<Job>& jobs
         }, 4);
     }
     if (progress) progress(1.0);
+    occluded_ = OccludedLinks{};
     counts_.points = int64_t(jobs.size());
     counts_.corners = 0;
     for (const auto& v : corner_point_) counts_.corners += int64_t(v.size());
@@ -383,7 +463,8 @@ void FinalGather::trace(const Solution& s, const Config& c, const std::function<
 void FinalGather::retrace(const Solution& s, const Config& c, const Moves& moves,
                           const std::function<void(double)>& progress) {
     const bool same_config = config_.rays == c.rays && config_.min_rays == c.min_rays &&
-                             config_.light_samples == c.light_samples && config_.seed == c.seed;
+                             config_.light_samples == c.light_samples && config_.seed == c.seed &&
+                             config_.cycles_points == c.cycles_points;
     if (!traced_ || !same_config || moves.moved.size() != s.scene.objects().size()) {
         trace(s, c, progress);
         return;

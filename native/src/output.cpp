@@ -55,6 +55,7 @@ void Solver::final_gather(double from, double to, const FinalGather::Moves* move
     c.light_samples = std::max(4, settings_.gather_rays / 8);
     c.threads = settings_.threads;
     c.seed = settings_.seed;
+    c.cycles_points = settings_.cycles_corner_points;
     const FinalGather::Solution s{scene_, h_, *vis_, links_,
                                   [this](int surface, const Vec3& p) { return light_contact(surface, p); }};
     auto progress = [&](double f) {

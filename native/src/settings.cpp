@@ -13,12 +13,14 @@ Settings Settings::preset(const std::string& name) {
         s.min_area_fraction = 1e-4;
         s.rays_per_link = 8;
         s.tolerance = 2e-4;
+        s.gather_rays = 64;
         s.gather_min_rays = 2;
     } else if (name == "MEDIUM") {
         s.error_threshold = 0.05;
         s.min_area_fraction = 2e-5;
         s.rays_per_link = 16;
         s.tolerance = 1e-4;
+        s.gather_rays = 256;
         // Every link at least 8 rays: the many small links are the gather's noise (two full
         // solves with other seeds: box room 0.70 % NRMSE apart with 2, 0.31 % with 8).
         s.gather_min_rays = 8;
@@ -27,6 +29,7 @@ Settings Settings::preset(const std::string& name) {
         s.min_area_fraction = 4e-6;
         s.rays_per_link = 32;
         s.tolerance = 1e-5;
+        s.gather_rays = 1024;
         s.gather_min_rays = 8;
     } else {
         throw std::invalid_argument("unknown preset '" + name + "' (DRAFT, MEDIUM or HIGH)");

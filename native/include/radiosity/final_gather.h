@@ -44,6 +44,9 @@ public:
         int light_samples = 16;
         int threads = 0;
         uint64_t seed = 1;
+        // Corner points where Cycles puts them (a world-space step off the vertex), or at a
+        // step relative to the scene's size (the same at any scale): final_gather.cpp.
+        bool cycles_points = true;
     };
     struct Counts {
         int64_t points = 0, corners = 0, covered = 0;
@@ -120,8 +123,18 @@ private:
     // A point traced afresh, or (with `old` and `moves`) re-traced after moves.
     void trace_point(const Solution& s, const Config& c, Point& pt, const Point* old, const Moves* moves,
                      Counts& counts) const;
+    // Whether an escape ray from x finds open space (the point is not enclosed).
+    static bool point_escapes(const Solution& s, const Vec3& x, const Vec3& n, uint64_t seed, Counts& counts);
     void run(const Solution& s, const Config& c, std::vector<Job>& jobs, const Moves* moves,
              const std::function<void(double)>& progress);
+
+    // Per receiving node, the fully occluded links into it (not in its in_links), for the
+    // duration of a run.
+    struct OccludedLinks {
+        std::vector<int32_t> begin, links;  // links[begin[node] .. begin[node + 1])
+        void build(const Hierarchy& h, const std::vector<Link>& links);
+    };
+    OccludedLinks occluded_;
 
     bool traced_ = false;
     Config config_;

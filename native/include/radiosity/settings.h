@@ -25,13 +25,16 @@ struct Settings {
     double crease_angle_deg = 35.0;
     // Output by a final gather at each corner (final_gather.h): rays per output point, shared
     // among the links that reach it by the light they bring; 0 = the leaf element's average
-    // at the corner (the computational mesh as it is, no gather). Off by default and in the
-    // presets until a known fault is fixed: in some solves a corner's leaf lacks, among the
-    // links the gather walks, the one through which the leaf gets a lamp's light, and the
-    // corner reads dark (bench/results/corner_gather.md). Measured with 64 / 256 / 1024 for
-    // DRAFT / MEDIUM / HIGH.
+    // at the corner (the computational mesh as it is, no gather). The presets give 64 / 256 /
+    // 1024 (DRAFT / MEDIUM / HIGH: bench/results/corner_gather.md); a default-constructed
+    // Settings has it off.
     int gather_rays = 0;
     int gather_min_rays = 8;  // ... and at least this many for every link that reaches the point
+    // Gathered corners at the points Cycles bakes (the vertex moved 1e-4 x max(|world
+    // coordinate|, 1) into the corner's first triangle): the same values where light changes
+    // within a millimetre. Off: a step of 3e-5 of the scene's size, so that the output, as the
+    // rest of the solution, does not depend on the scene's scale or offset.
+    bool cycles_corner_points = true;
     int closure_rays = 32;              // escape rays per leaf for the closure correction
     // Closure-driven refinement (refine.cpp): an enclosed leaf whose form factors sum further
     // than this from 1 has the links at its ancestors split toward it (0 = off), at most

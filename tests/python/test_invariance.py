@@ -42,7 +42,11 @@ def solve(rn, name, preset="MEDIUM", **kw):
     key = (name, preset, tuple(sorted(kw.items())))
     if key not in _cache:
         s, ids = SCENES[name](rn, **kw)
-        solver = rn.Solver(s, rn.Settings.preset(preset))
+        st = rn.Settings.preset(preset)
+        # Corner points a step relative to the scene's size: Cycles' own step (the default) is
+        # in world units, so it is not scale invariant, as Cycles' bake is not.
+        st.cycles_corner_points = False
+        solver = rn.Solver(s, st)
         solver.solve()
         _cache[key] = (np.concatenate([solver.corner_radiance(o) for o in ids]), solver.stats())
     return _cache[key]

@@ -48,9 +48,17 @@ ORIGIN_HASH_BITS = 24       # the hashes stay exact through float32 interpolatio
 
 
 def origin_hash(index):
-    """The hashed copy of an index (int32), a bijection on [0, 2^24)."""
-    i = np.asarray(index, dtype=np.int64)
-    return ((i * 2654435761 + 40503) & ((1 << ORIGIN_HASH_BITS) - 1)).astype(np.int32)
+    """The hashed copy of an index (int32): a bijection on [0, 2^24) that is far from linear
+    (xor-shifts and odd multiplies), so the rounded mean of two hashes is not the hash of the
+    rounded mean of their indices (an affine hash fails exactly there: the midpoint of
+    vertices 0 and 2 would pass for vertex 1)."""
+    mask = (1 << ORIGIN_HASH_BITS) - 1
+    x = np.asarray(index, dtype=np.int64) & mask
+    for _ in range(2):
+        x = ((x >> 11) ^ x) & mask
+        x = (x * 0x45D9F3) & mask
+    x = (x >> 11) ^ x
+    return x.astype(np.int32)
 
 
 def decode_origin(ids, hashes, count):

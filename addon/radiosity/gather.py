@@ -33,10 +33,14 @@ from .materials import MaterialTable
 GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "FONT", "META"}
 # Custom property marking the add-on's own adaptive-mesh output: never gathered as geometry.
 ADAPTIVE_TAG = "radiosity_adaptive_of"
-# The original-index attributes (see core.corners): (index, hash, domain), on the original mesh
+# The original-index attributes (see core.corners): INT8 digits per domain, on the original mesh
 # only while the evaluated meshes are read.
-ORIGIN_ATTRS = (("__radiosity_vertex_id", "__radiosity_vertex_hash", "POINT"),
-                ("__radiosity_face_id", "__radiosity_face_hash", "FACE"))
+ORIGIN_DOMAINS = ("POINT", "FACE")
+ORIGIN_ATTR_COUNT = core_corners.ORIGIN_DIGITS + core_corners.CHECK_DIGITS
+
+
+def _origin_attr_names(domain):
+    return [f"__radiosity_origin_{domain.lower()}{k}" for k in range(ORIGIN_ATTR_COUNT)]
 PERSISTENT_ID_UNUSED = 2147483647     # INT_MAX pads an instance's persistent_id
 
 
@@ -103,18 +107,19 @@ def _slot_values(obj_eval, materials):
     return rho, emis
 
 
-def _read_origin(me, ids_name, hash_name, domain, count):
+def _read_origin(me, domain, count):
     """The evaluated mesh's original indices of one domain (core.corners.decode_origin), or
     None when it does not carry the attributes (a modifier dropped them)."""
-    a, b = me.attributes.get(ids_name), me.attributes.get(hash_name)
-    if a is None or b is None or a.domain != domain or b.domain != domain \
-            or len(a.data) != count or len(b.data) != count:
-        return None
-    ids, hashes = np.empty(count, np.int32), np.empty(count, np.int32)
-    if count:
-        a.data.foreach_get("value", ids)
-        b.data.foreach_get("value", hashes)
-    return ids, hashes
+    arrays = []
+    for name in _origin_attr_names(domain):
+        a = me.attributes.get(name)
+        if a is None or a.domain != domain or len(a.data) != count:
+            return None
+        values = np.empty(count, np.int32)
+        if count:
+            a.data.foreach_get("value", values)
+        arrays.append(values)
+    return core_corners.decode_origin(arrays, count)
 
 
 def _evaluated_geometry(name, obj_eval, materials):
@@ -134,9 +139,8 @@ def _evaluated_geometry(name, obj_eval, materials):
         rho_slots, emis_slots = _slot_values(obj_eval, materials)
         slot_names = [s.material.name if s.material is not None else "(empty slot)"
                       for s in obj_eval.material_slots]
-        (vid, vhash, vdom), (fid, fhash, fdom) = ORIGIN_ATTRS
-        vo = _read_origin(me, vid, vhash, vdom, len(me.vertices))
-        fo = _read_origin(me, fid, fhash, fdom, len(me.polygons))
+        vo = _read_origin(me, "POINT", len(me.vertices))
+        fo = _read_origin(me, "FACE", len(me.polygons))
     finally:
         obj_eval.to_mesh_clear()
     rho = scene_data.clamp_reflectance(
@@ -144,8 +148,7 @@ def _evaluated_geometry(name, obj_eval, materials):
     emission = scene_data.clamp_emission(
         scene_data.face_table(emis_slots, mat_index, [0.0, 0.0, 0.0]))
     _check_material_values(name, rho, emission, mat_index, slot_names)
-    return _Geometry(co, starts, totals, corner_verts, rho, emission,
-                     None if vo is None else vo, None if fo is None else fo)
+    return _Geometry(co, starts, totals, corner_verts, rho, emission, vo, fo)
 
 
 def _needs_origin(obj):
@@ -157,7 +160,7 @@ def _needs_origin(obj):
 @contextmanager
 def _origin_layers(objects, depsgraph):
     """For the time of the block, the meshes of `objects` carry the original-index attributes
-    (ORIGIN_ATTRS) and the depsgraph is evaluated with them; afterwards the attributes are
+    (_origin_attr_names) and the depsgraph is evaluated with them; afterwards the attributes are
     removed again (the meshes are as they were; Blender re-evaluates them when next needed)."""
     tagged = []
     try:
@@ -166,22 +169,23 @@ def _origin_layers(objects, depsgraph):
             if any(me is t for t in tagged):
                 continue        # a mesh shared by several objects: once
             tagged.append(me)
-            for ids_name, hash_name, domain in ORIGIN_ATTRS:
+            for domain in ORIGIN_DOMAINS:
                 n = len(me.vertices) if domain == "POINT" else len(me.polygons)
-                idx = np.arange(n, dtype=np.int32)
-                for attr_name, values in ((ids_name, idx), (hash_name, core_corners.origin_hash(idx))):
-                    old = me.attributes.get(attr_name)
+                for name, values in zip(_origin_attr_names(domain),
+                                        core_corners.origin_digits(n)):
+                    old = me.attributes.get(name)
                     if old is not None:
                         me.attributes.remove(old)
-                    me.attributes.new(attr_name, "INT", domain).data.foreach_set("value", values)
+                    me.attributes.new(name, "INT8", domain).data.foreach_set(
+                        "value", values.astype(np.int32))
         if tagged:
             depsgraph.update()
         yield
     finally:
         for me in tagged:
-            for ids_name, hash_name, _ in ORIGIN_ATTRS:
-                for attr_name in (ids_name, hash_name):
-                    attr = me.attributes.get(attr_name)
+            for domain in ORIGIN_DOMAINS:
+                for name in _origin_attr_names(domain):
+                    attr = me.attributes.get(name)
                     if attr is not None:
                         me.attributes.remove(attr)
 
@@ -197,20 +201,30 @@ def _corner_map(obj, geo, warnings):
     nf, nv = len(me.polygons), len(me.vertices)
     starts = _int_array(me.polygons, "loop_start", nf)
     totals = _int_array(me.polygons, "loop_total", nf)
-    if geo.vertex_origin is not None and geo.face_origin is not None:
+    face_origin = geo.face_origin
+    if geo.vertex_origin is not None and face_origin is not None:
         cmap = core_corners.original_corner_map(
-            starts, totals, orig_cv, nv, geo.totals, geo.corner_verts,
-            core_corners.decode_origin(*geo.face_origin, nf),
-            core_corners.decode_origin(*geo.vertex_origin, nv))
+            starts, totals, orig_cv, nv, geo.totals, geo.corner_verts, face_origin,
+            geo.vertex_origin)
     else:
         cmap = np.full(nc, -1, dtype=np.int64)
     if (cmap < 0).any():
-        # No evaluated corner maps back (a modifier rebuilt the surface: Remesh, Boolean,
-        # geometry nodes): the evaluated vertex nearest to the corner's vertex stands in.
-        from mathutils.kdtree import KDTree
         co = np.empty(nv * 3, np.float32)
         me.vertices.foreach_get("co", co)
         co = co.reshape(nv, 3)
+    if (cmap < 0).any() and face_origin is not None:
+        # A face made from the corner's face, but no vertex from its vertex (a modifier
+        # rebuilt the vertices: Decimate, Weld): the nearest corner of those faces.
+        n = core_corners.match_in_face(cmap, totals, orig_cv, co, geo.totals,
+                                       geo.corner_verts, geo.co, face_origin)
+        if n:
+            warnings.append(f"object '{obj.name}': for {n} of its {nc} corners no evaluated "
+                            f"vertex comes from the corner's vertex; they take the nearest "
+                            f"corner of the faces made from theirs")
+    if (cmap < 0).any():
+        # No evaluated face maps back (a modifier rebuilt the surface: Remesh, Boolean,
+        # geometry nodes): the evaluated vertex nearest to the corner's vertex stands in.
+        from mathutils.kdtree import KDTree
         tree = KDTree(len(geo.co))
         for i, p in enumerate(geo.co):
             tree.insert(p, i)

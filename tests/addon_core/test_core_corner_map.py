@@ -5,17 +5,19 @@ from radiosity.core import corners as cc
 from radiosity.core.scene_data import ObjectInput
 
 
-def test_hash_is_a_bijection_that_interpolation_breaks():
-    idx = np.arange(1 << 16)
-    h = cc.origin_hash(idx)
-    assert len(np.unique(h)) == len(idx)
-    # A copied element decodes; the rounded mean of two (what a modifier's interpolation
-    # makes of the pair) does not, even where the mean of the indices is an index.
-    ids = np.array([5, (4 + 6) // 2, 7])
-    hashes = np.array([cc.origin_hash(5), (int(cc.origin_hash(4)) + int(cc.origin_hash(6))) // 2,
-                       cc.origin_hash(7)])
-    assert cc.decode_origin(ids, hashes, 8).tolist() == [5, -1, 7]
-    assert cc.decode_origin([9], cc.origin_hash([9]), 8).tolist() == [-1]      # out of range
+def test_origin_digits_decode_and_mixtures_do_not():
+    n = 300000
+    digits = cc.origin_digits(n)
+    assert all(d.dtype == np.int8 and d.min() >= 0 for d in digits)
+    assert cc.decode_origin(digits, n).tolist() == list(range(n))
+    # Zeros (Blender's interpolation leaves 8-bit integers at zero) decode to no original.
+    assert cc.decode_origin([np.zeros(3)] * len(digits), n).tolist() == [-1] * 3
+    # The rounded mean of two elements' digits (a modifier that mixes them) fails the check.
+    a, b = np.arange(0, 5000), np.arange(2, 5002)
+    mixed = [np.round((d[a].astype(float) + d[b]) / 2) for d in digits]
+    assert (cc.decode_origin(mixed, n) == -1).mean() > 0.99
+    # Out of range for the mesh: none.
+    assert cc.decode_origin([d[[9]] for d in digits], 8).tolist() == [-1]
 
 
 def _square():
@@ -64,3 +66,15 @@ def test_object_input_writes_through_the_map():
     vals = np.array([[1.0] * 3, [2.0] * 3, [3.0] * 3])
     assert o.written_corner_count == 4
     assert o.written_values(vals)[:, 0].tolist() == [3.0, 3.0, 1.0, 2.0]
+
+
+def test_bevelled_corners_take_the_nearest_corner_of_their_face():
+    # Original quad 0-1-2-3 (unit square); the evaluated quad of face 0 is shrunk (vertices
+    # 4..7, interpolated: no vertex origin), and a strip face (face origin 0 too) comes after.
+    oco = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)]
+    eco = [(0, 0, 0)] * 4 + [(0.1, 0.1, 0), (0.9, 0.1, 0), (0.9, 0.9, 0), (0.1, 0.9, 0),
+                             (0.1, -0.1, 0), (0.9, -0.1, 0)]
+    ecv = [4, 5, 6, 7, 8, 9, 5, 4]
+    m = np.full(4, -1)
+    n = cc.match_in_face(m, [4], [0, 1, 2, 3], oco, [4, 4], ecv, eco, [0, 0])
+    assert n == 4 and m.tolist() == [0, 1, 2, 3]

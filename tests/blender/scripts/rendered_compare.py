@@ -1,9 +1,16 @@
 """Our bake of a scenes_rendered scene against its stored converged Cycles bake (issue 18).
 
-Args: --scene NAME --ref PATH [--preset HIGH]. Errors as bench/corner_metric.py (every compared
-corner; the emitter is not compared). Also reports what the bake did to the scene: attributes
-of every mesh before/after (only the colour attribute may be added), the stats' object and
-instance counts, the warnings."""
+Args: --scene NAME --ref PATH [--preset HIGH] [--gather-rays N] [--realize 1]. Errors as
+bench/corner_metric.py (every compared corner; the emitter is not compared). Also reports what
+the bake did to the scene: attributes of every mesh before/after (only the colour attribute may
+be added), the stats' object and instance counts, the warnings.
+
+--gather-rays N: the native final gather at every corner with N rays (Settings.gather_rays; off
+in the shipped presets), which evaluates each corner at its own point and normal as Cycles does:
+what is left is the add-on's share of the error (geometry, corner mapping), not the corner
+output's. --realize 1: afterwards, every instance is made a real object (same mesh, same world
+matrix; the instancers hidden from render) and the scene baked again: the instanced bake must
+equal that one."""
 import os
 import sys
 
@@ -28,6 +35,16 @@ def modifier_state():
 which = rt.arg("--scene")
 ref_path = rt.arg("--ref")
 rt.setup()
+gather_rays = int(rt.arg("--gather-rays", "0"))
+if gather_rays:
+    import radiosity.core.presets as presets
+    _make = presets.make_settings
+
+    def make_settings(*a, **k):
+        settings = _make(*a, **k)
+        settings.gather_rays = gather_rays
+        return settings
+    presets.make_settings = make_settings
 names, emitter = scenes_rendered.BUILDERS[which]()
 bpy.context.scene.radiosity.preset = rt.arg("--preset", "HIGH")
 before_attrs, before_mods = attribute_names(), modifier_state()
@@ -65,4 +82,41 @@ if ok:
                     "ours_mean": ours[start:start + n].mean(axis=0).tolist(),
                     "ref_mean": ref[start:start + n].mean(axis=0).tolist()}
                 start += n
+
+
+def realize_instances():
+    """Every instance as a real object (its evaluated mesh, its world matrix); the instancers
+    hidden from render. Returns how many were made."""
+    dg = bpy.context.evaluated_depsgraph_get()
+    made, instancers = [], set()
+    for inst in dg.object_instances:
+        if not inst.is_instance or inst.object.type != "MESH":
+            continue
+        me = bpy.data.meshes.new_from_object(inst.object)
+        made.append((me, [m for m in inst.object.data.materials],
+                     [list(r) for r in inst.matrix_world]))
+        instancers.add(inst.parent.original.name)
+    for i, (me, mats, m) in enumerate(made):
+        me.materials.clear()
+        for mat in mats:
+            me.materials.append(mat)
+        obj = rt.link(bpy.data.objects.new(f"Real{i}", me))
+        from mathutils import Matrix
+        obj.matrix_world = Matrix(m)
+    for name in instancers:
+        bpy.data.objects[name].hide_render = True
+    return len(made)
+
+
+if ok and rt.arg("--realize", "0") == "1":
+    instanced = np.concatenate([rt.corner_colors(bpy.data.objects[n])[:, :3] for n in names])
+    out["realized"] = realize_instances()
+    ok2, err2, reports2 = rt.bake(full=True)
+    out["realized_ok"] = ok2
+    if ok2:
+        st2 = rt.last_stats()
+        out["realized_stats"] = {k: st2.get(k) for k in ("objects", "scene_objects", "instances")}
+        real = np.concatenate([rt.corner_colors(bpy.data.objects[n])[:, :3] for n in names])
+        out["instanced_vs_realized"] = cm.corner_error(instanced, real)
+        out["realized_vs_cycles"] = cm.corner_error(real, np.load(ref_path))
 rt.result(**out)

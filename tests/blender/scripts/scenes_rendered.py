@@ -100,4 +100,26 @@ def build_instances():
     return ["Floor", "Rail"], "Light"
 
 
-BUILDERS = {"subsurf": build_subsurf, "instances": build_instances}
+def build_modifiers():
+    """Bevel, Mirror and Solidify over a floor (Array is in build_instances)."""
+    rt.black_world()
+    _floor(0.0, 3.0, 16)
+    _light(z=2.5, size=1.5)
+    bev = _box_object("Beveled", 0.8, (-1.2, -1.0, 0.6), None, (0.8, 0.5, 0.3))
+    b = bev.modifiers.new("Bevel", "BEVEL")
+    b.width, b.segments, b.limit_method = 0.08, 2, "ANGLE"
+    # A box beside its object's origin, mirrored across the object's X axis: two boxes.
+    v, f = rt.box((0.45, 0.0, 0.0), (0.5, 0.5, 0.5))
+    mir = rt.mesh_object("Mirrored", v, f, None, rt.diffuse_material("MirMat", (0.3, 0.5, 0.8)))
+    mir.location = (0.3, 1.2, 0.5)
+    mir.modifiers.new("Mirror", "MIRROR")
+    # A 1 m plate, thickened downwards by Solidify.
+    v, f = rt.grid((-0.5, -0.5, 0.0), (1, 0, 0), (0, 1, 0), 4)
+    shell = rt.mesh_object("Shell", v, f, None, rt.diffuse_material("ShellMat", (0.7, 0.7, 0.7)))
+    shell.location = (1.3, -1.0, 0.9)
+    sol = shell.modifiers.new("Solidify", "SOLIDIFY")
+    sol.thickness, sol.offset = 0.1, -1.0
+    return ["Floor", "Beveled", "Mirrored", "Shell"], "Light"
+
+
+BUILDERS = {"subsurf": build_subsurf, "instances": build_instances, "modifiers": build_modifiers}

@@ -3,6 +3,11 @@
     blender -b --factory-startup --python tests/blender/scripts/make_rendered_reference.py -- \
         --scene subsurf --samples 16384 --out tests/blender/data/rendered_subsurf_cycles.npy
 
+The modifiers scene bakes differently in 3.x and 5.x (Cycles takes the corner of the first
+matching evaluated triangle, and Bevel's face order changed): make it with each,
+rendered_modifiers_cycles_v3.npy with the 3.4 binary and _v5.npy with bpy 5.0 (python3 SCRIPT
+-- ...).
+
 Writes the corner colours (RGB, float32) of the scene's compared objects concatenated in order
 (Cycles' bake to the original meshes' corners through its original-index mapping), plus a .json
 beside it with the settings used. Cycles settings follow shared/NOTES.md (scripts/cycles_ref.py).

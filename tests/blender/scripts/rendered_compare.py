@@ -33,7 +33,10 @@ def modifier_state():
 
 
 which = rt.arg("--scene")
-ref_path = rt.arg("--ref")
+# "{v}" in the path: the reference made by this Blender generation ("v3": 3.x, "v5": 4.x and
+# later). Cycles bakes the corner its first matching evaluated triangle holds, and Bevel
+# orders its faces differently in 3.4 and 5.x: the same scene bakes differently there.
+ref_path = rt.arg("--ref").replace("{v}", "v3" if bpy.app.version < (4, 0, 0) else "v5")
 rt.setup()
 gather_rays = int(rt.arg("--gather-rays", "0"))
 if gather_rays:

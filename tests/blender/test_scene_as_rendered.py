@@ -113,3 +113,25 @@ def test_subdivided_cube_within_acceptance(run_blender):
 def test_instances_and_array_within_acceptance(run_blender):
     r = _run(run_blender, "instances")
     assert r["all"]["rrmse"] <= RRMSE_BOUND, r["per_object"]
+
+
+def test_instances_update_incrementally(run_blender):
+    """Moving an Empty moves its instances (an incremental move of each, live too); one more
+    geometry-nodes point adds an instance incrementally."""
+    r = run_blender("rendered_incremental.py")
+    assert all(r["ok"]), r["_log"]
+    if r["fake"]:
+        pytest.skip("numeric checks need the real native module")
+    assert r["move"]["mode"] == "incremental" and r["move"]["moved"] == 2, r["move"]
+    assert r["live_runs"] == 1 and r["live"]["mode"] == "incremental" \
+        and r["live"]["moved"] == 2, r["live"]
+    assert r["add"]["mode"] == "incremental" and r["add"]["added"] == 1 \
+        and r["add"]["instances"] == 6, r["add"]
+    assert r["move_changed"] > 0.05        # the move did change the light
+    print(f"\n[{r['_flavour']}] NRMSE incremental vs full: move {r['move_nrmse']:.4f}, live "
+          f"{r['live_nrmse']:.4f}, add {r['add_nrmse']:.4f}")
+    # Measured (MEDIUM): move 0.033, live 0.023, add 0.029. The native update's own accuracy
+    # on this scene, not the instances': moving the Rail, a real object, the same way measures
+    # 0.028 / 0.042 / 0.023 (issue 19 is about the update's accuracy and cost).
+    for key in ("move_nrmse", "live_nrmse", "add_nrmse"):
+        assert r[key] < 0.05, (key, r[key])

@@ -164,7 +164,9 @@ class BakeRun:
         cached = self.job.is_cached
         mode = "full" if (cached or self.no_emitter) else self.job.mode
         extra = {"cached": cached, "preset": self.props.preset,
-                 "collections": len(self.job.scene_input.clusters),
+                 # Collection clusters (each instancing object adds one of its own).
+                 "collections": len(self.job.scene_input.clusters)
+                 - len(self.job.scene_input.instancers),
                  "written_objects": self.written, "report_warnings": len(self.warnings)}
         kept = self.job.kept()
         if cached and kept is not None and kept.bake_stats:

@@ -380,8 +380,13 @@ def _gather_instances(depsgraph, shown, object_cluster, si, materials, matrices)
         if ob.type not in GEOMETRY_TYPES:
             continue
         src = ob.original
-        if src is not None and src != parent and src.hide_render:
-            continue            # Cycles leaves render-disabled objects out of instances too
+        if src is not None and src != parent and src.hide_render \
+                and parent.instance_type == "COLLECTION":
+            continue            # render-disabled objects of an instanced collection: not rendered
+        pid = tuple(inst.persistent_id)
+        if src == parent and parent.type != "MESH" and \
+                all(x == PERSISTENT_ID_UNUSED for x in pid[1:]):
+            continue            # a curve's, text's or metaball's own surface: gathered above
         slots = tuple(s.material.name_full if s.material is not None else ""
                       for s in ob.material_slots)
         key = (ob.type, ob.data.as_pointer() if ob.data is not None else ob.as_pointer(), slots)
@@ -395,7 +400,7 @@ def _gather_instances(depsgraph, shown, object_cluster, si, materials, matrices)
         # the instancer: their mesh names them.
         label = src.name_full if src is not None and src != parent else \
             (ob.data.name if ob.data is not None else ob.name)
-        pid = ".".join(str(x) for x in inst.persistent_id if x != PERSISTENT_ID_UNUSED)
+        pid = ".".join(str(x) for x in pid if x != PERSISTENT_ID_UNUSED)
         name = f"{parent.name_full}/{label}#{pid}"
         pname = parent.name_full
         if pname not in clusters:

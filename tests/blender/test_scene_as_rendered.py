@@ -135,3 +135,18 @@ def test_instances_update_incrementally(run_blender):
     # 0.028 / 0.042 / 0.023 (issue 19 is about the update's accuracy and cost).
     for key in ("move_nrmse", "live_nrmse", "add_nrmse"):
         assert r[key] < 0.05, (key, r[key])
+
+
+def test_every_kind_of_instance_takes_part(run_blender):
+    r = run_blender("instance_kinds.py")
+    assert r["ok"], r["_log"]
+    st = r["stats"]
+    # 6 particles (the emitter plate hidden by "Show Instancer: Render" off), 4 vertex
+    # instances, the linked collection's box (its render-disabled box and the Empty hidden in
+    # render give nothing); the text's own surface is no instance.
+    assert st["instancers"] == {"Emitter": 6, "Verts": 4, "LibInstance": 1}, st
+    assert st["instances"] == 11, st
+    # Light, Floor, Label, VertChild (a vertex instancer's child still renders at its place).
+    assert st["scene_objects"] == 4, st
+    assert st["objects"] == 15, st
+    assert r["floor_written"] and r["library_file"]

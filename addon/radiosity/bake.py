@@ -164,7 +164,9 @@ class BakeRun:
         cached = self.job.is_cached
         mode = "full" if (cached or self.no_emitter) else self.job.mode
         extra = {"cached": cached, "preset": self.props.preset,
-                 "collections": len(self.job.scene_input.clusters),
+                 # Collection clusters (each instancing object adds one of its own).
+                 "collections": len(self.job.scene_input.clusters)
+                 - len(self.job.scene_input.instancers),
                  "written_objects": self.written, "report_warnings": len(self.warnings)}
         kept = self.job.kept()
         if cached and kept is not None and kept.bake_stats:
@@ -186,12 +188,18 @@ class BakeRun:
         if byte_copy:
             extra["byte_copy"] = byte_name
             extra["exposure"] = float(self.props.exposure)
-        extra["lights"] = len(self.job.scene_input.lights)
-        if self.job.scene_input.unwritable:
+        si = self.job.scene_input
+        extra["lights"] = len(si.lights)
+        if si.unwritable:
             # Took part in the solve (they cast and reflect light) but got no colours: linked
-            # library data, Edit Mode, topology-changing modifiers, shared meshes (warnings say
-            # which reason).
-            extra["unwritten_objects"] = list(self.job.scene_input.unwritable)
+            # library data, Edit Mode, shared meshes (warnings say which reason).
+            extra["unwritten_objects"] = list(si.unwritable)
+        # What took part: objects of the view layer, instances (per instancing object), and
+        # which of them only cast and reflect light (no colours of their own).
+        extra["scene_objects"] = si.scene_objects
+        extra["instances"] = si.instance_count
+        extra["instancers"] = dict(si.instancers)
+        extra["occluder_only"] = sorted(set(si.unwritable) | set(si.instancers))
         self.result = stats.make_stats(
             mode, time.perf_counter() - self.t0, native_stats,
             self.job.fallback_counts(), extra)

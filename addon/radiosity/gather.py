@@ -4,18 +4,26 @@ Rules (see README):
 - every object of the view layer with ``visible_get()`` true, ``hide_render`` false and no
   render-disabled collection above it; meshes, curves, surfaces, text and metaballs all enter
   through their evaluated mesh (modifiers applied, via the depsgraph);
+- instances (collection instances, geometry-nodes instances, particles, instancing vertices or
+  faces) of such an object enter from the depsgraph's ``object_instances``: they cast and
+  reflect light but have no colours of their own. All instances of one instancing object form
+  one native cluster (they move with it);
 - each collection is a native cluster (nested collections nest); objects that sit directly in the
   scene collection get cluster -1; an object in several collections uses its first one;
-- only MESH objects can receive colours. They are written to the original mesh data, and are
-  skipped with a warning when a modifier changed the corner layout, when the mesh is shared with
-  an object baked before (linked duplicates: the first user wins), when it comes from a linked
-  library, or when the object is in Edit Mode. Skipped objects still cast and reflect light.
+- only MESH objects can receive colours. They are written to the original mesh data; when a
+  modifier changed the corner layout, each original corner takes the value of the evaluated
+  corner that maps back to it, as Cycles' bake does (core.corners.original_corner_map). Skipped
+  with a warning: a mesh shared with an object baked before (linked duplicates: the first user
+  wins), one from a linked library, an object in Edit Mode. Skipped objects still cast and
+  reflect light.
 """
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import bpy
 import numpy as np
 
+from .core import corners as core_corners
 from .core import lights as core_lights
 from .core import scene_data
 from .core.corners import reverse_polygon_permutation
@@ -25,12 +33,34 @@ from .materials import MaterialTable
 GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "FONT", "META"}
 # Custom property marking the add-on's own adaptive-mesh output: never gathered as geometry.
 ADAPTIVE_TAG = "radiosity_adaptive_of"
+# The original-index attributes (see core.corners): INT8 digits per domain, on the original mesh
+# only while the evaluated meshes are read.
+ORIGIN_DOMAINS = ("POINT", "FACE")
+ORIGIN_ATTR_COUNT = core_corners.ORIGIN_DIGITS + core_corners.CHECK_DIGITS
+
+
+def _origin_attr_names(domain):
+    return [f"__radiosity_origin_{domain.lower()}{k}" for k in range(ORIGIN_ATTR_COUNT)]
+PERSISTENT_ID_UNUSED = 2147483647     # INT_MAX pads an instance's persistent_id
 
 
 @dataclass
 class WriteTarget:
     object_name: str
     mesh_name: str
+
+
+@dataclass
+class _Geometry:
+    """One evaluated mesh, in object space, with its per-face materials."""
+    co: np.ndarray
+    starts: np.ndarray
+    totals: np.ndarray
+    corner_verts: np.ndarray
+    reflectance: np.ndarray
+    emission: np.ndarray
+    vertex_origin: object = None     # per vertex its original vertex or -1; None: not tagged
+    face_origin: object = None
 
 
 def _walk_collections(view_layer):
@@ -77,7 +107,140 @@ def _slot_values(obj_eval, materials):
     return rho, emis
 
 
-def _write_target(obj, corner_verts, first_user, warnings):
+def _read_origin(me, domain, count):
+    """The evaluated mesh's original indices of one domain (core.corners.decode_origin), or
+    None when it does not carry the attributes (a modifier dropped them)."""
+    arrays = []
+    for name in _origin_attr_names(domain):
+        a = me.attributes.get(name)
+        if a is None or a.domain != domain or len(a.data) != count:
+            return None
+        values = np.empty(count, np.int32)
+        if count:
+            a.data.foreach_get("value", values)
+        arrays.append(values)
+    return core_corners.decode_origin(arrays, count)
+
+
+def _evaluated_geometry(name, obj_eval, materials):
+    """_Geometry of an evaluated object, or None when it has no faces."""
+    try:
+        me = obj_eval.to_mesh()
+    except RuntimeError:
+        me = None
+    if me is None:
+        return None
+    try:
+        if len(me.polygons) == 0:
+            # Edges/points only, an empty curve, or a modifier (Mask, Weld, Boolean...) left
+            # nothing: nothing to light, and it costs nothing.
+            return None
+        co, starts, totals, mat_index, corner_verts = _mesh_arrays(me)
+        rho_slots, emis_slots = _slot_values(obj_eval, materials)
+        slot_names = [s.material.name if s.material is not None else "(empty slot)"
+                      for s in obj_eval.material_slots]
+        vo = _read_origin(me, "POINT", len(me.vertices))
+        fo = _read_origin(me, "FACE", len(me.polygons))
+    finally:
+        obj_eval.to_mesh_clear()
+    rho = scene_data.clamp_reflectance(
+        scene_data.face_table(rho_slots, mat_index, [scene_data.DEFAULT_REFLECTANCE] * 3))
+    emission = scene_data.clamp_emission(
+        scene_data.face_table(emis_slots, mat_index, [0.0, 0.0, 0.0]))
+    _check_material_values(name, rho, emission, mat_index, slot_names)
+    return _Geometry(co, starts, totals, corner_verts, rho, emission, vo, fo)
+
+
+def _needs_origin(obj):
+    """A local mesh object out of Edit Mode with modifiers: its corners may need mapping."""
+    return (obj.type == "MESH" and obj.library is None and obj.data.library is None
+            and obj.mode != "EDIT" and len(obj.modifiers) > 0 and len(obj.data.polygons) > 0)
+
+
+@contextmanager
+def _origin_layers(objects, depsgraph):
+    """For the time of the block, the meshes of `objects` carry the original-index attributes
+    (_origin_attr_names) and the depsgraph is evaluated with them; afterwards the attributes are
+    removed again (the meshes are as they were; Blender re-evaluates them when next needed)."""
+    tagged = []
+    try:
+        for obj in objects:
+            me = obj.data
+            if any(me is t for t in tagged):
+                continue        # a mesh shared by several objects: once
+            tagged.append(me)
+            for domain in ORIGIN_DOMAINS:
+                n = len(me.vertices) if domain == "POINT" else len(me.polygons)
+                for name, values in zip(_origin_attr_names(domain),
+                                        core_corners.origin_digits(n)):
+                    old = me.attributes.get(name)
+                    if old is not None:
+                        me.attributes.remove(old)
+                    me.attributes.new(name, "INT8", domain).data.foreach_set(
+                        "value", values.astype(np.int32))
+        if tagged:
+            depsgraph.update()
+        yield
+    finally:
+        for me in tagged:
+            for domain in ORIGIN_DOMAINS:
+                for name in _origin_attr_names(domain):
+                    attr = me.attributes.get(name)
+                    if attr is not None:
+                        me.attributes.remove(attr)
+
+
+def _corner_map(obj, geo, warnings):
+    """Per corner of obj.data the corner of the evaluated geometry `geo` it takes its value
+    from, or None when the corner layouts are equal (no mapping needed)."""
+    me = obj.data
+    nc = len(me.loops)
+    orig_cv = _int_array(me.loops, "vertex_index", nc)
+    if nc == len(geo.corner_verts) and np.array_equal(orig_cv, geo.corner_verts):
+        return None
+    nf, nv = len(me.polygons), len(me.vertices)
+    starts = _int_array(me.polygons, "loop_start", nf)
+    totals = _int_array(me.polygons, "loop_total", nf)
+    face_origin = geo.face_origin
+    if geo.vertex_origin is not None and face_origin is not None:
+        cmap = core_corners.original_corner_map(
+            starts, totals, orig_cv, nv, geo.totals, geo.corner_verts, face_origin,
+            geo.vertex_origin)
+    else:
+        cmap = np.full(nc, -1, dtype=np.int64)
+    if (cmap < 0).any():
+        co = np.empty(nv * 3, np.float32)
+        me.vertices.foreach_get("co", co)
+        co = co.reshape(nv, 3)
+    if (cmap < 0).any() and face_origin is not None:
+        # A face made from the corner's face, but no vertex from its vertex (a modifier
+        # rebuilt the vertices: Decimate, Weld): the nearest corner of those faces.
+        n = core_corners.match_in_face(cmap, totals, orig_cv, co, geo.totals,
+                                       geo.corner_verts, geo.co, face_origin)
+        if n:
+            warnings.append(f"object '{obj.name}': for {n} of its {nc} corners no evaluated "
+                            f"vertex comes from the corner's vertex; they take the nearest "
+                            f"corner of the faces made from theirs")
+    if (cmap < 0).any():
+        # No evaluated face maps back (a modifier rebuilt the surface: Remesh, Boolean,
+        # geometry nodes): the evaluated vertex nearest to the corner's vertex stands in.
+        from mathutils.kdtree import KDTree
+        tree = KDTree(len(geo.co))
+        for i, p in enumerate(geo.co):
+            tree.insert(p, i)
+        tree.balance()
+        need = np.unique(orig_cv[cmap < 0])
+        nearest = np.full(nv, -1, dtype=np.int64)
+        for v in need:
+            nearest[v] = tree.find(co[v])[1]
+        n = core_corners.fill_unmatched(cmap, orig_cv, nearest, geo.corner_verts)
+        warnings.append(f"object '{obj.name}': {n} of its {nc} corners have no counterpart in "
+                        f"the mesh its modifiers make; they take the value of the nearest "
+                        f"evaluated vertex")
+    return cmap
+
+
+def _write_target(obj, first_user, warnings):
     """Decide whether obj.data may receive colours; returns WriteTarget or None."""
     if obj.type != "MESH":
         return None     # curves/text/metaballs take part in the solve but have no corners to write
@@ -94,17 +257,11 @@ def _write_target(obj, corner_verts, first_user, warnings):
         warnings.append(f"object '{obj.name}' shares mesh '{me.name}' with '{owner}'; only "
                         f"'{owner}' is baked (linked duplicates get one bake)")
         return None
-    if len(me.loops) != len(corner_verts) or not np.array_equal(
-            _int_array(me.loops, "vertex_index", len(me.loops)), corner_verts):
-        warnings.append(f"object '{obj.name}': a modifier changes its topology ({len(me.loops)} "
-                        f"corners before, {len(corner_verts)} after); apply or disable it to "
-                        f"bake this object")
-        return None
     first_user[me.name_full] = obj.name
     return WriteTarget(obj.name_full, me.name_full)
 
 
-def _check_material_values(obj, rho, emission, mat_index, slot_names):
+def _check_material_values(name, rho, emission, mat_index, slot_names):
     """NaN/inf in a used material's colours or strengths (or a colour x strength past float
     range) refuse the bake, naming the object and the material."""
     for label, arr in (("colour", rho), ("emission (colour x strength)", emission)):
@@ -112,10 +269,29 @@ def _check_material_values(obj, rho, emission, mat_index, slot_names):
         if bad.any():
             face = int(np.argmax(bad))
             slot = int(np.clip(mat_index[face], 0, max(len(slot_names) - 1, 0)))
-            name = slot_names[slot] if slot_names else "(none)"
+            slot_name = slot_names[slot] if slot_names else "(none)"
             raise scene_data.InputError(
-                f"object '{obj.name_full}': material '{name}' has a NaN or infinite {label} "
+                f"object '{name}': material '{slot_name}' has a NaN or infinite {label} "
                 f"({int(bad.sum())} faces)")
+
+
+def _object_input(name, geo, mat, cluster, target=None, corner_map=None, instance_of=None):
+    if not np.isfinite(mat).all():
+        raise scene_data.InputError(
+            f"object '{name}': its world matrix (location, rotation or scale, its "
+            f"own or a parent's) has a NaN or infinite value")
+    world = geo.co.astype(np.float64) @ mat[:3, :3].T + mat[:3, 3]
+    # A mirroring matrix would flip the winding-derived normal; Blender keeps the visible
+    # side, so hand the solver the reversed winding and map results back afterwards.
+    perm = None
+    if np.linalg.det(mat[:3, :3]) < 0.0:
+        perm = reverse_polygon_permutation(geo.starts, geo.totals)
+    # name_full: a linked object may share its name with a local one.
+    return ObjectInput(
+        name=name, cluster=cluster, vertices=world, loop_starts=geo.starts,
+        loop_totals=geo.totals, corner_verts=geo.corner_verts, reflectance=geo.reflectance,
+        emission=geo.emission, corner_perm=perm, target=target, matrix=mat,
+        local_vertices=geo.co, corner_map=corner_map, instance_of=instance_of)
 
 
 def gather(scene, view_layer, depsgraph):
@@ -144,66 +320,97 @@ def gather(scene, view_layer, depsgraph):
                 return cluster_index(coll)
         return None     # only in excluded / render-disabled collections: not rendered
 
-    for obj in view_layer.objects:
-        if obj.type == "LIGHT" and not obj.hide_render and obj.visible_get(view_layer=view_layer) \
+    def rendered(obj):
+        return (not obj.hide_render and obj.visible_get(view_layer=view_layer)
                 and any(c == scene.collection or c.name_full in coll_parents
-                        for c in obj.users_collection):
-            _gather_light(obj, object_cluster(obj), si, warnings)
-            continue
-        if obj.type not in GEOMETRY_TYPES or obj.hide_render or ADAPTIVE_TAG in obj.keys():
-            continue
-        if not obj.visible_get(view_layer=view_layer):
-            continue
-        if not any(c == scene.collection or c.name_full in coll_parents
-                   for c in obj.users_collection):
-            continue
-        obj_eval = obj.evaluated_get(depsgraph)
-        try:
-            me = obj_eval.to_mesh()
-        except RuntimeError:
-            me = None
-        if me is None:
-            continue
-        try:
-            if len(me.polygons) == 0:
-                # Edges/points only, an empty curve, or a modifier (Mask, Weld, Boolean...) left
-                # nothing: nothing to light, and it costs nothing.
-                continue
-            co, starts, totals, mat_index, corner_verts = _mesh_arrays(me)
-            mat = np.array(obj_eval.matrix_world, dtype=np.float64)
-            rho_slots, emis_slots = _slot_values(obj_eval, materials)
-            slot_names = [s.material.name if s.material is not None else "(empty slot)"
-                          for s in obj_eval.material_slots]
-        finally:
-            obj_eval.to_mesh_clear()
+                        for c in obj.users_collection))
 
-        if not np.isfinite(mat).all():
-            raise scene_data.InputError(
-                f"object '{obj.name_full}': its world matrix (location, rotation or scale, its "
-                f"own or a parent's) has a NaN or infinite value")
-        world = co.astype(np.float64) @ mat[:3, :3].T + mat[:3, 3]
-        # A mirroring matrix would flip the winding-derived normal; Blender keeps the visible
-        # side, so hand the solver the reversed winding and map results back afterwards.
-        perm = None
-        if np.linalg.det(mat[:3, :3]) < 0.0:
-            perm = reverse_polygon_permutation(starts, totals)
-        rho = scene_data.clamp_reflectance(
-            scene_data.face_table(rho_slots, mat_index, [scene_data.DEFAULT_REFLECTANCE] * 3))
-        emission = scene_data.clamp_emission(
-            scene_data.face_table(emis_slots, mat_index, [0.0, 0.0, 0.0]))
-        _check_material_values(obj, rho, emission, mat_index, slot_names)
-        target = _write_target(obj, corner_verts, first_user, warnings)
-        if target is None and obj.type == "MESH":
-            si.unwritable.append(obj.name_full)
-        # name_full: a linked object may share its name with a local one.
-        si.objects.append(ObjectInput(
-            name=obj.name_full, cluster=object_cluster(obj), vertices=world, loop_starts=starts,
-            loop_totals=totals, corner_verts=corner_verts, reflectance=rho, emission=emission,
-            corner_perm=perm, target=target, matrix=mat, local_vertices=co))
-        matrices[obj.name_full] = mat
+    shown = [obj for obj in view_layer.objects if rendered(obj)]
+    # An instancer (vertices, faces, particles) hidden in renders shows only its instances.
+    geometry = {obj.name_full for obj in shown if obj.type in GEOMETRY_TYPES
+                and ADAPTIVE_TAG not in obj.keys()
+                and not (obj.is_instancer and not obj.show_instancer_for_render)}
+    with _origin_layers([o for o in shown if o.name_full in geometry and _needs_origin(o)],
+                        depsgraph):
+        for obj in shown:
+            if obj.type == "LIGHT":
+                _gather_light(obj, object_cluster(obj), si, warnings)
+                continue
+            if obj.name_full not in geometry:
+                continue
+            obj_eval = obj.evaluated_get(depsgraph)
+            geo = _evaluated_geometry(obj.name_full, obj_eval, materials)
+            if geo is None:
+                continue
+            mat = np.array(obj_eval.matrix_world, dtype=np.float64)
+            target = _write_target(obj, first_user, warnings)
+            cmap = _corner_map(obj, geo, warnings) if target is not None else None
+            if target is None and obj.type == "MESH":
+                si.unwritable.append(obj.name_full)
+            si.objects.append(_object_input(obj.name_full, geo, mat, object_cluster(obj),
+                                            target, cmap))
+            si.scene_objects += 1
+            matrices[obj.name_full] = mat
+        _gather_instances(depsgraph, {o.name_full: o for o in shown}, object_cluster, si,
+                          materials, matrices)
+    if si.instancers:
+        n = si.instance_count
+        names = ", ".join(f"'{k}'" for k in list(si.instancers)[:5]) + \
+            (" …" if len(si.instancers) > 5 else "")
+        warnings.append(f"{n} instance{'s' if n != 1 else ''} (of {names}) cast and reflect light "
+                        f"but get no colours: an instance has no colour attribute of its own "
+                        f"(the instanced mesh is baked where it is a real object)")
     _gather_world(scene, si, warnings)
     warnings.extend(materials.warnings)
     return si, matrices, warnings
+
+
+def _gather_instances(depsgraph, shown, object_cluster, si, materials, matrices):
+    """Every instance the depsgraph makes of a shown object: an occluder and reflector, in one
+    native cluster per instancing object."""
+    clusters = {}
+    cache = {}      # evaluated mesh data and materials -> _Geometry: many instances, one read
+    for inst in depsgraph.object_instances:
+        if not inst.is_instance or inst.parent is None:
+            continue
+        parent = shown.get(inst.parent.original.name_full)
+        if parent is None:
+            continue            # its instancer is hidden, render-disabled or excluded
+        ob = inst.object
+        if ob.type not in GEOMETRY_TYPES:
+            continue
+        src = ob.original
+        if src is not None and src != parent and src.hide_render \
+                and parent.instance_type == "COLLECTION":
+            continue            # render-disabled objects of an instanced collection: not rendered
+        pid = tuple(inst.persistent_id)
+        if src == parent and parent.type != "MESH" and \
+                all(x == PERSISTENT_ID_UNUSED for x in pid[1:]):
+            continue            # a curve's, text's or metaball's own surface: gathered above
+        slots = tuple(s.material.name_full if s.material is not None else ""
+                      for s in ob.material_slots)
+        key = (ob.type, ob.data.as_pointer() if ob.data is not None else ob.as_pointer(), slots)
+        if key not in cache:
+            cache[key] = _evaluated_geometry(f"{parent.name_full}: instance of {ob.name}", ob,
+                                             materials)
+        geo = cache[key]
+        if geo is None:
+            continue
+        # Geometry-nodes instances of plain geometry come as temporary objects named after
+        # the instancer: their mesh names them.
+        label = src.name_full if src is not None and src != parent else \
+            (ob.data.name if ob.data is not None else ob.name)
+        pid = ".".join(str(x) for x in pid if x != PERSISTENT_ID_UNUSED)
+        name = f"{parent.name_full}/{label}#{pid}"
+        pname = parent.name_full
+        if pname not in clusters:
+            clusters[pname] = si.add_cluster(f"{parent.name} (instances)", object_cluster(parent))
+        mat = np.array(inst.matrix_world, dtype=np.float64)
+        # A copy per instance: the vertices are the same object-space arrays.
+        si.objects.append(_object_input(name, geo, mat, clusters[pname], instance_of=pname))
+        si.instancers[pname] = si.instancers.get(pname, 0) + 1
+        # Moving the instancer moves its instances: the live re-bake watches it.
+        matrices[pname] = np.array(parent.matrix_world, dtype=np.float64)
 
 
 def _diffuse_factor(obj, light):

@@ -456,7 +456,11 @@ class SolveJob:
         out = []
         for obj, rad in zip(self.scene_input.objects, self.radiance()):
             if obj.target is not None:
-                out.append((obj, radiance_to_rgba(rad, obj.corner_count)))
+                if len(rad) != obj.corner_count:
+                    raise ValueError(f"radiance has {len(rad)} corners, mesh has "
+                                     f"{obj.corner_count}")
+                out.append((obj, radiance_to_rgba(obj.written_values(rad),
+                                                  obj.written_corner_count)))
         return out
 
     def srgb_bytes(self, exposure):
@@ -468,7 +472,7 @@ class SolveJob:
             if obj.target is not None:
                 if len(rad) != obj.corner_count:
                     raise ValueError(f"radiance has {len(rad)} corners, mesh has {obj.corner_count}")
-                out.append((obj, radiance_to_srgb_bytes(rad, exposure)))
+                out.append((obj, radiance_to_srgb_bytes(obj.written_values(rad), exposure)))
         return out
 
     def leaf_meshes(self):

@@ -51,10 +51,27 @@ class ObjectInput:
     # area light is one-sided and, as in Cycles, transparent to other light.
     two_sided: object = None
     occluder: bool = True
+    # Modifiers that change the corner layout: per corner of the mesh written (the original),
+    # the corner of this (evaluated) object whose value it takes (core.corners.
+    # original_corner_map). None: the corners are the written mesh's own.
+    corner_map: object = None
+    # An instance (collection, geometry nodes, particles): the name of the object instancing it.
+    # It casts and reflects light and is never written.
+    instance_of: str = None
 
     @property
     def corner_count(self):
         return int(len(self.corner_verts))
+
+    def written_values(self, per_corner):
+        """Per-corner values (evaluated order) -> the written mesh's corners."""
+        if self.corner_map is None:
+            return per_corner
+        return per_corner[np.asarray(self.corner_map, dtype=np.int64)]
+
+    @property
+    def written_corner_count(self):
+        return self.corner_count if self.corner_map is None else int(len(self.corner_map))
 
     @property
     def polygon_count(self):
@@ -71,6 +88,14 @@ class SceneInput:
     # Names of mesh objects that take part but cannot receive colours (linked library data,
     # Edit Mode, a topology-changing modifier, a shared mesh): reported, never written.
     unwritable: list = field(default_factory=list)
+    # Objects of the view layer whose geometry takes part (instances and lights not counted),
+    # and per instancing object how many of its instances take part (occluders only).
+    scene_objects: int = 0
+    instancers: dict = field(default_factory=dict)
+
+    @property
+    def instance_count(self):
+        return int(sum(self.instancers.values()))
 
     def add_cluster(self, name, parent=-1):
         self.clusters.append(ClusterInput(name, parent))
@@ -129,6 +154,10 @@ def validate_object(obj):
     cv = obj.corner_verts
     if len(cv) and (cv.min() < 0 or cv.max() >= len(v)):
         raise InputError(f"object '{name}': corner refers to a vertex that does not exist")
+    cm = obj.corner_map
+    if cm is not None and len(cm) and (np.min(cm) < 0 or np.max(cm) >= obj.corner_count):
+        raise InputError(f"object '{name}': a corner of the written mesh maps to no corner of "
+                         f"the evaluated mesh")
     for label, arr in (("reflectance", obj.reflectance), ("emission", obj.emission)):
         if not np.isfinite(arr).all():
             p = int(np.argmax(~np.isfinite(arr).all(axis=1)))

@@ -119,11 +119,31 @@ size_t FinalGather::bytes() const {
     return b;
 }
 
+void FinalGather::links_reaching(const Solution& s, int leaf, std::vector<std::pair<int, bool>>& out) const {
+    const Hierarchy& h = s.h;
+    out.clear();
+    auto take = [&](int node, bool own) {
+        for (int li : h.nodes[size_t(node)].in_links) {
+            const Link& l = s.links[size_t(li)];
+            if (!l.dead && l.active && !l.occluded) out.emplace_back(li, own);
+        }
+        // Links the solver found fully occluded from the receiver's cubature points are still
+        // part of what the receiver covers (they are kept for a move to reopen): a point of
+        // it may see the sender all the same, e.g. a corner on the rim of a shadow that covers
+        // the rest of a large leaf.
+        for (int32_t k = occluded_.begin[size_t(node)]; k < occluded_.begin[size_t(node) + 1]; ++k)
+            out.emplace_back(occluded_.links[size_t(k)], own);
+    };
+    for (int a = leaf; a >= 0 && !h.nodes[size_t(a)].is_cluster(); a = h.nodes[size_t(a)].parent) take(a, a == leaf);
+    for (int a : h.ancestors_of_surface(h.nodes[size_t(leaf)].surface)) take(a, false);
+}
+
 void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, const Point* old, const Moves* moves,
                               Counts& counts) const {
     pt.samples.clear();
     pt.records.clear();
     pt.direct = Rgb{};
+    pt.near = Rgb{};
     pt.c_own = pt.c_inherited = 1;
     pt.fill = 0;
     if (pt.covered) return;
@@ -159,28 +179,16 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
     // the leaf sees once, the invariant of hierarchical radiosity, and so do they for x.
     struct Use { int link; bool own; double weight; };
     thread_local std::vector<Use> use;
+    thread_local std::vector<std::pair<int, bool>> reaching;
     use.clear();
-    auto use_link = [&](int li, bool own) {
+    links_reaching(s, pt.leaf, reaching);
+    for (const auto& [li, own] : reaching) {
         const Link& l = s.links[size_t(li)];
         const Node& src = h.nodes[size_t(l.src)];
         // The light at stake, for sharing the ray budget: the coupling as the link saw it
         // unoccluded, times the sender's brightest leaf.
         use.push_back({li, own, l.K_unoccluded * std::max(src.Lmax.max(), src.L.max())});
-    };
-    auto take = [&](int node, bool own) {
-        for (int li : h.nodes[size_t(node)].in_links) {
-            const Link& l = s.links[size_t(li)];
-            if (!l.dead && l.active && !l.occluded) use_link(li, own);
-        }
-        // Links the solver found fully occluded from the receiver's cubature points are still
-        // part of what the receiver covers (they are kept for a move to reopen): a point of
-        // it may see the sender all the same, e.g. a corner on the rim of a shadow that covers
-        // the rest of a large leaf.
-        for (int32_t k = occluded_.begin[size_t(node)]; k < occluded_.begin[size_t(node) + 1]; ++k)
-            use_link(occluded_.links[size_t(k)], own);
-    };
-    for (int a = pt.leaf; a >= 0 && !h.nodes[size_t(a)].is_cluster(); a = h.nodes[size_t(a)].parent) take(a, a == pt.leaf);
-    for (int a : h.ancestors_of_surface(L.surface)) take(a, false);
+    }
     const bool enclosed = L.enclosed == 1;
     double total = 0;
     for (const Use& u : use) total += u.weight;
@@ -264,6 +272,7 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
         (u.own ? f_own : f_inherited) += rec.F;
         pt.records.push_back(rec);
     }
+    near_field(s, c, pt, counts);
     // Closure at the point, as the solver's at the leaf: where no escape ray of the leaf found
     // open space, the point's couplings must sum to 1 -- unless the point itself sees out.
     // A ceiling leaf over a lamp hung 1 mm below it finds no way out with its 32 rays, but its
@@ -274,6 +283,149 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
         pt.c_own = cf.c_own;
         pt.c_inherited = cf.c_inherited;
         pt.fill = cf.fill;
+    }
+}
+
+namespace {
+
+// The part of a convex polygon inside an axis-aligned box (Sutherland-Hodgman over its six
+// planes); n = 0 when nothing is left. At most 4 + 6 vertices.
+int clip_to_box(const Poly& p, const Aabb& b, Vec3* out) {
+    Vec3 buf[2][12];
+    int n = p.n;
+    for (int i = 0; i < n; ++i) buf[0][i] = p.v[size_t(i)];
+    int cur = 0;
+    for (int axis = 0; axis < 3 && n > 0; ++axis)
+        for (int side = 0; side < 2 && n > 0; ++side) {
+            const double lim = side ? b.hi[axis] : b.lo[axis];
+            auto inside = [&](const Vec3& v) { return side ? v[axis] <= lim : v[axis] >= lim; };
+            const Vec3* in = buf[cur];
+            Vec3* o = buf[1 - cur];
+            int m = 0;
+            for (int i = 0; i < n && m < 11; ++i) {
+                const Vec3& a = in[i];
+                const Vec3& c = in[(i + 1) % n];
+                const bool ia = inside(a), ic = inside(c);
+                if (ia) o[m++] = a;
+                if (ia != ic && m < 12) o[m++] = a + (c - a) * ((lim - a[axis]) / (c[axis] - a[axis]));
+            }
+            n = m;
+            cur = 1 - cur;
+        }
+    for (int i = 0; i < n; ++i) out[i] = buf[cur][i];
+    return n >= 3 ? n : 0;
+}
+
+}  // namespace
+
+Rgb FinalGather::radiance_at(const Solution& s, const Config& c, int m_id, const Vec3& sp, uint64_t seed,
+                             Counts& counts) const {
+    // One level of the gather at a point of leaf m: its lamps and its links, a few rays each.
+    const Hierarchy& h = s.h;
+    const Node& m = h.nodes[size_t(m_id)];
+    Rgb g;
+    const PointLight lamp = direct_light_at(s.scene, h, s.vis, sp, m.normal, false, std::max(4, c.light_samples / 8), seed);
+    g += lamp.E;
+    counts.rays += lamp.rays;
+    thread_local std::vector<std::pair<int, bool>> reaching;
+    thread_local std::vector<std::pair<int, float>> nested;
+    links_reaching(s, m_id, reaching);
+    double f_own = 0, f_inh = 0;
+    Rgb own, all;
+    for (const auto& [li, is_own] : reaching) {
+        const Link& l = s.links[size_t(li)];
+        nested.clear();
+        PointRayStream rs(s.vis);
+        const PointTransfer tr = point_transfer(h, rs, l.src, sp, m.normal, m_id, std::max(2, c.min_rays / 2),
+                                                Hierarchy::mix(seed, uint64_t(li)), nested);
+        counts.rays += rs.cast;
+        Rgb e;
+        for (const auto& [k, wk] : nested) e += h.nodes[size_t(h.live_element(k))].L * double(wk);
+        all += e;
+        if (is_own) own += e;
+        (is_own ? f_own : f_inh) += tr.F;
+    }
+    ClosureFactors cf;
+    if (m.enclosed == 1) cf = closure_factors(f_own, f_inh);
+    g += closure_gathered(own, all, cf.c_own, cf.c_inherited, cf.fill, m.L);
+    return m.emission + m.rho * g;
+}
+
+void FinalGather::near_field(const Solution& s, const Config& c, Point& pt, Counts& counts) const {
+    // A point a hair from another surface (a floor corner 0.1 mm from a wall standing on it,
+    // a cube's foot corner over the floor) takes most of what it sees of that surface from its
+    // first millimetres: at distance d from the wall's plane, 90 % of the wall's form factor
+    // comes from within 10 d. The light there is not the wall leaf's average: on the shadow
+    // side of an object both sides of the contact go dark toward the edge (each sees mostly
+    // the other), on the lit side the floor right at a cube's foot has the floor's direct light
+    // at that spot. So the part of such a sender within R = 20 d of the point reads the
+    // radiance gathered at one point of it, 2 d from the contact (the kernel's typical
+    // distance), from the sender leaf's own links -- one level of the gather, nested -- in
+    // place of the leaf's average. Kept as a correction, F_near x (L(s*) - L_leaf), so that
+    // the samples stay what the rays found (a retrace keeps or replays them).
+    constexpr double kReach = 20.0;    // R / d
+    constexpr int kNearPoints = 4;
+    constexpr double kLeafShare = 0.05;  // R must be under this share of the sender polygon's size
+    const Hierarchy& h = s.h;
+    const Vec3& x = pt.x;
+    const Vec3& n = pt.n;
+    const int own_surface = h.nodes[size_t(pt.leaf)].surface;
+    // What the point's samples read of each surface: (surface, visible weight, weighted radiance).
+    struct Seen { int surface; double W; Rgb WL; };
+    thread_local std::vector<Seen> seen;
+    seen.clear();
+    for (const auto& [node, w] : pt.samples) {
+        const Node& m = h.nodes[size_t(h.live_element(node))];
+        if (m.is_cluster() || m.surface < 0) continue;
+        auto it = std::find_if(seen.begin(), seen.end(), [&](const Seen& e) { return e.surface == m.surface; });
+        if (it == seen.end()) seen.push_back({m.surface, double(w), m.L * double(w)});
+        else it->W += double(w), it->WL += m.L * double(w);
+    }
+    for (const Seen& sn : seen) {
+        if (sn.surface == own_surface || !(sn.W > 0)) continue;
+        const Node& root = h.nodes[size_t(h.surfaces[size_t(sn.surface)].root)];
+        const double d = dot(x - root.poly.v[0], root.normal);
+        if (!(d > 0) || kReach * d > kLeafShare * std::sqrt(root.area)) continue;
+        const double R = kReach * d;
+        Aabb box;
+        box.lo = x - Vec3{R, R, R};
+        box.hi = x + Vec3{R, R, R};
+        Vec3 part[12];
+        const int np = clip_to_box(root.poly, box, part);
+        if (np == 0) continue;
+        const double F_near = std::min(point_polygon_form_factor(x, n, part, np, root.normal), sn.W);
+        if (!(F_near > 0)) continue;
+        // Points s* of the near part, drawn as the kernel weighs it: cosine-distributed
+        // directions from x that meet the sender's plane within the box (the light there can
+        // change within the near part: a shadow's edge at a leg's foot). Each gathers anew.
+        const int surface_root = h.surfaces[size_t(sn.surface)].root;
+        const uint64_t seed = Hierarchy::mix(pt.seed, Hierarchy::mix(root.key, 0x4ea7u));
+        Rng rng(seed);
+        const Vec3 tt = std::fabs(n.x) > 0.5 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
+        const Vec3 u = normalize(cross(n, tt)), v = cross(n, u);
+        Rgb sum;
+        int got = 0;
+        for (int tries = 0; tries < 8 * kNearPoints && got < kNearPoints; ++tries) {
+            const double r1 = rng.next(), r2 = rng.next();
+            const double phi = 2 * kPi * r1, sr = std::sqrt(r2);
+            const Vec3 w = u * (std::cos(phi) * sr) + v * (std::sin(phi) * sr) + n * std::sqrt(1 - r2);
+            const double dn = -dot(w, root.normal);
+            if (!(dn > 1e-6)) continue;
+            const double t = d / dn;
+            if (t > 1.7 * R) continue;
+            const Vec3 sp = x + w * t;
+            if (distance_outside(root.poly, root.normal, sp) > 1e-9 * h.scene_diag) continue;
+            const int m_id = h.leaf_at(surface_root, sp);
+            if (m_id < 0) continue;
+            sum += radiance_at(s, c, m_id, sp, Hierarchy::mix(seed, uint64_t(tries)), counts);
+            ++got;
+        }
+        if (got == 0) continue;
+        const Rgb Ls = sum / double(got);
+        // The samples' share of this surface near x read, on average, what they read of all
+        // of it; that share now reads L(s*).
+        pt.near += (Ls - sn.WL / sn.W) * F_near;
+        ++counts.near;
     }
 }
 
@@ -400,7 +552,7 @@ void FinalGather::run(const Solution& s, const Config& c, std::vector<Job>& jobs
     if (moves) old.swap(points_);
     occluded_.build(s.h, s.links);
     points_.assign(jobs.size(), Point{});
-    std::atomic<int64_t> n_links{0}, n_rays{0}, n_refined{0}, n_samples{0}, n_kept{0}, n_replayed{0}, n_fresh{0};
+    std::atomic<int64_t> n_links{0}, n_rays{0}, n_refined{0}, n_samples{0}, n_kept{0}, n_replayed{0}, n_fresh{0}, n_near{0};
     const size_t block = 512;
     for (size_t b = 0; b < jobs.size(); b += block) {
         if (progress) progress(double(b) / double(jobs.size()));
@@ -431,6 +583,7 @@ void FinalGather::run(const Solution& s, const Config& c, std::vector<Job>& jobs
             n_links += local.links;
             n_rays += local.rays;
             n_refined += local.refined;
+            n_near += local.near;
             n_kept += local.kept;
             n_replayed += local.replayed;
             n_fresh += was == nullptr;
@@ -449,6 +602,7 @@ void FinalGather::run(const Solution& s, const Config& c, std::vector<Job>& jobs
     counts_.kept = n_kept;
     counts_.replayed = n_replayed;
     counts_.fresh_points = n_fresh;
+    counts_.near = n_near;
     traced_ = true;
 }
 
@@ -496,6 +650,7 @@ std::vector<float> FinalGather::values(const Hierarchy& h, int object, bool irra
                 all += e;
                 if (r.own) own += e;
             }
+            all += p.near;
             const Rgb e = p.direct + closure_gathered(own, all, p.c_own, p.c_inherited, p.fill, leaf.L);
             v = irradiance ? e : leaf.emission + leaf.rho * e;
         } else {

@@ -145,16 +145,21 @@ Cubature cubature(const Poly& p) {
 }
 
 double point_polygon_form_factor(const Vec3& x, const Vec3& nx, const Poly& poly, const Vec3& pn) {
+    return point_polygon_form_factor(x, nx, poly.v.data(), poly.n, pn);
+}
+
+double point_polygon_form_factor(const Vec3& x, const Vec3& nx, const Vec3* v, int n, const Vec3& pn) {
+    if (n < 3 || n > 12) return 0.0;
     // The receiving point must lie in front of the emitting side.
-    if (dot(x - poly.v[0], pn) <= 0) return 0.0;
+    if (dot(x - v[0], pn) <= 0) return 0.0;
     // Clip the polygon to the half-space above x's tangent plane (a polygon that straddles it
     // would otherwise contribute a negative part).
-    Vec3 pts[8];
+    Vec3 pts[24];
     int m = 0;
     const double h_eps = 1e-12;
-    for (int i = 0; i < poly.n; ++i) {
-        const Vec3& a = poly.v[i];
-        const Vec3& b = poly.v[(i + 1) % poly.n];
+    for (int i = 0; i < n; ++i) {
+        const Vec3& a = v[i];
+        const Vec3& b = v[(i + 1) % n];
         double da = dot(a - x, nx), db = dot(b - x, nx);
         bool ina = da > h_eps, inb = db > h_eps;
         if (ina) pts[m++] = a;

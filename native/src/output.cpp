@@ -84,6 +84,7 @@ void Solver::final_gather(double from, double to, const FinalGather::Moves* move
     stats_.gather_kept = k.kept;
     stats_.gather_replayed = k.replayed;
     stats_.gather_fresh_points = k.fresh_points;
+    stats_.gather_near = k.near;
 }
 
 std::vector<float> Solver::corner_values(int object, const std::function<Rgb(int)>& leaf_value) const {

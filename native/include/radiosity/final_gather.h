@@ -57,6 +57,7 @@ public:
         int64_t kept = 0;        // retrace: point-link transfers kept as they were (no ray could change)
         int64_t replayed = 0;    // ... replayed (rays through a moved box cast again)
         int64_t fresh_points = 0;  // retrace: points traced anew
+        int64_t near = 0;        // near-field corrections (a sender a hair from the point)
     };
 
     // Traces every output point of the scene's objects. `progress(f)` is called with f in
@@ -111,6 +112,9 @@ private:
         // what the point gathers; -1 when the covering polygon is one-sided.
         int beyond = -1;
         Rgb direct;          // lamps' irradiance / pi
+        // Near-field correction (final_gather.cpp near_field), irradiance / pi: the senders a
+        // hair from the point read at a point of theirs instead of their leaf's average.
+        Rgb near;
         // Closure (as the solver's at the leaf): factors on own and inherited couplings, and
         // the share of the hemisphere taken to see the leaf's own radiance.
         double c_own = 1, c_inherited = 1, fill = 0;
@@ -123,6 +127,12 @@ private:
     // A point traced afresh, or (with `old` and `moves`) re-traced after moves.
     void trace_point(const Solution& s, const Config& c, Point& pt, const Point* old, const Moves* moves,
                      Counts& counts) const;
+    // The links that reach a leaf: at it (own), at its element ancestors and at the clusters
+    // above its surface, fully occluded ones included.
+    void links_reaching(const Solution& s, int leaf, std::vector<std::pair<int, bool>>& out) const;
+    void near_field(const Solution& s, const Config& c, Point& pt, Counts& counts) const;
+    // Outgoing radiance at a point sp of leaf m_id, gathered there (lamps and m's links).
+    Rgb radiance_at(const Solution& s, const Config& c, int m_id, const Vec3& sp, uint64_t seed, Counts& counts) const;
     // Whether an escape ray from x finds open space (the point is not enclosed).
     static bool point_escapes(const Solution& s, const Vec3& x, const Vec3& n, uint64_t seed, Counts& counts);
     void run(const Solution& s, const Config& c, std::vector<Job>& jobs, const Moves* moves,

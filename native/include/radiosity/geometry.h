@@ -62,6 +62,8 @@ Cubature receiver_cubature(const Poly& rcv, const Vec3& src_p, const Vec3& src_n
 // the polygon above x's tangent plane counts, and only if x is in front of the polygon
 // (the polygon's front side emits toward x). Exact (Lambert's contour formula).
 double point_polygon_form_factor(const Vec3& x, const Vec3& nx, const Poly& poly, const Vec3& poly_normal);
+// The same for a convex planar polygon of n <= 12 vertices (a clipped element).
+double point_polygon_form_factor(const Vec3& x, const Vec3& nx, const Vec3* v, int n, const Vec3& poly_normal);
 
 // Whether any transfer from `src` (front side) to `rcv` (front side) is geometrically possible.
 bool can_face(const Poly& src, const Vec3& src_n, const Poly& rcv, const Vec3& rcv_n, double eps);

@@ -66,6 +66,7 @@ struct Stats {
     // After an update: point-link transfers kept as they were, replayed (only rays through a
     // moved box cast), and points traced anew.
     int64_t gather_kept = 0, gather_replayed = 0, gather_fresh_points = 0;
+    int64_t gather_near = 0;  // near-field corrections at output points (final_gather.cpp near_field)
     double seconds_build = 0, seconds_link = 0, seconds_solve = 0, seconds_total = 0;
     std::vector<std::string> warnings;
     // Wall time of each phase of the last solve or update, in order (for profiling and the

@@ -187,6 +187,7 @@ class BakeRun:
             extra["byte_copy"] = byte_name
             extra["exposure"] = float(self.props.exposure)
         extra["lights"] = len(self.job.scene_input.lights)
+        extra.update(getattr(self.job.scene_input, "evaluation_stats", None) or {})
         if self.job.scene_input.unwritable:
             # Took part in the solve (they cast and reflect light) but got no colours: linked
             # library data, Edit Mode, topology-changing modifiers, shared meshes (warnings say

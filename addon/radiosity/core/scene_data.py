@@ -76,6 +76,8 @@ class SceneInput:
     # Names of mesh objects that take part but cannot receive colours (linked library data,
     # Edit Mode, a topology-changing modifier, a shared mesh): reported, never written.
     unwritable: list = field(default_factory=list)
+    # What evaluating textured materials and the world cost (textures.py, world.py): stats keys.
+    evaluation_stats: dict = field(default_factory=dict)
 
     def add_cluster(self, name, parent=-1):
         self.clusters.append(ClusterInput(name, parent))

@@ -24,6 +24,8 @@ def census():
 
 kind = rt.arg("--kind")
 ref_path = rt.arg("--ref")
+if ref_path == "-":
+    ref_path = None     # just bake (the caller picks the reference by out["ref_tag"])
 rt.setup()
 objs = tws.build(kind)
 bpy.context.scene.radiosity.preset = rt.arg("--preset", "HIGH")
@@ -65,4 +67,7 @@ if ok:
                         "ours_mean": ours[start:start + n].mean(axis=0).tolist(),
                         "ref_mean": ref[start:start + n].mean(axis=0).tolist()}
                 start += n
+v = bpy.app.version
+out["blender"] = bpy.app.version_string
+out["ref_tag"] = "v3" if v < (4, 0, 0) else f"v{v[0]}_{v[1]}"
 rt.result(**out)

@@ -315,7 +315,7 @@ def _gather_world(scene, si, warnings):
 def _gather_world_map(world, si, warnings):
     try:
         env, sun, stats = world_map.render_world(world)
-    except (RuntimeError, ReferenceError) as exc:
+    except Exception as exc:  # noqa: BLE001  (any failure of Blender's render: warn, no light)
         warnings.append(f"world '{world.name}': Cycles could not render it ({exc}); it gives "
                         f"no light")
         return

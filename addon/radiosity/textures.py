@@ -221,7 +221,7 @@ def evaluate(si, requests, depsgraph, materials, warnings):
                     ce[sel] = corners[sel]
                     o.corner_emission = scene_data.clamp_emission(ce)
             del starts
-    except (RuntimeError, ReferenceError) as exc:
+    except Exception as exc:  # noqa: BLE001  (any failure of Blender's bake: fall back, warn)
         for why in materials.textured.values():
             warnings.append(why)
         warnings.append(f"textured materials could not be evaluated by Cycles ({exc}); their "

@@ -49,6 +49,10 @@ class Light:
         self.radius = self.angle = self.spot_blend = 0.0
         self.spot_size = np.pi
         self.spot_cos_falloff = False
+        self.environment = None
+
+    def set_environment(self, radiance):
+        self.environment = np.array(radiance, dtype=np.float64)
 
 
 class Scene:

@@ -25,12 +25,14 @@ pieces per polygon (fewer on large meshes: at most about PIECE_BUDGET pieces in 
 texture much finer than that averages with a small error. Non-diffuse parts (glossy, glass)
 count as Cycles' DIFFUSE COLOR pass counts them: not at all.
 """
+import hashlib
 import time
 
 import bmesh
 import bpy
 import numpy as np
 
+from . import eval_cache
 from .core import scene_data
 
 ATTR = "radiosity_eval"
@@ -151,76 +153,116 @@ def _bake(tmp, view_layer, objs, kind):
         raise RuntimeError(f"Cycles' {kind} bake did not finish ({result})")
 
 
+def _request_key(r, obj_eval, exclude_prefix):
+    """What the evaluation of one object reads (eval_cache.py)."""
+    h = hashlib.blake2b(digest_size=20)
+    placed = False
+    for i, slot in enumerate(obj_eval.material_slots):
+        mat = slot.material
+        tree = mat.node_tree if mat is not None else None
+        h.update(f"S|{i}|{mat.name_full if mat else None}|{eval_cache.tree_key(tree)}|"
+                 f"{tuple(mat.diffuse_color) if mat else None}".encode())
+        placed = placed or eval_cache.reads_placement(tree)
+    me = obj_eval.to_mesh()
+    try:
+        eval_cache.mesh_key(me, h, exclude_prefix)
+    finally:
+        obj_eval.to_mesh_clear()
+    if placed:
+        h.update(np.array(obj_eval.matrix_world, dtype=np.float64).tobytes())
+    h.update(f"{sorted(r.slots)}|{bpy.app.version_string}".encode())
+    return "T" + h.hexdigest()
+
+
+def _apply(o, slots, mi, values):
+    """Set the textured polygons' area means and every corner's value of one object from
+    `values` {kind: (corners (C,3), means (F,3))}."""
+    face_of = np.repeat(np.arange(o.polygon_count), o.loop_totals)
+    textured = np.isin(mi, np.asarray(slots, dtype=np.int64))
+    sel = textured[face_of]
+    for kind, (corners, means) in values.items():
+        if kind == "DIFFUSE":
+            rho = o.reflectance.astype(np.float64)
+            rho[textured] = means[textured]
+            o.reflectance = scene_data.clamp_reflectance(rho)
+            cr = o.reflectance[face_of].astype(np.float64)
+            cr[sel] = corners[sel]
+            o.corner_reflectance = scene_data.clamp_reflectance(cr)
+        else:
+            em = o.emission.astype(np.float64)
+            em[textured] = means[textured]
+            o.emission = scene_data.clamp_emission(em)
+            ce = o.emission[face_of].astype(np.float64)
+            ce[sel] = corners[sel]
+            o.corner_emission = scene_data.clamp_emission(ce)
+
+
 def evaluate(si, requests, depsgraph, materials, warnings):
     """Fill corner_reflectance / corner_emission and the textured polygons' area means of the
-    objects in `requests` (SceneInput indices). Returns stats {"textured_objects", "texture_seconds",
-    "texture_pieces"}; on failure the viewport colours stay, with one warning per material."""
+    objects in `requests` (SceneInput indices). Returns stats {"textured_objects",
+    "textures_baked", "texture_pieces", "texture_seconds"}; on failure the viewport colours stay,
+    with one warning per material. Evaluations are kept (eval_cache.py): an object whose
+    materials and evaluated mesh did not change is not baked again."""
     if not requests:
         return {}
     t0 = time.perf_counter()
-    total_faces = sum(si.objects[r.index].polygon_count for r in requests)
-    k = int(np.sqrt(PIECE_BUDGET / max(total_faces, 1)))
-    cuts = int(np.clip(k - 1, 0, MAX_CUTS))
-    tmp = bpy.data.scenes.new("radiosity_textures_tmp")
+    props = getattr(depsgraph.scene, "radiosity", None)
+    exclude = getattr(props, "attribute_name", "Radiosity") or "Radiosity"
+    tmp = None
     made_objects, made_meshes = [], []
     pieces = 0
+    todo = []
     try:
-        _set_cycles(tmp)
-        view_layer = tmp.view_layers[0]
-        plain, cut, emit = [], [], False
         for r in requests:
             obj_eval = r.obj.evaluated_get(depsgraph)
-            me = bpy.data.meshes.new_from_object(obj_eval, preserve_all_data_layers=True,
-                                                 depsgraph=depsgraph)
-            made_meshes.append(me)
-            # The object's effective materials (object-linked slots included) on the copy.
-            me.materials.clear()
-            for slot in obj_eval.material_slots:
-                me.materials.append(slot.material)
-                if slot.material is not None and slot.material.node_tree is not None:
-                    emit = emit or _emits(slot.material.node_tree)
-            if len(me.loops) != si.objects[r.index].corner_count:
-                raise RuntimeError(f"object '{r.obj.name}': the evaluated mesh changed while "
-                                   f"baking its textures")
-            me2 = me.copy()
-            made_meshes.append(me2)
-            _cut(me2, cuts)
-            pieces += len(me2.polygons)
-            for mesh, dst in ((me, plain), (me2, cut)):
-                o = bpy.data.objects.new("radiosity_textures_tmp", mesh)
-                made_objects.append(o)
-                o.matrix_world = obj_eval.matrix_world
-                tmp.collection.objects.link(o)
-                dst.append(o)
-        kinds = ["DIFFUSE"] + (["EMIT"] if emit else [])
-        for kind in kinds:
-            _bake(tmp, view_layer, plain + cut, kind)
-        for r, a, b in zip(requests, plain, cut):
-            o = si.objects[r.index]
-            starts, totals = o.loop_starts, o.loop_totals
-            face_of = np.repeat(np.arange(o.polygon_count), totals)
-            mi = _material_index(a.data)
-            textured = np.isin(mi, np.asarray(r.slots, dtype=np.int64))
+            key = _request_key(r, obj_eval, exclude)
+            hit = eval_cache.get(key)
+            if hit is not None and len(hit[0]) == si.objects[r.index].polygon_count:
+                _apply(si.objects[r.index], r.slots, hit[0], hit[1])
+            else:
+                todo.append((r, obj_eval, key))
+        if todo:
+            total_faces = sum(si.objects[r.index].polygon_count for r, _, _ in todo)
+            k = int(np.sqrt(PIECE_BUDGET / max(total_faces, 1)))
+            cuts = int(np.clip(k - 1, 0, MAX_CUTS))
+            tmp = bpy.data.scenes.new("radiosity_textures_tmp")
+            _set_cycles(tmp)
+            view_layer = tmp.view_layers[0]
+            plain, cut, emit = [], [], False
+            for r, obj_eval, _ in todo:
+                me = bpy.data.meshes.new_from_object(obj_eval, preserve_all_data_layers=True,
+                                                     depsgraph=depsgraph)
+                made_meshes.append(me)
+                # The object's effective materials (object-linked slots included) on the copy.
+                me.materials.clear()
+                for slot in obj_eval.material_slots:
+                    me.materials.append(slot.material)
+                    if slot.material is not None and slot.material.node_tree is not None:
+                        emit = emit or _emits(slot.material.node_tree)
+                if len(me.loops) != si.objects[r.index].corner_count:
+                    raise RuntimeError(f"object '{r.obj.name}': the evaluated mesh changed while "
+                                       f"baking its textures")
+                me2 = me.copy()
+                made_meshes.append(me2)
+                _cut(me2, cuts)
+                pieces += len(me2.polygons)
+                for mesh, dst in ((me, plain), (me2, cut)):
+                    o = bpy.data.objects.new("radiosity_textures_tmp", mesh)
+                    made_objects.append(o)
+                    o.matrix_world = obj_eval.matrix_world
+                    tmp.collection.objects.link(o)
+                    dst.append(o)
+            kinds = ["DIFFUSE"] + (["EMIT"] if emit else [])
             for kind in kinds:
-                corners = _colours(a.data, ATTR + kind)
-                means = _face_means(b.data, _colours(b.data, ATTR + kind), o.polygon_count)
-                if kind == "DIFFUSE":
-                    rho = o.reflectance.astype(np.float64)
-                    rho[textured] = means[textured]
-                    o.reflectance = scene_data.clamp_reflectance(rho)
-                    cr = o.reflectance[face_of].astype(np.float64)
-                    sel = textured[face_of]
-                    cr[sel] = corners[sel]
-                    o.corner_reflectance = scene_data.clamp_reflectance(cr)
-                else:
-                    em = o.emission.astype(np.float64)
-                    em[textured] = means[textured]
-                    o.emission = scene_data.clamp_emission(em)
-                    ce = o.emission[face_of].astype(np.float64)
-                    sel = textured[face_of]
-                    ce[sel] = corners[sel]
-                    o.corner_emission = scene_data.clamp_emission(ce)
-            del starts
+                _bake(tmp, view_layer, plain + cut, kind)
+            for (r, _, key), a, b in zip(todo, plain, cut):
+                o = si.objects[r.index]
+                values = {kind: (_colours(a.data, ATTR + kind),
+                                 _face_means(b.data, _colours(b.data, ATTR + kind), o.polygon_count))
+                          for kind in kinds}
+                mi = _material_index(a.data)
+                eval_cache.put(key, (mi, values))
+                _apply(o, r.slots, mi, values)
     except Exception as exc:  # noqa: BLE001  (any failure of Blender's bake: fall back, warn)
         for why in materials.textured.values():
             warnings.append(why)
@@ -235,9 +277,10 @@ def evaluate(si, requests, depsgraph, materials, warnings):
             bpy.data.objects.remove(o, do_unlink=True)
         for me in made_meshes:
             bpy.data.meshes.remove(me, do_unlink=True)
-        bpy.data.scenes.remove(tmp, do_unlink=True)
-    return {"textured_objects": len(requests), "texture_pieces": pieces,
-            "texture_seconds": round(time.perf_counter() - t0, 4)}
+        if tmp is not None:
+            bpy.data.scenes.remove(tmp, do_unlink=True)
+    return {"textured_objects": len(requests), "textures_baked": len(todo),
+            "texture_pieces": pieces, "texture_seconds": round(time.perf_counter() - t0, 4)}
 
 
 def _material_index(me):

@@ -29,6 +29,7 @@ import time
 import bpy
 import numpy as np
 
+from . import eval_cache
 from .core import lights as core_lights
 
 MAP_WIDTH, MAP_HEIGHT = 512, 256
@@ -205,8 +206,16 @@ def _measure_sun(renderer, nodes, world_name):
 
 
 def render_world(world):
-    """(map (H, W, 3) float32, sun LightInput or None, stats) of a world with a node tree."""
+    """(map (H, W, 3) float32, sun LightInput or None, stats) of a world with a node tree. The
+    result is kept (eval_cache.py): the same world is not rendered again (a live re-bake)."""
     t0 = time.perf_counter()
+    key = (f"W|{world.name_full}|{eval_cache.tree_key(world.node_tree)}|{tuple(world.color)}|"
+           f"{MAP_WIDTH}x{MAP_HEIGHT}x{MAP_SAMPLES}|{bpy.app.version_string}")
+    hit = eval_cache.get(key)
+    if hit is not None:
+        env, sun, stats = hit
+        return env, sun, dict(stats, world_cached=True,
+                              world_seconds=round(time.perf_counter() - t0, 4))
     copy = world.copy()
     renderer = None
     try:
@@ -224,4 +233,5 @@ def render_world(world):
     env = np.maximum(np.nan_to_num(env, nan=0.0, posinf=0.0), 0.0).astype(np.float32)
     stats = {"world_map": [MAP_WIDTH, MAP_HEIGHT], "world_sun": sun is not None,
              "world_seconds": round(time.perf_counter() - t0, 4)}
+    eval_cache.put(key, (env, sun, stats))
     return env, sun, stats

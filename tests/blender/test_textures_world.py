@@ -122,3 +122,6 @@ def test_texture_change_is_incremental(run_blender):
     assert r["changed_floor"] > 0.1
     assert r["inc_vs_full"] < 0.02        # measured 0.009
     assert r["cube_green_over_red"] > 1.03  # the green squares now bleed green
+    # Kept evaluations (eval_cache.py): a move bakes no texture and renders no world again.
+    assert r["move_textures_baked"] == 0
+    assert r["world_cached"] == [False, True]

@@ -125,3 +125,14 @@ def test_texture_change_is_incremental(run_blender):
     # Kept evaluations (eval_cache.py): a move bakes no texture and renders no world again.
     assert r["move_textures_baked"] == 0
     assert r["world_cached"] == [False, True]
+
+
+def test_single_quad_takes_the_texture_mean(run_blender):
+    """A checker on a 4-vertex plane: the corners show two squares' colours, the polygon's
+    reflectance (the transport's) is the checker's area mean, (red + white) / 2."""
+    r = run_blender("tex_single_quad.py")
+    assert r["ok"], r["_log"]
+    assert r["warnings"] == [], r["warnings"]
+    assert r["polygon"] == pytest.approx([0.8, 0.43, 0.425], abs=0.01)
+    greens = sorted(round(c[1], 3) for c in r["corners"])
+    assert greens == [0.06, 0.06, 0.8, 0.8], r["corners"]

@@ -1,0 +1,22 @@
+"""A checker on a single quad: its four corners may all fall on one colour, the polygon's
+reflectance for the transport must be the checker's area mean (test_textures_world.py)."""
+import bpy
+import numpy as np
+
+import rt_common as rt
+import tex_world_scenes as tws
+
+rt.setup()
+from radiosity import gather  # noqa: E402  (the installed add-on)
+
+rt.black_world()
+mat = tws.checker_material()
+tex = mat.node_tree.nodes["Checker Texture"]
+tex.inputs["Scale"].default_value = 4.0      # 2 x 2 squares... on Generated coordinates: 4 x 4
+verts, faces = rt.grid((-1, -1, 0), (2, 0, 0), (0, 2, 0), 1)
+plane = rt.mesh_object("Plane", verts, faces, None, mat)
+dg = bpy.context.evaluated_depsgraph_get()
+si, _, warnings = gather.gather(bpy.context.scene, bpy.context.view_layer, dg)
+o = si.objects[0]
+rt.result(ok=True, polygon=o.reflectance[0].tolist(), corners=o.corner_reflectance.tolist(),
+          warnings=warnings, stats=si.evaluation_stats)

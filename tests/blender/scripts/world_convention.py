@@ -67,6 +67,38 @@ inside[:, (np.arange(W) * 16 // W) != ((np.arange(W) + 1) * 16 - 1) // W] = Fals
 out["env_image_match"] = float(np.mean(
     (np.abs(env2[..., 0] - col) < 1e-3)[inside] & (np.abs(env2[..., 1] - row) < 1e-3)[inside]))
 
+# 3. An HDRI whose sun is one texel of a 2048 x 1024 image (0.18 degrees, radiance 4e5, over
+#    a sky of 0.5): the map must carry its light (luminance x solid angle) without the noise of
+#    the few map samples that hit it.
+HW, HH, SI, SJ = 999, 499, 151, 701
+hdr = bpy.data.images.new("Hdri", HW, HH, float_buffer=True, alpha=False)
+hdr.colorspace_settings.name = "Non-Color"
+px = np.full((HH, HW, 4), 0.5, np.float32)
+px[..., 3] = 1.0
+px[HH - 1 - SI, SJ, :3] = 400000.0      # Blender rows from the bottom
+hdr.pixels.foreach_set(px.ravel())
+hdr.pack()
+w4 = bpy.data.worlds.new("Hdri")
+if bpy.app.version < (5, 0, 0):
+    w4.use_nodes = True
+nt4 = w4.node_tree
+tex4 = nt4.nodes.new("ShaderNodeTexEnvironment")
+tex4.image = hdr
+tex4.interpolation = "Closest"
+nt4.links.new(tex4.outputs["Color"], nt4.nodes["Background"].inputs["Color"])
+env4, _, st4 = world_map.render_world(w4)
+lat_e = np.pi * (0.5 - np.arange(HH + 1) / HH)
+om_img = 2 * np.pi / HW * (np.sin(lat_e[:-1]) - np.sin(lat_e[1:]))
+sun_flux = (400000.0 - 0.5) * om_img[SI]
+sky_flux = 0.5 * 4 * np.pi
+got = float(world_map._map_flux(env4).sum())
+out["hdri_flux_ratio"] = got / (sun_flux + sky_flux)
+out["hdri_sun_share"] = sun_flux / (sun_flux + sky_flux)
+out["hdri_hot_spots"] = st4["world_hot_spots"]
+world_map.HOT_WINDOWS = 0
+env5, _, _ = world_map.render_world(w4.copy())
+out["hdri_flux_ratio_unrefined"] = float(world_map._map_flux(env5).sum()) / (sun_flux + sky_flux)
+
 # 3. A bake: a white cube on no floor under a world bright toward +X only.
 
 w3 = bpy.data.worlds.new("HalfX")

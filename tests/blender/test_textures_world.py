@@ -142,3 +142,9 @@ def test_single_quad_takes_the_texture_mean(run_blender):
     assert r["polygon"] == pytest.approx([0.8, 0.43, 0.425], abs=0.01)
     greens = sorted(round(c[1], 3) for c in r["corners"])
     assert greens == [0.06, 0.06, 0.8, 0.8], r["corners"]
+    # An Emission shader whose colour is a red/blue checker, strength 5 (the EMIT bake): corners
+    # 5 x red or 5 x blue, the polygon's emission their mean; the plane emits nothing.
+    assert r["lamp_polygon"] == pytest.approx([2.5, 0.0, 2.5], abs=0.05)
+    assert sorted(tuple(round(x, 3) for x in c) for c in r["lamp_corners"]) == \
+        [(0.0, 0.0, 5.0), (0.0, 0.0, 5.0), (5.0, 0.0, 0.0), (5.0, 0.0, 0.0)]
+    assert r["plane_emission"] is None or max(map(max, r["plane_emission"])) == 0.0

@@ -20,6 +20,8 @@ import os
 
 import pytest
 
+from ui_window import run_ui_window  # noqa: F401  (fixture)
+
 DATA = os.path.join(os.path.dirname(__file__), "data")
 
 
@@ -148,3 +150,15 @@ def test_single_quad_takes_the_texture_mean(run_blender):
     assert sorted(tuple(round(x, 3) for x in c) for c in r["lamp_corners"]) == \
         [(0.0, 0.0, 5.0), (0.0, 0.0, 5.0), (5.0, 0.0, 0.0), (5.0, 0.0, 0.0)]
     assert r["plane_emission"] is None or max(map(max, r["plane_emission"])) == 0.0
+
+
+def test_bake_button_undo_redo_in_the_ui(run_ui_window):
+    """Interactive Blender: Bake (the modal job) on a textured floor under a sky, then undo and
+    redo. Cycles' temporary scenes never show; undo takes the colours away, redo restores them."""
+    r = run_ui_window("ui_tex_undo.py")
+    assert "exception" not in r, r["exception"]
+    assert r["bake"]["textured_objects"] == 1 and r["bake"]["world_sun"], r["bake"]
+    assert r["bake"]["colours"] == ["Cube", "Floor"], r["bake"]
+    assert r["bake"]["census_same"] and r["undo"]["census_same"] and r["redo"]["census_same"], r
+    assert r["undo"]["colours"] == [], r["undo"]
+    assert r["redo"]["colours"] == ["Cube", "Floor"], r["redo"]

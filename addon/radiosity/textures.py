@@ -37,7 +37,7 @@ from .core import scene_data
 
 ATTR = "radiosity_eval"
 ORIG = "radiosity_face"
-PIECE_BUDGET = 200_000      # pieces (polygons of the cut copies) of all textured objects together
+PIECE_BUDGET = 50_000       # pieces (polygons of the cut copies) of all textured objects together
 MAX_CUTS = 7                # 8 x 8 pieces per quad at most
 
 
@@ -242,11 +242,16 @@ def evaluate(si, requests, depsgraph, materials, warnings):
                 if len(me.loops) != si.objects[r.index].corner_count:
                     raise RuntimeError(f"object '{r.obj.name}': the evaluated mesh changed while "
                                        f"baking its textures")
-                me2 = me.copy()
-                made_meshes.append(me2)
-                _cut(me2, cuts)
-                pieces += len(me2.polygons)
-                for mesh, dst in ((me, plain), (me2, cut)):
+                pairs = [(me, plain)]
+                if cuts > 0:
+                    me2 = me.copy()
+                    made_meshes.append(me2)
+                    _cut(me2, cuts)
+                    pieces += len(me2.polygons)
+                    pairs.append((me2, cut))
+                else:
+                    pieces += len(me.polygons)     # big meshes: the corners' mean is the mean
+                for mesh, dst in pairs:
                     o = bpy.data.objects.new("radiosity_textures_tmp", mesh)
                     made_objects.append(o)
                     o.matrix_world = obj_eval.matrix_world
@@ -255,11 +260,19 @@ def evaluate(si, requests, depsgraph, materials, warnings):
             kinds = ["DIFFUSE"] + (["EMIT"] if emit else [])
             for kind in kinds:
                 _bake(tmp, view_layer, plain + cut, kind)
-            for (r, _, key), a, b in zip(todo, plain, cut):
+            for n, (r, _, key) in enumerate(todo):
                 o = si.objects[r.index]
-                values = {kind: (_colours(a.data, ATTR + kind),
-                                 _face_means(b.data, _colours(b.data, ATTR + kind), o.polygon_count))
-                          for kind in kinds}
+                a = plain[n]
+                values = {}
+                for kind in kinds:
+                    corners = _colours(a.data, ATTR + kind)
+                    if cut:
+                        means = _face_means(cut[n].data, _colours(cut[n].data, ATTR + kind),
+                                            o.polygon_count)
+                    else:
+                        means = np.add.reduceat(corners, o.loop_starts, axis=0) \
+                            / o.loop_totals[:, None]
+                    values[kind] = (corners, means)
                 mi = _material_index(a.data)
                 eval_cache.put(key, (mi, values))
                 _apply(o, r.slots, mi, values)

@@ -190,6 +190,7 @@ class BakeRun:
             extra["exposure"] = float(self.props.exposure)
         si = self.job.scene_input
         extra["lights"] = len(si.lights)
+        extra.update(getattr(si, "evaluation_stats", None) or {})
         if si.unwritable:
             # Took part in the solve (they cast and reflect light) but got no colours: linked
             # library data, Edit Mode, shared meshes (warnings say which reason).

@@ -28,6 +28,7 @@ from .core import lights as core_lights
 from .core import scene_data
 from .core.corners import reverse_polygon_permutation
 from .core.scene_data import ObjectInput, SceneInput
+from . import textures, world as world_map
 from .materials import MaterialTable
 
 GEOMETRY_TYPES = {"MESH", "CURVE", "SURFACE", "FONT", "META"}
@@ -303,6 +304,7 @@ def gather(scene, view_layer, depsgraph):
     materials = MaterialTable()
     first_user = {}
     matrices = {}
+    texture_requests = []     # objects with textured materials, evaluated by Cycles at the end
 
     def cluster_index(coll):
         key = coll.name_full
@@ -349,6 +351,10 @@ def gather(scene, view_layer, depsgraph):
                 si.unwritable.append(obj.name_full)
             si.objects.append(_object_input(obj.name_full, geo, mat, object_cluster(obj),
                                             target, cmap))
+            textured_slots = [i for i, slot in enumerate(obj_eval.material_slots)
+                              if materials.is_textured(slot.material)]
+            if textured_slots:
+                texture_requests.append(textures.Request(len(si.objects) - 1, obj, textured_slots))
             si.scene_objects += 1
             matrices[obj.name_full] = mat
         _gather_instances(depsgraph, {o.name_full: o for o in shown}, object_cluster, si,
@@ -360,6 +366,9 @@ def gather(scene, view_layer, depsgraph):
         warnings.append(f"{n} instance{'s' if n != 1 else ''} (of {names}) cast and reflect light "
                         f"but get no colours: an instance has no colour attribute of its own "
                         f"(the instanced mesh is baked where it is a real object)")
+    # Textured materials: evaluated by Cycles on copies of the evaluated meshes (textures.py),
+    # after the original-index attributes are gone again.
+    si.evaluation_stats = textures.evaluate(si, texture_requests, depsgraph, materials, warnings)
     _gather_world(scene, si, warnings)
     warnings.extend(materials.warnings)
     return si, matrices, warnings
@@ -479,8 +488,8 @@ def _gather_light(obj, cluster, si, warnings):
 
 
 def _gather_world(scene, si, warnings):
-    """A constant world colour becomes a uniform sky; other node trees their Background's
-    own colour (the default when a texture drives it) with a warning."""
+    """A constant world colour becomes a uniform sky; a world whose background a node tree
+    drives (Sky Texture, HDRI, anything) is rendered by Cycles into a map (world.py)."""
     world = scene.world
     if world is None:
         return
@@ -493,16 +502,13 @@ def _gather_world(scene, si, warnings):
         if surf is None or not surf.is_linked:
             return          # nothing plugged in: Cycles renders black
         node = surf.links[0].from_node
-        if node.bl_idname != "ShaderNodeBackground":
-            warnings.append(f"world '{world.name}': the surface is not a plain Background node; "
-                            f"using the world colour {tuple(round(c, 3) for c in color)}")
-        else:
-            c_in, s_in = node.inputs["Color"], node.inputs["Strength"]
-            color = tuple(c_in.default_value)[:3]
-            strength = float(s_in.default_value)
-            if c_in.is_linked or s_in.is_linked:
-                warnings.append(f"world '{world.name}': a node tree drives the background; "
-                                f"using its unlinked colour x strength as a uniform sky")
+        plain = node.bl_idname == "ShaderNodeBackground" and not (
+            node.inputs["Color"].is_linked or node.inputs["Strength"].is_linked)
+        if not plain:
+            _gather_world_map(world, si, warnings)
+            return
+        color = tuple(node.inputs["Color"].default_value)[:3]
+        strength = float(node.inputs["Strength"].default_value)
     rad = float(strength) * np.asarray(color[:3], float)
     if not np.isfinite(rad).all():
         raise scene_data.InputError(f"world '{world.name}': the background colour x strength has "
@@ -513,3 +519,18 @@ def _gather_world(scene, si, warnings):
     rad = tuple(float(x) for x in rad)
     if max(rad) > 0:
         si.lights.append(core_lights.LightInput(world.name, core_lights.SKY, rad))
+
+
+def _gather_world_map(world, si, warnings):
+    try:
+        env, sun, stats = world_map.render_world(world)
+    except Exception as exc:  # noqa: BLE001  (any failure of Blender's render: warn, no light)
+        warnings.append(f"world '{world.name}': Cycles could not render it ({exc}); it gives "
+                        f"no light")
+        return
+    si.evaluation_stats = dict(si.evaluation_stats or {}, **stats)
+    if sun is not None:
+        si.lights.append(sun)
+    if float(env.max()) > 0.0:
+        si.lights.append(core_lights.LightInput(world.name, core_lights.SKY, (1.0, 1.0, 1.0),
+                                                env=env))

@@ -19,7 +19,7 @@ import traceback
 import bpy
 from bpy.app.handlers import persistent
 
-from . import bake, baked_state
+from . import bake, baked_state, eval_cache
 from .core import job as core_job
 from .core import live as core_live
 from .core import stats as core_stats
@@ -306,6 +306,7 @@ def drop_caches():
     core_live.drop_all()
     core_job.cache_drop()
     baked_state.forget()
+    eval_cache.clear()      # textures and worlds Cycles evaluated (keyed by content)
 
 
 @persistent

@@ -4,10 +4,10 @@ Supported, following the link into the active Material Output's Surface input (t
   Diffuse BSDF (Color), Principled BSDF (diffuse part: Base Color x (1-metallic) x (1-transmission);
   emission colour x strength; socket names differ: 3.x "Emission", 4.x "Emission Color"),
   Emission (Color x Strength), Mix Shader (constant Fac: linear mix) and Add Shader (sum).
-Anything else (textures or links into the used colour sockets, groups, other BSDFs) falls back to
-the material's viewport colour ``diffuse_color`` with no emission, and the caller reports ONE
-warning per material. No material -> grey 0.8. A material without nodes uses diffuse_color, as
-Cycles does.
+Anything else (textures or links into the used colour sockets, groups, other BSDFs) is
+"textured": Cycles evaluates it at the surface (textures.py); until then, and if that fails, it
+stands for the material's viewport colour ``diffuse_color`` with no emission. No material ->
+grey 0.8. A material without nodes uses diffuse_color, as Cycles does.
 """
 import bpy
 import numpy as np
@@ -139,6 +139,9 @@ class MaterialTable:
     def __init__(self):
         self._values = {}
         self.warnings = []
+        # name_full -> the reason the node tree has no constant value: Cycles evaluates these
+        # (textures.py); the fallback warning is kept in case that cannot be done.
+        self.textured = {}
 
     def get(self, mat):
         key = None if mat is None else mat.name_full
@@ -147,9 +150,13 @@ class MaterialTable:
             rho, emission, warning = material_values(mat)
             hit = self._values[key] = (rho, emission)
             if warning:
-                self.warnings.append(warning)
-            self._check_range(mat, rho, emission)
+                self.textured[key] = warning
+            else:
+                self._check_range(mat, rho, emission)
         return hit
+
+    def is_textured(self, mat):
+        return mat is not None and mat.name_full in self.textured
 
     def _check_range(self, mat, rho, emission):
         """One warning per material whose values the bake changes (README "Materials"): the

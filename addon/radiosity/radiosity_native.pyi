@@ -62,6 +62,12 @@ class Light:
     intensity: tuple       # RGB >= 0
     def __init__(self) -> None: ...
     def validate(self) -> None: ...   # ValueError naming the light
+    def set_environment(self, radiance: np.ndarray) -> None:
+        """SKY only: float (H, W, 3) equirectangular radiance (row 0 at the top, Blender's
+        Environment Texture convention; environment.h), a factor to intensity. ValueError for
+        a negative or non-finite texel."""
+    @property
+    def has_environment(self) -> bool: ...
 
 class Scene:
     def __init__(self) -> None: ...
@@ -79,7 +85,11 @@ class Scene:
                    reflectance: np.ndarray,   # float32 (F,3) in [0,1)
                    emission: np.ndarray,      # float32 (F,3) radiance >= 0
                    two_sided: Optional[np.ndarray] = None,  # bool (F,), default all True
-                   occluder: bool = True       # False: casts no shadow (area lights, as in Cycles)
+                   occluder: bool = True,      # False: casts no shadow (area lights, as in Cycles)
+                   # (C,3) per corner, output only (corner = emission + reflectance x irradiance
+                   # there); None: the polygon's values (textured materials, textures.py)
+                   corner_reflectance: Optional[np.ndarray] = None,
+                   corner_emission: Optional[np.ndarray] = None,
                    ) -> int:
         """A rigid object. cluster=-1: a surface set by itself (object directly in the scene).
         Raises ValueError naming the object and polygon on NaN/inf, bad indices, rho outside [0,1),
@@ -125,7 +135,8 @@ class Solver:
     def add_object(self, name: str, cluster: int, vertices: np.ndarray, loop_starts: np.ndarray,
                    loop_totals: np.ndarray, corner_verts: np.ndarray, reflectance: np.ndarray,
                    emission: np.ndarray, two_sided: Optional[np.ndarray] = None,
-                   occluder: bool = True) -> int:
+                   occluder: bool = True, corner_reflectance: Optional[np.ndarray] = None,
+                   corner_emission: Optional[np.ndarray] = None) -> int:
         """As Scene.add_object (world space, placed as given: later moves are relative to it).
         ValueError naming the object and polygon for bad input."""
     def remove_object(self, object_id: int) -> None: ...  # ValueError: unknown id, removed already
@@ -138,5 +149,8 @@ class Solver:
         add_object. ValueError for NaN, scale/shear or mirroring; RuntimeError before a solve."""
     def set_emission(self, object_id: int, emission: np.ndarray) -> None: ...      # (F,3) or (3,)
     def set_reflectance(self, object_id: int, reflectance: np.ndarray) -> None: ... # (F,3) or (3,), < 1
+    def set_corner_materials(self, object_id: int, reflectance: Optional[np.ndarray] = None,
+                             emission: Optional[np.ndarray] = None) -> None:
+        """(C,3) per corner or None; the output only (no update() needed)."""
     def update(self) -> None: ...        # incremental re-solve (full solve if none is kept); GIL released
     def start_update(self) -> None: ...  # the same as a job: poll like start()

@@ -31,10 +31,16 @@ std::vector<Rgb> rgb_rows(const Arr<double>& a, const char* what, size_t rows) {
     return out;
 }
 
+// None -> empty (the per-polygon values), else (rows, 3).
+std::vector<Rgb> optional_rgb(const py::object& a, const char* what, size_t rows) {
+    if (a.is_none()) return {};
+    return rgb_rows(a.cast<Arr<double>>(), what, rows);
+}
+
 ObjectDesc make_object(const std::string& name, int cluster, const Arr<double>& verts,
                        const Arr<int32_t>& loop_starts, const Arr<int32_t>& loop_totals, const Arr<int32_t>& corner_verts,
                        const Arr<double>& reflectance, const Arr<double>& emission, const py::object& two_sided,
-                       bool occluder) {
+                       bool occluder, const py::object& corner_reflectance, const py::object& corner_emission) {
     ObjectDesc o;
     o.name = name;
     o.occluder = occluder;
@@ -56,15 +62,17 @@ ObjectDesc make_object(const std::string& name, int cluster, const Arr<double>& 
         check_shape(t, 0, "two_sided", nf);
         o.two_sided.assign(t.data(), t.data() + nf);
     }
+    o.corner_reflectance = optional_rgb(corner_reflectance, "corner_reflectance", o.corner_verts.size());
+    o.corner_emission = optional_rgb(corner_emission, "corner_emission", o.corner_verts.size());
     return o;
 }
 
 int add_object(SceneDesc& s, const std::string& name, int cluster, const Arr<double>& verts,
                const Arr<int32_t>& loop_starts, const Arr<int32_t>& loop_totals, const Arr<int32_t>& corner_verts,
                const Arr<double>& reflectance, const Arr<double>& emission, const py::object& two_sided,
-               bool occluder) {
+               bool occluder, const py::object& corner_reflectance, const py::object& corner_emission) {
     return s.add_object(make_object(name, cluster, verts, loop_starts, loop_totals, corner_verts, reflectance,
-                                    emission, two_sided, occluder));
+                                    emission, two_sided, occluder, corner_reflectance, corner_emission));
 }
 
 // A solver plus the job that may be running it.
@@ -168,6 +176,16 @@ PYBIND11_MODULE(radiosity_native, m) {
         .def_property("intensity",
                       [](const LightDesc& l) { return std::array<double, 3>{l.intensity.r, l.intensity.g, l.intensity.b}; },
                       [](LightDesc& l, std::array<double, 3> v) { l.intensity = {v[0], v[1], v[2]}; })
+        // The world's radiance per direction, (H, W, 3) equirectangular (environment.h).
+        .def("set_environment", [](LightDesc& l, const Arr<double>& a) {
+            if (a.ndim() != 3 || a.shape(2) != 3) throw py::value_error("environment map must be (H, W, 3)");
+            const auto r = a.unchecked<3>();
+            std::vector<Rgb> t(size_t(a.shape(0) * a.shape(1)));
+            for (py::ssize_t i = 0; i < a.shape(0); ++i)
+                for (py::ssize_t j = 0; j < a.shape(1); ++j) t[size_t(i * a.shape(1) + j)] = {r(i, j, 0), r(i, j, 1), r(i, j, 2)};
+            l.env = std::make_shared<const EnvMap>(int(a.shape(1)), int(a.shape(0)), std::move(t));
+        }, py::arg("radiance"))
+        .def_property_readonly("has_environment", [](const LightDesc& l) { return bool(l.env); })
         .def("validate", &LightDesc::validate);
 
     py::class_<SceneDesc>(m, "Scene")
@@ -175,7 +193,8 @@ PYBIND11_MODULE(radiosity_native, m) {
         .def("add_cluster", &SceneDesc::add_cluster, py::arg("name"), py::arg("parent") = -1)
         .def("add_object", &add_object, py::arg("name"), py::arg("cluster"), py::arg("vertices"),
              py::arg("loop_starts"), py::arg("loop_totals"), py::arg("corner_verts"), py::arg("reflectance"),
-             py::arg("emission"), py::arg("two_sided") = py::none(), py::arg("occluder") = true)
+             py::arg("emission"), py::arg("two_sided") = py::none(), py::arg("occluder") = true,
+             py::arg("corner_reflectance") = py::none(), py::arg("corner_emission") = py::none())
         .def("add_light", &SceneDesc::add_light, py::arg("light"))
         .def_property_readonly("light_count", [](const SceneDesc& s) { return s.lights().size(); })
         .def_property_readonly("object_count", [](const SceneDesc& s) { return s.objects().size(); })
@@ -201,13 +220,16 @@ PYBIND11_MODULE(radiosity_native, m) {
         .def("add_object", [](PySolver& s, const std::string& name, int cluster, const Arr<double>& verts,
                               const Arr<int32_t>& loop_starts, const Arr<int32_t>& loop_totals,
                               const Arr<int32_t>& corner_verts, const Arr<double>& reflectance,
-                              const Arr<double>& emission, const py::object& two_sided, bool occluder) {
+                              const Arr<double>& emission, const py::object& two_sided, bool occluder,
+                              const py::object& corner_reflectance, const py::object& corner_emission) {
             s.idle();
             return s.solver->add_object(make_object(name, cluster, verts, loop_starts, loop_totals, corner_verts,
-                                                    reflectance, emission, two_sided, occluder));
+                                                    reflectance, emission, two_sided, occluder, corner_reflectance,
+                                                    corner_emission));
         }, py::arg("name"), py::arg("cluster"), py::arg("vertices"), py::arg("loop_starts"), py::arg("loop_totals"),
            py::arg("corner_verts"), py::arg("reflectance"), py::arg("emission"), py::arg("two_sided") = py::none(),
-           py::arg("occluder") = true)
+           py::arg("occluder") = true, py::arg("corner_reflectance") = py::none(),
+           py::arg("corner_emission") = py::none())
         .def("remove_object", [](PySolver& s, int object) {
             s.idle();
             s.solver->remove_object(object);
@@ -224,6 +246,12 @@ PYBIND11_MODULE(radiosity_native, m) {
             s.idle();
             s.solver->set_reflectance(object, rgb_list(v));
         }, py::arg("object_id"), py::arg("reflectance"))
+        .def("set_corner_materials", [](PySolver& s, int object, const py::object& rho, const py::object& e) {
+            s.idle();
+            const size_t nc = s.solver->scene().objects().at(size_t(object)).corner_count();
+            s.solver->set_corner_materials(object, optional_rgb(rho, "corner_reflectance", nc),
+                                           optional_rgb(e, "corner_emission", nc));
+        }, py::arg("object_id"), py::arg("reflectance") = py::none(), py::arg("emission") = py::none())
         .def("set_light", [](PySolver& s, int index, const LightDesc& l) {
             s.idle();
             s.solver->set_light(index, l);

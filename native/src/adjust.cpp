@@ -113,6 +113,13 @@ void Solver::set_material(int object, const std::vector<Rgb>& values, bool emiss
 }
 
 void Solver::set_emission(int object, const std::vector<Rgb>& v) { set_material(object, v, true); }
+void Solver::set_corner_materials(int object, std::vector<Rgb> reflectance, std::vector<Rgb> emission) {
+    check_live(object, "set_corner_materials");  // topology.cpp
+    ObjectDesc& o = scene_.objects_mut()[object];
+    check_corner_materials(o, reflectance, emission);
+    o.corner_reflectance = std::move(reflectance);
+    o.corner_emission = std::move(emission);
+}
 void Solver::set_reflectance(int object, const std::vector<Rgb>& v) { set_material(object, v, false); }
 
 void Solver::apply_materials() {

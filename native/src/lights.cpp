@@ -24,6 +24,7 @@ void LightDesc::validate() const {
     if (!(std::isfinite(angle) && angle >= 0 && angle <= kPi)) bad("sun angle must be in [0, pi]");
     if (!(std::isfinite(spot_size) && spot_size > 0 && spot_size <= kPi)) bad("spot size must be in (0, pi]");
     if (!(std::isfinite(spot_blend) && spot_blend >= 0 && spot_blend <= 1)) bad("spot blend must be in [0, 1]");
+    if (env && type != Type::Sky) bad("only the world (sky) takes an environment map");
 }
 
 int SceneDesc::add_light(LightDesc l) {
@@ -43,6 +44,7 @@ struct ILight {
     double radius = 0, cos_half = -1, smooth = 0, sun_cos = 1;
     bool cos_falloff = false;
     Rgb I;
+    const EnvMap* env = nullptr;  // Sky: radiance I x env(d), owned by the scene's LightDesc
     uint64_t salt = 0;
 };
 
@@ -51,8 +53,9 @@ std::vector<ILight> internal_lights(const SceneDesc& scene, const Hierarchy& h) 
     uint64_t k = 0;
     for (const LightDesc& d : scene.lights()) {
         ++k;
-        if (d.intensity.max() <= 0) continue;
+        if (d.intensity.max() <= 0 || (d.env && d.env->empty_of_light())) continue;
         ILight l;
+        l.env = d.env.get();
         l.type = d.type;
         l.pos = (d.position - h.origin) / h.unit;
         l.dir = normalize(d.direction);
@@ -102,20 +105,53 @@ struct Sampled {
 template <class Where, class Contact>
 Sampled estimate(const ILight& l, const Where& where, const Vec3& n, int m, Rng& rng, const Visibility& vis,
                  double lift, double far, const Contact& contact) {
-    double s1 = 0, s2 = 0, s_unocc = 0;
+    Rgb s1;  // sum of the samples' irradiance / pi, visibility included
+    double s2 = 0, s_unocc = 0;
     int seen = 0, hidden = 0;
     Vec3 su, sv;  // sun cap frame
     if (l.type == LightDesc::Type::Sun) frame(-l.dir, su, sv);
     Vec3 nu, nv;  // hemisphere frame
     if (l.type == LightDesc::Type::Sky) frame(n, nu, nv);
+    // A map: the samples estimate only what occluders take away from the unoccluded
+    // irradiance, known in closed form (a control variate: an open floor under a sun gets its
+    // exact light, not the noise of a few samples of a bright spot).
+    const Rgb open = l.env ? l.I * l.env->irradiance(n) / kPi : Rgb{};
     for (int i = 0; i < m; ++i) {
         const Vec3 p = where(i, rng);
         const Vec3 o = p + n * lift;
         const double a = rng.next(), b = rng.next();
         const bool touching = contact(p);
-        double f = 0, u = 0;  // scalar factor of l.I, with and without visibility
+        double f = 0, u = 0;  // scalar factor of `col`, with and without visibility
+        Rgb col = l.I;
         switch (l.type) {
             case LightDesc::Type::Sky: {
+                if (l.env) {
+                    // Half the samples cosine-weighted, half by the map's luminance x solid
+                    // angle (a sun in the map), each weighted by the mixture of both densities
+                    // (the balance heuristic): neither a bright spot nor a uniform map is missed.
+                    double pm = 0;
+                    Vec3 d;
+                    if (i % 2) {
+                        d = l.env->sample(a, b, pm);
+                    } else {
+                        double phi = 2 * kPi * a, sr = std::sqrt(b);
+                        d = nu * (std::cos(phi) * sr) + nv * (std::sin(phi) * sr) + n * std::sqrt(1 - b);
+                        pm = l.env->pdf(d);
+                    }
+                    const double c = dot(n, d);
+                    if (c <= 0) break;
+                    const double mix = 0.5 * (c / kPi + pm);
+                    if (!(mix > 0)) break;
+                    col = l.I * l.env->radiance(d);
+                    u = c / kPi / mix;
+                    if (!touching && !vis.occluded(o, o + d * far, 0.0)) f = u;
+                    if (u > 0) (f > 0 ? seen : hidden)++;
+                    // What this sample says is missing from `open` (col x (f - u) <= 0).
+                    const double g = (u - f) * col.max();
+                    s1 += col * (f - u);
+                    s2 += g * g;
+                    continue;
+                }
                 // Cosine-weighted direction: the estimator of E/pi is L_sky x visibility.
                 double phi = 2 * kPi * a, sr = std::sqrt(b);
                 Vec3 d = nu * (std::cos(phi) * sr) + nv * (std::sin(phi) * sr) + n * std::sqrt(1 - b);
@@ -157,16 +193,22 @@ Sampled estimate(const ILight& l, const Where& where, const Vec3& n, int m, Rng&
                 break;
             }
         }
-        s1 += f;
-        s2 += f * f;
-        s_unocc += u;
+        const double g = f * col.max();
+        s1 += col * f;
+        s2 += g * g;
+        s_unocc += u * col.max();
         if (u > 0) (f > 0 ? seen : hidden)++;
     }
     Sampled r;
-    const double mean = s1 / m, imax = l.I.max();
-    r.mean = l.I * mean;
-    r.var = (m > 1 ? std::max(0.0, s2 / m - mean * mean) / (m - 1) : mean * mean) * imax * imax;
-    r.unocc = s_unocc / m * imax;
+    r.mean = s1 / m;
+    const double mean = l.env ? -r.mean.max() : r.mean.max();
+    r.var = m > 1 ? std::max(0.0, s2 / m - mean * mean) / (m - 1) : mean * mean;
+    r.unocc = s_unocc / m;
+    if (l.env) {
+        r.mean = cmax(open + r.mean, Rgb{});
+        r.unocc = open.max();
+        if (hidden > 0 && seen == 0) r.mean = Rgb{};  // a point in contact, or wholly covered
+    }
     r.partial = seen > 0 && hidden > 0;
     return r;
 }
@@ -214,7 +256,9 @@ double Solver::light_power(double total_area) const {
             case LightDesc::Type::Point: p += 4 * l.I.max(); break;
             case LightDesc::Type::Spot: p += 2 * (1 - l.cos_half) * l.I.max(); break;
             case LightDesc::Type::Sun: p += 0.25 * total_area * l.I.max() / kPi; break;  // a convex scene's mean projection
-            case LightDesc::Type::Sky: p += 0.5 * total_area * l.I.max(); break;           // half the sky, unoccluded
+            case LightDesc::Type::Sky:  // half the sky, unoccluded
+                p += 0.5 * total_area * (l.env ? (l.I * l.env->mean()).max() : l.I.max());
+                break;
         }
     }
     return p;

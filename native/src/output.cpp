@@ -36,6 +36,20 @@ std::vector<float> Solver::all_corner_radiance() const {
 std::vector<float> Solver::corner_radiance(int object) const {
     if (object < 0 || object >= int(scene_.objects().size()))
         throw std::out_of_range("unknown object " + std::to_string(object));
+    const ObjectDesc& o = scene_.objects()[size_t(object)];
+    if (!o.corner_reflectance.empty() || !o.corner_emission.empty()) {
+        // A textured surface: each corner reflects with its own reflectance what arrives there.
+        std::vector<float> v = corner_irradiance(object);
+        size_t c = 0;
+        for (size_t f = 0; f < o.polygon_count(); ++f)
+            for (int k = 0; k < o.loop_totals[f]; ++k) {
+                c = size_t(o.loop_starts[f]) + size_t(k);
+                const Rgb rho = o.corner_reflectance.empty() ? o.reflectance[f] : o.corner_reflectance[c];
+                const Rgb e = o.corner_emission.empty() ? o.emission[f] : o.corner_emission[c];
+                for (int ch = 0; ch < 3; ++ch) v[3 * c + ch] = float(e[ch] + rho[ch] * double(v[3 * c + ch]));
+            }
+        return v;
+    }
     if (settings_.gather_rays > 0) {
         std::vector<float> v = output_.corner_radiance(h_, object);
         if (v.size() == scene_.objects()[size_t(object)].corner_count() * 3) return v;

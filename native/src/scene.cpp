@@ -19,6 +19,20 @@ namespace {
 std::string poly_str(size_t f) { return "polygon " + std::to_string(f); }
 }  // namespace
 
+void check_corner_materials(const ObjectDesc& o, const std::vector<Rgb>& rho, const std::vector<Rgb>& emission) {
+    const size_t nc = o.corner_count();
+    if (!rho.empty() && rho.size() != nc) fail(o, "corner reflectance needs one RGB per corner (or none)");
+    if (!emission.empty() && emission.size() != nc) fail(o, "corner emission needs one RGB per corner (or none)");
+    for (size_t c = 0; c < rho.size(); ++c)
+        for (int k = 0; k < 3; ++k)
+            if (!(rho[c][k] >= 0 && rho[c][k] < 1))
+                fail(o, "corner " + std::to_string(c) + " has reflectance outside [0,1) or not finite");
+    for (size_t c = 0; c < emission.size(); ++c)
+        for (int k = 0; k < 3; ++k)
+            if (!(emission[c][k] >= 0 && emission[c][k] <= kMaxEmission))
+                fail(o, "corner " + std::to_string(c) + " has a negative, non-finite or too large emission");
+}
+
 int SceneDesc::add_object(ObjectDesc o) {
     if (o.cluster < -1 || o.cluster >= int(clusters_.size()))
         fail(o, "unknown cluster " + std::to_string(o.cluster));
@@ -52,6 +66,7 @@ int SceneDesc::add_object(ObjectDesc o) {
             if (e[k] > kMaxEmission) fail(o, poly_str(f) + " has emission above 1e30 (the output would overflow)");
         }
     }
+    check_corner_materials(o, o.corner_reflectance, o.corner_emission);
     objects_.push_back(std::move(o));
     return int(objects_.size()) - 1;
 }

@@ -33,6 +33,7 @@ def test_move_is_incremental_and_matches_full(native):
     inc = _job(native, scenes_np.room((0.9, 0.5))).prepare()
     assert inc.mode == "incremental" and inc.full_reason is None
     assert inc.changes == {"moved": 1, "emission_changed": 0, "reflectance_changed": 0,
+                           "texture_changed": 0,
                            "lights_changed": 0, "added": 0, "removed": 0, "replaced": 0}
     inc.run()
     st = inc.native_stats()

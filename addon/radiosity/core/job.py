@@ -41,6 +41,7 @@ class CachedSolution:
     matrices: dict = field(default_factory=dict)         # name -> placement last solved
     reflectance: dict = field(default_factory=dict)      # name -> (F,3) last solved
     emission: dict = field(default_factory=dict)
+    corner_materials: dict = field(default_factory=dict)  # name -> (corner rho, corner emission) or Nones
     names: list = field(default_factory=list)            # object order of `radiance`
     lights: list = field(default_factory=list)           # LightInput.key() per native light, last solved
     leaf_meshes: list = None                             # per object: leaf_mesh dict or None
@@ -169,7 +170,7 @@ class SolveJob:
             return ("geometry, modifiers or collection changed: " + ", ".join(changed[:5])
                     + (" …" if len(changed) > 5 else ""))
         # Work out every change before touching the kept solver.
-        moves, emissions, reflectances = [], [], []
+        moves, emissions, reflectances, corner_changes = [], [], [], []
         for o in self.scene_input.objects:
             if o.name not in hit.object_ids or o.name in changed:
                 continue        # added or replaced: given as it is now
@@ -187,6 +188,13 @@ class SolveJob:
                 emissions.append((oid, np.ascontiguousarray(o.emission, dtype=np.float64)))
             if not np.array_equal(o.reflectance, hit.reflectance[o.name]):
                 reflectances.append((oid, np.ascontiguousarray(o.reflectance, dtype=np.float64)))
+            # A texture's values at the corners (textures.py): the output's, not the solve's.
+            old = hit.corner_materials.get(o.name, (None, None))
+            if any((a is None) != (b is None) or (a is not None and not np.array_equal(a, b))
+                   for a, b in zip((o.corner_reflectance, o.corner_emission), old)):
+                if not hasattr(hit.solver, "set_corner_materials"):
+                    return "the native module cannot change textured materials"
+                corner_changes.append((oid, o))
         # Replacing most of the scene costs more than solving it afresh.
         polygons = {o.name: o.polygon_count for o in self.scene_input.objects}
         if changed and 2 * sum(polygons[n] for n in changed) > self.scene_input.polygon_count:
@@ -202,8 +210,8 @@ class SolveJob:
         light_changes = [i for i, (a, b) in enumerate(zip(new_keys, hit.lights)) if a != b]
         if light_changes and not hasattr(hit.solver, "set_light"):
             return "the native module cannot change lights"
-        if not (moves or emissions or reflectances or light_changes or added or removed
-                or replaced) \
+        if not (moves or emissions or reflectances or corner_changes or light_changes or added
+                or removed or replaced) \
                 and names == hit.names:
             # Only something that does not affect the solve differs (e.g. which meshes can be
             # written): the kept radiance is still the answer.
@@ -230,6 +238,9 @@ class SolveJob:
                 hit.solver.set_emission(oid, e)
             for oid, r in reflectances:
                 hit.solver.set_reflectance(oid, r)
+            for oid, o in corner_changes:
+                rho, emission = scene_data.corner_materials(o)
+                hit.solver.set_corner_materials(oid, rho, emission)
             if light_changes:
                 from . import lights as core_lights
                 for i in light_changes:
@@ -242,6 +253,7 @@ class SolveJob:
         self.incremental = hit
         self.changes = {"moved": len(moves), "emission_changed": len(emissions),
                         "reflectance_changed": len(reflectances),
+                        "texture_changed": len(corner_changes),
                         "lights_changed": len(light_changes),
                         "added": len(added), "removed": len(removed),
                         "replaced": len(replaced)}
@@ -439,6 +451,10 @@ class SolveJob:
         entry.matrices = {o.name: scene_data.object_matrix(o) for o in si.objects}
         entry.reflectance = {o.name: np.array(o.reflectance, copy=True) for o in si.objects}
         entry.emission = {o.name: np.array(o.emission, copy=True) for o in si.objects}
+        entry.corner_materials = {
+            o.name: tuple(None if a is None else np.array(a, copy=True)
+                          for a in (o.corner_reflectance, o.corner_emission))
+            for o in si.objects}
         if self.cache_key is not None:
             _CACHE[self.cache_key] = entry
 

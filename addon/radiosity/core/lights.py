@@ -18,6 +18,7 @@ rho = 0.5 floor, COMBINED vertex-colour bake against the analytic irradiance; ra
   does (default 1 = Cycles' result), and ray visibility "Diffuse" off means no diffuse light.
 """
 from dataclasses import dataclass
+import hashlib
 import math
 
 import numpy as np
@@ -39,12 +40,19 @@ class LightInput:
     spot_size: float = math.pi
     spot_blend: float = 0.0
     spot_cos_falloff: bool = False
+    # SKY: the world's radiance per direction, float32 (H, W, 3) equirectangular in Blender's
+    # convention (native/include/radiosity/environment.h), a factor to `intensity`; None: uniform.
+    env: object = None
 
     def key(self):
         """Everything the solver sees, for change detection and the fingerprint."""
+        env = None
+        if self.env is not None:
+            a = np.ascontiguousarray(self.env, dtype=np.float32)
+            env = (a.shape, hashlib.blake2b(a.tobytes(), digest_size=16).hexdigest())
         return (self.name, self.kind, tuple(np.round(self.intensity, 9)), tuple(np.round(self.position, 9)),
                 tuple(np.round(self.direction, 9)), round(self.radius, 9), round(self.angle, 9),
-                round(self.spot_size, 9), round(self.spot_blend, 9), bool(self.spot_cos_falloff))
+                round(self.spot_size, 9), round(self.spot_blend, 9), bool(self.spot_cos_falloff), env)
 
 
 def area_units_v4(version):
@@ -146,4 +154,6 @@ def to_native(native, li):
     L.spot_blend = float(li.spot_blend)
     L.spot_cos_falloff = bool(li.spot_cos_falloff)
     L.intensity = tuple(map(float, li.intensity))
+    if li.env is not None:
+        L.set_environment(np.ascontiguousarray(li.env, dtype=np.float64))
     return L

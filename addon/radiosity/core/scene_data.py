@@ -58,6 +58,11 @@ class ObjectInput:
     # An instance (collection, geometry nodes, particles): the name of the object instancing it.
     # It casts and reflects light and is never written.
     instance_of: str = None
+    # Textured materials (addon/radiosity/textures.py): float32 (C,3) per corner, Blender
+    # order, what the material evaluates to at each corner (None: the polygon's value). Only
+    # the output uses them; `reflectance`/`emission` then hold each polygon's area mean.
+    corner_reflectance: object = None
+    corner_emission: object = None
 
     @property
     def corner_count(self):
@@ -96,6 +101,8 @@ class SceneInput:
     @property
     def instance_count(self):
         return int(sum(self.instancers.values()))
+    # What evaluating textured materials and the world cost (textures.py, world.py): stats keys.
+    evaluation_stats: dict = field(default_factory=dict)
 
     def add_cluster(self, name, parent=-1):
         self.clusters.append(ClusterInput(name, parent))
@@ -162,6 +169,14 @@ def validate_object(obj):
         if not np.isfinite(arr).all():
             p = int(np.argmax(~np.isfinite(arr).all(axis=1)))
             raise InputError(f"object '{name}': polygon {p} has a non-finite {label}")
+    for label, arr in (("corner reflectance", obj.corner_reflectance),
+                       ("corner emission", obj.corner_emission)):
+        if arr is None:
+            continue
+        if np.shape(arr) != (obj.corner_count, 3):
+            raise InputError(f"object '{name}': {label} has shape {np.shape(arr)}")
+        if not np.isfinite(arr).all():
+            raise InputError(f"object '{name}': a non-finite {label}")
 
 
 def validate_light(li):
@@ -240,6 +255,10 @@ def fingerprint(scene_input, settings_key):
             a = np.ascontiguousarray(arr, dtype=dtype)
             h.update(str(a.shape).encode())
             h.update(a.tobytes())
+        for label, arr in (("CR", o.corner_reflectance), ("CE", o.corner_emission)):
+            if arr is not None:
+                h.update(label.encode())
+                h.update(np.ascontiguousarray(arr, dtype=np.float32).tobytes())
     for li in scene_input.lights:
         h.update(repr(li.key()).encode())
     return h.hexdigest()
@@ -309,6 +328,11 @@ def add_native_object(target, obj, cluster_id):
         extra["two_sided"] = np.ascontiguousarray(obj.two_sided, dtype=np.uint8)
     if not obj.occluder:
         extra["occluder"] = False
+    corners = corner_materials(obj)
+    if corners[0] is not None:
+        extra["corner_reflectance"] = corners[0]
+    if corners[1] is not None:
+        extra["corner_emission"] = corners[1]
     return target.add_object(
         obj.name, cluster_id,
         np.ascontiguousarray(obj.vertices, dtype=np.float64),
@@ -319,6 +343,19 @@ def add_native_object(target, obj, cluster_id):
         np.ascontiguousarray(obj.emission, dtype=np.float32),
         **extra,
     )
+
+
+def corner_materials(obj):
+    """(corner reflectance, corner emission) in the solver's corner order, float64, or None."""
+    out = []
+    for arr in (obj.corner_reflectance, obj.corner_emission):
+        if arr is not None:
+            arr = np.asarray(arr, dtype=np.float64)
+            if obj.corner_perm is not None:
+                arr = arr[obj.corner_perm]
+            arr = np.ascontiguousarray(arr)
+        out.append(arr)
+    return tuple(out)
 
 
 def build_native_scene(native, scene_input):

@@ -55,8 +55,8 @@ def from_json(text):
 # -- in plain words (the panel) -----------------------------------------------------------------
 # What a cached bake's "source" keeps of the bake that solved the colours it rewrites.
 SUMMARY_KEYS = ("mode", "seconds", "live", "full_reason", "moved", "added", "removed",
-                "replaced", "emission_changed", "reflectance_changed", "lights_changed",
-                "no_emitter", "preset")
+                "replaced", "emission_changed", "reflectance_changed", "texture_changed",
+                "lights_changed", "no_emitter", "preset")
 
 _REASONS = {
     "full bake requested": "a full bake was asked for",
@@ -71,7 +71,8 @@ _REASONS = {
 }
 _CHANGES = (("moved", "moved"), ("added", "added"), ("removed", "removed"),
             ("replaced", "changed shape"), ("emission_changed", "changed emission"),
-            ("reflectance_changed", "changed colour"), ("lights_changed", "lights changed"))
+            ("reflectance_changed", "changed colour"), ("texture_changed", "changed texture"),
+            ("lights_changed", "lights changed"))
 
 
 def summary(stats):

@@ -5,18 +5,28 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "radiosity/environment.h"
 #include "radiosity/vec.h"
 
 namespace radiosity {
+
+inline bool same_texels(const EnvMap& a, const EnvMap& b) {
+    for (size_t i = 0; i < a.texels().size(); ++i)
+        if (a.texels()[i].r != b.texels()[i].r || a.texels()[i].g != b.texels()[i].g || a.texels()[i].b != b.texels()[i].b)
+            return false;
+    return true;
+}
 
 // Units are Cycles' after the add-on's conversion (measured, see addon/radiosity/core/lights.py):
 //   Point, Spot: `intensity` = radiant intensity (W/sr per colour): unoccluded irradiance
 //                I cos(theta) / d^2 (Blender: power W x colour / 4 pi).
 //   Sun:         `intensity` = irradiance on a surface facing the sun (Blender: strength W/m^2).
-//   Sky:         `intensity` = radiance of the uniform world (Blender: Background colour x strength).
+//   Sky:         `intensity` = radiance of the uniform world (Blender: Background colour x strength),
+//                or, with `env`, a factor on the map's radiance in each direction (environment.h).
 struct LightDesc {
     enum class Type : int { Point = 0, Spot = 1, Sun = 2, Sky = 3 };
     std::string name;
@@ -30,6 +40,8 @@ struct LightDesc {
     // Spot: intensity also falls with the cosine to the axis (Cycles before Blender 4.0).
     bool spot_cos_falloff = false;
     Rgb intensity;
+    // Sky: the world's radiance per direction (shared, immutable: copies of the light are cheap).
+    std::shared_ptr<const EnvMap> env;
 
     // Throws InputError naming the light.
     void validate() const;
@@ -39,7 +51,9 @@ struct LightDesc {
                position.z == o.position.z && direction.x == o.direction.x && direction.y == o.direction.y &&
                direction.z == o.direction.z && radius == o.radius && angle == o.angle && spot_size == o.spot_size &&
                spot_blend == o.spot_blend && spot_cos_falloff == o.spot_cos_falloff && intensity.r == o.intensity.r &&
-               intensity.g == o.intensity.g && intensity.b == o.intensity.b;
+               intensity.g == o.intensity.g && intensity.b == o.intensity.b &&
+               (env == o.env || (env && o.env && env->width() == o.env->width() &&
+                                 env->height() == o.env->height() && same_texels(*env, *o.env)));
     }
 };
 

@@ -31,12 +31,20 @@ struct ObjectDesc {
     std::vector<Vec3> vertices;                 // world space
     std::vector<int32_t> loop_starts, loop_totals, corner_verts;  // Blender's polygon layout
     std::vector<Rgb> reflectance, emission;     // per polygon
+    // Optional, per corner (empty: each corner takes its polygon's value): what a textured
+    // material evaluates to at the corner, for the output only (radiance = emission +
+    // reflectance x irradiance there, as Cycles shades a corner); the light transport uses
+    // the per-polygon values, the texture's area mean over each polygon.
+    std::vector<Rgb> corner_reflectance, corner_emission;
     std::vector<uint8_t> two_sided;             // per polygon
     // false: casts no shadow (rays pass through it), like a Blender area light in Cycles.
     bool occluder = true;
     size_t polygon_count() const { return loop_starts.size(); }
     size_t corner_count() const { return corner_verts.size(); }
 };
+
+// Throws InputError unless each array is empty or holds one valid value per corner of `o`.
+void check_corner_materials(const ObjectDesc& o, const std::vector<Rgb>& reflectance, const std::vector<Rgb>& emission);
 
 class SceneDesc {
 public:

@@ -56,6 +56,9 @@ public:
     // Per polygon (or one value for the whole object).
     void set_emission(int object, const std::vector<Rgb>& values);
     void set_reflectance(int object, const std::vector<Rgb>& values);
+    // Per corner (ObjectDesc::corner_reflectance / corner_emission; empty: the polygon's). Only
+    // the output reads them: no update() is needed, the next corner_radiance uses them.
+    void set_corner_materials(int object, std::vector<Rgb> reflectance, std::vector<Rgb> emission);
     // Objects added and removed (topology.cpp), applied by the next update() like moves: an
     // addition is linked into the kept solution, a removal's links and nodes go; env-env links
     // whose rays pass through the object's box are re-evaluated. Ids stay stable: a new object

@@ -49,6 +49,10 @@ class Light:
         self.radius = self.angle = self.spot_blend = 0.0
         self.spot_size = np.pi
         self.spot_cos_falloff = False
+        self.environment = None
+
+    def set_environment(self, radiance):
+        self.environment = np.array(radiance, dtype=np.float64)
 
 
 class Scene:
@@ -74,7 +78,8 @@ class Scene:
         return len(self.clusters) - 1
 
     def add_object(self, name, cluster, vertices, loop_starts, loop_totals, corner_verts,
-                   reflectance, emission, two_sided=None, occluder=True):
+                   reflectance, emission, two_sided=None, occluder=True,
+                   corner_reflectance=None, corner_emission=None):
         v = np.array(vertices, dtype=np.float64)
         ls = np.array(loop_starts, dtype=np.int64)
         lt = np.array(loop_totals, dtype=np.int64)
@@ -151,7 +156,8 @@ class Solver:
                 "source_face": np.arange(len(o["ls"]), dtype=np.int32)}
 
     def add_object(self, name, cluster, vertices, loop_starts, loop_totals, corner_verts,
-                   reflectance, emission, two_sided=None, occluder=True):
+                   reflectance, emission, two_sided=None, occluder=True,
+                   corner_reflectance=None, corner_emission=None):
         oid = self.scene.add_object(name, cluster, vertices, loop_starts, loop_totals,
                                     corner_verts, reflectance, emission, two_sided, occluder)
         self._base.append(self.scene.objects[oid]["v"].copy())
@@ -195,6 +201,9 @@ class Solver:
 
     def set_reflectance(self, object_id, reflectance):
         self._set(object_id, reflectance, "rho")
+
+    def set_corner_materials(self, object_id, reflectance=None, emission=None):
+        pass    # plumbing only: the stand-in's output ignores per-corner materials
 
     def update(self):
         # Like the real module, rays count from the last full solve on (cumulative).

@@ -1,0 +1,303 @@
+"""Textured materials: what a node tree evaluates to at the surface, evaluated by Cycles.
+
+A material with no constant value (a texture, a colour attribute, a mix driven by a texture,
+a group, ...; materials.py calls these "textured") is evaluated by Cycles itself, so any node
+tree Cycles can render is understood exactly as Cycles understands it:
+
+- per corner, for the output: a Cycles bake of type DIFFUSE with only the COLOR pass (the
+  diffuse albedo, what the COMBINED bake multiplies the irradiance by) and of type EMIT (only
+  when the tree can emit) to a colour attribute of a copy of the evaluated mesh. Cycles
+  evaluates a corner at its vertex with the corner's attributes (UVs), as its COMBINED bake
+  does, so the output's radiance = albedo x irradiance + emission there is Cycles' own.
+- per polygon, for the light transport: the area mean over a copy of the mesh whose polygons
+  are cut into up to 8 x 8 pieces (n-gons triangulated first), baked the same way: a checker
+  on a single quad has the same colour at its four corners, the mean needs points inside.
+
+Everything happens in a temporary scene (its own Cycles settings, the copies, the colour
+attributes) that is deleted before returning, whatever happens: the user's scene, objects,
+meshes and materials are only read. Cost (measured, see tests/blender/test_textures_world.py):
+one Cycles session per bake type, about 0.1-0.5 s of set-up plus the corners and pieces.
+
+Limits: texture coordinates that depend on the original object (Generated coordinates of an
+object whose modifiers move it, Object Info, the object's own attributes the evaluated copy
+drops) are those of the evaluated copy; the per-polygon value is a mean over at most 8 x 8
+pieces per polygon (fewer on large meshes: at most about PIECE_BUDGET pieces in all), so a
+texture much finer than that averages with a small error. Non-diffuse parts (glossy, glass)
+count as Cycles' DIFFUSE COLOR pass counts them: not at all.
+"""
+import hashlib
+import time
+
+import bmesh
+import bpy
+import numpy as np
+
+from . import eval_cache
+from .core import scene_data
+
+ATTR = "radiosity_eval"
+ORIG = "radiosity_face"
+PIECE_BUDGET = 50_000       # pieces (polygons of the cut copies) of all textured objects together
+MAX_CUTS = 7                # 8 x 8 pieces per quad at most
+
+
+def _emits(tree, depth=0):
+    """Whether a node tree may emit light (an Emission node, a Principled BSDF with emission,
+    or a group that holds one): only then is the EMIT bake worth its cost."""
+    if tree is None or depth > 16:
+        return False
+    for node in tree.nodes:
+        if node.type == "EMISSION":
+            return True
+        if node.type == "BSDF_PRINCIPLED":
+            s = node.inputs.get("Emission Strength")
+            c = node.inputs.get("Emission Color") or node.inputs.get("Emission")
+            strong = s is None or s.is_linked or float(s.default_value) != 0.0
+            coloured = c is None or c.is_linked or max(tuple(c.default_value)[:3]) > 0.0
+            if strong and coloured:
+                return True
+        if node.type == "GROUP" and _emits(node.node_tree, depth + 1):
+            return True
+    return False
+
+
+def _set_cycles(scene):
+    scene.render.engine = "CYCLES"
+    c = scene.cycles
+    c.device = "CPU"
+    c.samples = 1
+    c.use_adaptive_sampling = False
+    c.use_denoising = False
+    c.seed = 0
+    scene.render.bake.target = "VERTEX_COLORS"
+    scene.render.bake.use_selected_to_active = False
+
+
+def _cut(me, cuts):
+    """Cut every polygon of `me` into pieces (grid fill), each piece keeping its polygon's index
+    in the integer face attribute ORIG."""
+    bm = bmesh.new()
+    try:
+        bm.from_mesh(me)
+        layer = bm.faces.layers.int.new(ORIG)
+        bm.faces.ensure_lookup_table()
+        for f in bm.faces:
+            f[layer] = f.index
+        ngons = [f for f in bm.faces if len(f.verts) > 4]
+        if ngons:
+            bmesh.ops.triangulate(bm, faces=ngons)
+        if cuts > 0:
+            bmesh.ops.subdivide_edges(bm, edges=bm.edges[:], cuts=cuts, use_grid_fill=True)
+        bm.to_mesh(me)
+    finally:
+        bm.free()
+
+
+def _colours(me, name):
+    attr = me.color_attributes[name]
+    out = np.empty(len(me.loops) * 4, dtype=np.float32)
+    attr.data.foreach_get("color", out)
+    return out.reshape(-1, 4)[:, :3].astype(np.float64)
+
+
+def _face_means(me, corner_values, polygons):
+    """Area mean per original polygon over the pieces of a cut copy."""
+    n = len(me.polygons)
+    starts = np.empty(n, np.int32)
+    totals = np.empty(n, np.int32)
+    areas = np.empty(n, np.float64)
+    orig = np.empty(n, np.int32)
+    me.polygons.foreach_get("loop_start", starts)
+    me.polygons.foreach_get("loop_total", totals)
+    me.polygons.foreach_get("area", areas)
+    me.attributes[ORIG].data.foreach_get("value", orig)
+    piece = np.add.reduceat(corner_values, starts, axis=0) / totals[:, None]
+    total = np.zeros((polygons, 3))
+    weight = np.zeros(polygons)
+    np.add.at(total, orig, piece * areas[:, None])
+    np.add.at(weight, orig, areas)
+    # Polygons of zero area: the plain mean of their pieces' corners.
+    plain = np.zeros((polygons, 3))
+    count = np.zeros(polygons)
+    np.add.at(plain, orig, piece)
+    np.add.at(count, orig, 1.0)
+    out = np.where(weight[:, None] > 0, total / np.maximum(weight, 1e-300)[:, None],
+                   plain / np.maximum(count, 1.0)[:, None])
+    return out
+
+
+class Request:
+    """One gathered object (SceneInput index) with textured material slots."""
+
+    def __init__(self, index, obj, slots):
+        self.index = index
+        self.obj = obj          # the original object (evaluated again through the depsgraph)
+        self.slots = slots      # material slot indices that are textured
+
+
+def _bake(tmp, view_layer, objs, kind):
+    for o in objs:
+        me = o.data
+        attr = me.color_attributes.new(ATTR + kind, "FLOAT_COLOR", "CORNER")
+        me.color_attributes.active_color = attr
+        o.select_set(True, view_layer=view_layer)
+    view_layer.objects.active = objs[0]
+    kwargs = {"type": kind}
+    if kind == "DIFFUSE":
+        kwargs["pass_filter"] = {"COLOR"}
+    with bpy.context.temp_override(scene=tmp, view_layer=view_layer, active_object=objs[0],
+                                   object=objs[0], selected_objects=list(objs),
+                                   selected_editable_objects=list(objs)):
+        result = bpy.ops.object.bake(**kwargs)
+    if "FINISHED" not in result:
+        raise RuntimeError(f"Cycles' {kind} bake did not finish ({result})")
+
+
+def _request_key(r, obj_eval, exclude_prefix):
+    """What the evaluation of one object reads (eval_cache.py)."""
+    h = hashlib.blake2b(digest_size=20)
+    placed = False
+    for i, slot in enumerate(obj_eval.material_slots):
+        mat = slot.material
+        tree = mat.node_tree if mat is not None else None
+        h.update(f"S|{i}|{mat.name_full if mat else None}|{eval_cache.tree_key(tree)}|"
+                 f"{tuple(mat.diffuse_color) if mat else None}".encode())
+        placed = placed or eval_cache.reads_placement(tree)
+    me = obj_eval.to_mesh()
+    try:
+        eval_cache.mesh_key(me, h, exclude_prefix)
+    finally:
+        obj_eval.to_mesh_clear()
+    if placed:
+        h.update(np.array(obj_eval.matrix_world, dtype=np.float64).tobytes())
+    h.update(f"{sorted(r.slots)}|{bpy.app.version_string}".encode())
+    return "T" + h.hexdigest()
+
+
+def _apply(o, slots, mi, values):
+    """Set the textured polygons' area means and every corner's value of one object from
+    `values` {kind: (corners (C,3), means (F,3))}."""
+    face_of = np.repeat(np.arange(o.polygon_count), o.loop_totals)
+    textured = np.isin(mi, np.asarray(slots, dtype=np.int64))
+    sel = textured[face_of]
+    for kind, (corners, means) in values.items():
+        if kind == "DIFFUSE":
+            rho = o.reflectance.astype(np.float64)
+            rho[textured] = means[textured]
+            o.reflectance = scene_data.clamp_reflectance(rho)
+            cr = o.reflectance[face_of].astype(np.float64)
+            cr[sel] = corners[sel]
+            o.corner_reflectance = scene_data.clamp_reflectance(cr)
+        else:
+            em = o.emission.astype(np.float64)
+            em[textured] = means[textured]
+            o.emission = scene_data.clamp_emission(em)
+            ce = o.emission[face_of].astype(np.float64)
+            ce[sel] = corners[sel]
+            o.corner_emission = scene_data.clamp_emission(ce)
+
+
+def evaluate(si, requests, depsgraph, materials, warnings):
+    """Fill corner_reflectance / corner_emission and the textured polygons' area means of the
+    objects in `requests` (SceneInput indices). Returns stats {"textured_objects",
+    "textures_baked", "texture_pieces", "texture_seconds"}; on failure the viewport colours stay,
+    with one warning per material. Evaluations are kept (eval_cache.py): an object whose
+    materials and evaluated mesh did not change is not baked again."""
+    if not requests:
+        return {}
+    t0 = time.perf_counter()
+    props = getattr(depsgraph.scene, "radiosity", None)
+    exclude = getattr(props, "attribute_name", "Radiosity") or "Radiosity"
+    tmp = None
+    made_objects, made_meshes = [], []
+    pieces = 0
+    todo = []
+    try:
+        for r in requests:
+            obj_eval = r.obj.evaluated_get(depsgraph)
+            key = _request_key(r, obj_eval, exclude)
+            hit = eval_cache.get(key)
+            if hit is not None and len(hit[0]) == si.objects[r.index].polygon_count:
+                _apply(si.objects[r.index], r.slots, hit[0], hit[1])
+            else:
+                todo.append((r, obj_eval, key))
+        if todo:
+            total_faces = sum(si.objects[r.index].polygon_count for r, _, _ in todo)
+            k = int(np.sqrt(PIECE_BUDGET / max(total_faces, 1)))
+            cuts = int(np.clip(k - 1, 0, MAX_CUTS))
+            tmp = bpy.data.scenes.new("radiosity_textures_tmp")
+            _set_cycles(tmp)
+            view_layer = tmp.view_layers[0]
+            plain, cut, emit = [], [], False
+            for r, obj_eval, _ in todo:
+                me = bpy.data.meshes.new_from_object(obj_eval, preserve_all_data_layers=True,
+                                                     depsgraph=depsgraph)
+                made_meshes.append(me)
+                # The object's effective materials (object-linked slots included) on the copy.
+                me.materials.clear()
+                for slot in obj_eval.material_slots:
+                    me.materials.append(slot.material)
+                    if slot.material is not None and slot.material.node_tree is not None:
+                        emit = emit or _emits(slot.material.node_tree)
+                if len(me.loops) != si.objects[r.index].corner_count:
+                    raise RuntimeError(f"object '{r.obj.name}': the evaluated mesh changed while "
+                                       f"baking its textures")
+                pairs = [(me, plain)]
+                if cuts > 0:
+                    me2 = me.copy()
+                    made_meshes.append(me2)
+                    _cut(me2, cuts)
+                    pieces += len(me2.polygons)
+                    pairs.append((me2, cut))
+                else:
+                    pieces += len(me.polygons)     # big meshes: the corners' mean is the mean
+                for mesh, dst in pairs:
+                    o = bpy.data.objects.new("radiosity_textures_tmp", mesh)
+                    made_objects.append(o)
+                    o.matrix_world = obj_eval.matrix_world
+                    tmp.collection.objects.link(o)
+                    dst.append(o)
+            kinds = ["DIFFUSE"] + (["EMIT"] if emit else [])
+            for kind in kinds:
+                _bake(tmp, view_layer, plain + cut, kind)
+            for n, (r, _, key) in enumerate(todo):
+                o = si.objects[r.index]
+                a = plain[n]
+                values = {}
+                for kind in kinds:
+                    corners = _colours(a.data, ATTR + kind)
+                    if cut:
+                        means = _face_means(cut[n].data, _colours(cut[n].data, ATTR + kind),
+                                            o.polygon_count)
+                    else:
+                        means = np.add.reduceat(corners, o.loop_starts, axis=0) \
+                            / o.loop_totals[:, None]
+                    values[kind] = (corners, means)
+                mi = _material_index(a.data)
+                eval_cache.put(key, (mi, values))
+                _apply(o, r.slots, mi, values)
+    except Exception as exc:  # noqa: BLE001  (any failure of Blender's bake: fall back, warn)
+        for why in materials.textured.values():
+            warnings.append(why)
+        warnings.append(f"textured materials could not be evaluated by Cycles ({exc}); their "
+                        f"viewport colours are used")
+        for r in requests:
+            o = si.objects[r.index]
+            o.corner_reflectance = o.corner_emission = None
+        return {}
+    finally:
+        for o in made_objects:
+            bpy.data.objects.remove(o, do_unlink=True)
+        for me in made_meshes:
+            bpy.data.meshes.remove(me, do_unlink=True)
+        if tmp is not None:
+            bpy.data.scenes.remove(tmp, do_unlink=True)
+    return {"textured_objects": len(requests), "textures_baked": len(todo),
+            "texture_pieces": pieces, "texture_seconds": round(time.perf_counter() - t0, 4)}
+
+
+def _material_index(me):
+    mi = np.empty(len(me.polygons), np.int32)
+    me.polygons.foreach_get("material_index", mi)
+    n = max(len(me.materials), 1)
+    return np.clip(mi, 0, n - 1)

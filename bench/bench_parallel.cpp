@@ -66,18 +66,21 @@ void thread_per_loop_for(size_t n, int threads, F&& f, size_t grain = 64) {
 }
 
 // parallel_for's loop (parallel.h) without its arena and isolation.
-template <class F>
-void tbb_loop(size_t n, size_t grain, F&& f) {
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, grain), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t b = r.begin(); b < r.end(); b += grain) {
-            if (b != r.begin() && tbb::is_current_task_group_canceling()) return;
-            const size_t e = std::min(r.end(), b + grain);
-            for (size_t i = b; i < e; ++i) f(i);
-        }
-    });
+template <class F, class P = const tbb::auto_partitioner>
+void tbb_loop(size_t n, size_t grain, F&& f, P&& partitioner = P()) {
+    tbb::parallel_for(
+        tbb::blocked_range<size_t>(0, n, grain),
+        [&](const tbb::blocked_range<size_t>& r) {
+            for (size_t b = r.begin(); b < r.end(); b += grain) {
+                if (b != r.begin() && tbb::is_current_task_group_canceling()) return;
+                const size_t e = std::min(r.end(), b + grain);
+                for (size_t i = b; i < e; ++i) f(i);
+            }
+        },
+        partitioner);
 }
 
-enum class Way { ThreadPerLoop, Tbb, TbbKeptArena, TbbArenaPerLoop, TbbNoIsolate };
+enum class Way { ThreadPerLoop, Tbb, TbbKeptArena, TbbArenaPerLoop, TbbNoIsolate, TbbSimple };
 
 constexpr size_t kGrain = 16;
 
@@ -101,6 +104,9 @@ void loop(Way way, size_t n, int work, std::vector<double>& out) {
             break;
         }
         case Way::TbbNoIsolate: tbb_loop(n, kGrain, item); break;
+        case Way::TbbSimple:
+            tbb::this_task_arena::isolate([&] { tbb_loop(n, kGrain, item, tbb::simple_partitioner()); });
+            break;
     }
 }
 
@@ -127,8 +133,10 @@ BENCHMARK_CAPTURE(ShortLoops, tbb_parallel_for, Way::Tbb)->Unit(benchmark::kMill
 BENCHMARK_CAPTURE(ShortLoops, tbb_kept_arena, Way::TbbKeptArena)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(ShortLoops, tbb_arena_per_loop, Way::TbbArenaPerLoop)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(ShortLoops, tbb_no_isolate, Way::TbbNoIsolate)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(ShortLoops, tbb_simple_partitioner, Way::TbbSimple)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(LongLoop, thread_per_loop, Way::ThreadPerLoop)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(LongLoop, tbb_parallel_for, Way::Tbb)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(LongLoop, tbb_kept_arena, Way::TbbKeptArena)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(LongLoop, tbb_simple_partitioner, Way::TbbSimple)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_MAIN();

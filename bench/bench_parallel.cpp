@@ -9,7 +9,8 @@
 // roughly): the pool must not be slower where thread start-up never mattered.
 // Both on all cores (threads = 0) with a grain of 16. The TBB variants beside parallel_for
 // measure its parts: a limited arena kept (what threads = N below the cores uses) or made
-// for every loop, and the loop without this_task_arena::isolate.
+// for every loop, the loop without this_task_arena::isolate, and simple_partitioner (every
+// grain a task) instead of auto_partitioner.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>

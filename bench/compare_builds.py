@@ -9,12 +9,17 @@ gather or speed change must not change the solution); they are printed so a diff
 
 static: bench_gather --runs 1 SCENE EPS (one row per pair).
 dynamic: bench_dynamic --runs 1 --no-drag --preset PRESET.
+update: bench/update_examples.py --runs 1 --preset PRESET SCENE.npz with each build's Python module
+(build/native); the A build needs only its radiosity_native target.
+
+    python3 bench/compare_builds.py --a /path/to/build-before --b build --pairs 7 update MEDIUM /tmp/box_room.npz
 """
 import argparse
 import os
 import re
 import statistics
 import subprocess
+import sys
 
 
 def run(cmd):
@@ -70,16 +75,33 @@ def dynamic_figures(build, preset):
     }
 
 
+def update_figures(build, preset, scene):
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "update_examples.py")
+    env = dict(os.environ, RADIOSITY_NATIVE_DIR=os.path.join(os.path.abspath(build), "native"))
+    out = subprocess.run([sys.executable, script, "--runs", "1", "--preset", preset, scene], check=True,
+                         capture_output=True, text=True, env=env).stdout
+    m = re.search(r"full ([0-9.]+) s, update ([0-9.]+) s, ratio ([0-9.]+) %, NRMSE ([0-9.]+) %; (links .*)", out)
+    return {
+        "counts": "%s, NRMSE %s %%" % (m.group(5), m.group(4)),
+        "full solve of the moved scene s": float(m.group(1)),
+        "update s": float(m.group(2)),
+        "update / full %": float(m.group(3)),
+    }
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--a", required=True, help="build directory before the change")
     ap.add_argument("--b", required=True, help="build directory after the change")
     ap.add_argument("--pairs", type=int, default=5)
-    ap.add_argument("what", choices=["static", "dynamic"])
+    ap.add_argument("what", choices=["static", "dynamic", "update"])
     ap.add_argument("args", nargs="+")
     a = ap.parse_args()
-    fig = (lambda b: static_figures(b, a.args[0], a.args[1])) if a.what == "static" else (
-        lambda b: dynamic_figures(b, a.args[0]))
+    fig = {
+        "static": lambda b: static_figures(b, a.args[0], a.args[1]),
+        "dynamic": lambda b: dynamic_figures(b, a.args[0]),
+        "update": lambda b: update_figures(b, a.args[0], a.args[1]),
+    }[a.what]
     rows = []
     for _ in range(a.pairs):
         rows.append((fig(a.a), fig(a.b)))

@@ -7,7 +7,8 @@ if [ "$(id -u)" != 0 ]; then SUDO=sudo; fi
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -q
 $SUDO apt-get install -y -q --no-install-recommends \
-  cmake g++ make libembree-dev libgtest-dev googletest python3-dev python3-numpy python3-pip \
+  cmake g++ make libembree-dev libtbb-dev libgtest-dev googletest python3-dev python3-numpy python3-pip \
+  libbenchmark-dev \
   blender xvfb \
   clang libclang-rt-dev  # scripts/fuzz.sh: clang and its libFuzzer/sanitizer runtimes
 PY=${PYTHON:-python3}

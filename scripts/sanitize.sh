@@ -9,11 +9,11 @@
 # filtered: its furnace over every preset and the convergence / energy / dynamic-room
 # cases take minutes each in Release, far too long under ASan; the selection keeps one
 # case of each code path (furnace, clustering, scale, moves, material changes, bad moves,
-# replayed rays).
+# replayed rays), and parallel_for on TBB (exceptions, nesting, arenas).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 JOBS=${RADIOSITY_SANITIZE_JOBS:-$(nproc)}
-DEFAULT_FILTER='AnalyticKernel.*:SolverTransport.*:AllPresets/Furnace.ClosedCubeAndRoomWithBoxAreExact/3:Solver.NoEmitterGivesZerosAndAWarning:Solver.ScaleInvariance:Solver.BackFacesNothingLightsCostNothing:Solver.UniformlyLitWallStaysOneElement:Dynamic.FurnaceConservedAfterMoves:Dynamic.BadMovesAreRejectedOrSafe:Topology.FurnaceStaysExact:Topology.BadInputIsRefused:Topology.ExtremeChangesStaySafe:Topology.AddingIntoAClosedPocketSolvesInFull:Dynamic.ReplayedRaysGiveExactlyWhatCastingEveryRayGives'
+DEFAULT_FILTER='Parallel.*:AnalyticKernel.*:SolverTransport.*:AllPresets/Furnace.ClosedCubeAndRoomWithBoxAreExact/3:Solver.NoEmitterGivesZerosAndAWarning:Solver.ScaleInvariance:Solver.BackFacesNothingLightsCostNothing:Solver.UniformlyLitWallStaysOneElement:Dynamic.FurnaceConservedAfterMoves:Dynamic.BadMovesAreRejectedOrSafe:Topology.FurnaceStaysExact:Topology.BadInputIsRefused:Topology.ExtremeChangesStaySafe:Topology.AddingIntoAClosedPocketSolvesInFull:Dynamic.ReplayedRaysGiveExactlyWhatCastingEveryRayGives'
 FILTER=${RADIOSITY_SANITIZE_FILTER:-$DEFAULT_FILTER}
 
 # RelWithDebInfo: optimised enough to run in minutes, with line numbers in reports.

@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 
-#include "radiosity/parallel.h"
 
 namespace radiosity {
 
@@ -13,11 +12,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 }  // namespace
-
-int hardware_threads() {
-    unsigned n = std::thread::hardware_concurrency();
-    return n == 0 ? 1 : int(n);
-}
 
 Solver::Solver(SceneDesc scene, Settings settings) : scene_(std::move(scene)), settings_(settings) {
     settings_.validate();

@@ -1,51 +1,66 @@
-// Minimal fork-join loop over both cores. Work is handed out in chunks from an atomic
-// counter so uneven items (links with and without rays) balance themselves.
+// Fork-join loops on oneTBB's persistent work-stealing pool, the one Embree builds its BVHs
+// on. An incremental update is many short loops: starting threads for each one cost more than
+// the work in most of them (bench/results/tbb_pool.md).
 #pragma once
 #include <algorithm>
-#include <atomic>
 #include <cstddef>
-#include <exception>
-#include <mutex>
-#include <thread>
-#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+#include <tbb/task_arena.h>
 
 namespace radiosity {
 
+// The cores this process may use (TBB's default concurrency: the affinity mask, cgroup quota).
 int hardware_threads();
 
-// Calls f(i) for i in [0, n) on up to `threads` threads (0 = all cores). Exceptions from f
-// are re-thrown on the caller's thread after all workers stopped.
+namespace detail {
+// An arena of at most `threads` threads (parallel_for's for a limit below the cores), made at
+// the first loop that asks for that limit and kept for the process: making one per loop costs
+// more than a short loop (measured in bench/bench_parallel.cpp).
+tbb::task_arena& limited_arena(int threads);
+}  // namespace detail
+
+// Calls f(i) for i in [0, n) on up to `threads` threads (0 = all cores; a limit above the
+// cores gives all cores). threads == 1, or n <= grain, runs on the caller alone. Items are
+// handed out in ranges of `grain` or more, split further whenever a thread runs out of work,
+// so uneven items balance themselves. The first exception from f stops the loop (each thread finishes at
+// most the grain it is in) and is re-thrown on the caller once no item runs any more.
+// Which thread runs an item, and in what order, varies from run to run: f(i) must not depend
+// on it, so results are the same for any `threads` and any schedule.
 template <class F>
 void parallel_for(size_t n, int threads, F&& f, size_t grain = 64) {
-    if (threads <= 0) threads = hardware_threads();
     if (n == 0) return;
+    if (threads <= 0 || threads > hardware_threads()) threads = hardware_threads();
+    if (grain == 0) grain = 1;
     if (threads == 1 || n <= grain) {
         for (size_t i = 0; i < n; ++i) f(i);
         return;
     }
-    std::atomic<size_t> next{0};
-    std::exception_ptr error;
-    std::mutex error_mutex;
-    auto work = [&]() {
-        try {
-            for (;;) {
-                size_t b = next.fetch_add(grain);
-                if (b >= n) break;
-                size_t e = std::min(n, b + grain);
-                for (size_t i = b; i < e; ++i) f(i);
-            }
-        } catch (...) {
-            std::lock_guard<std::mutex> lock(error_mutex);
-            if (!error) error = std::current_exception();
-            next.store(n);
-        }
+    auto loop = [&] {
+        // Isolated: a thread that waits inside f (for a nested loop) takes only that nested
+        // loop's items, never another item of this loop, so no f(i) starts on a thread where
+        // another f(j) is half done (transfer.cpp's thread_local scratch relies on that).
+        tbb::this_task_arena::isolate([&] {
+            tbb::parallel_for(
+                tbb::blocked_range<size_t>(0, n, grain),
+                [&](const tbb::blocked_range<size_t>& r) {
+                    // A range may be many grains long (TBB splits only as far as threads
+                    // ask for work): after each grain, stop if an item threw elsewhere.
+                    for (size_t b = r.begin(); b < r.end(); b += grain) {
+                        if (b != r.begin() && tbb::is_current_task_group_canceling()) return;
+                        const size_t e = std::min(r.end(), b + grain);
+                        for (size_t i = b; i < e; ++i) f(i);
+                    }
+                },
+                tbb::auto_partitioner());
+        });
     };
-    int nt = int(std::min<size_t>(size_t(threads), (n + grain - 1) / grain));
-    std::vector<std::thread> pool;
-    for (int t = 1; t < nt; ++t) pool.emplace_back(work);
-    work();
-    for (auto& th : pool) th.join();
-    if (error) std::rethrow_exception(error);
+    if (threads == hardware_threads())
+        loop();  // the caller's own arena, shared with Embree
+    else
+        detail::limited_arena(threads).execute(loop);
 }
 
 }  // namespace radiosity

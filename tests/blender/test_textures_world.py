@@ -8,11 +8,8 @@ sky (per version: tex_sky_v3 for 3.4, tex_sky_v5_0 / tex_sky_v5_2 for bpy 5.0 / 
 models differ). Cycles' own noise at 16384 spp: 0.3 % rRMSE (2048 against 16384 spp: 0.8 %).
 
 The error is bench/corner_metric.py's over every corner but the emitter's, covered ones
-included. Its rRMSE is far above the issue's 5 % here (measured at 366281d on 3.4: checker
-1.26, image 1.32, sky 0.20): corners on the floor under the cube (Cycles reads 0, we read the
-elements' value: 97 % of the checker's squared error, the same as with a plain floor, see
-test_cycles_reference.py for the untextured scene's 0.23) and on the sun's hard shadow edge,
-where an element's mean is compared with a point. The tests below judge what the textures and
+included. With the final gather on (issue 16) it is, on 3.4 at HIGH: checker 9.0 %, image 8.1 %
+(not yet the issue's 5 %: strict xfails), sky 2.5 % (before the gather: 1.26, 1.32, 0.20). The tests below judge what the textures and
 the world decide: the texture followed corner by corner (median error), the energy and the
 colour bled onto the cube (means), NRMSE, and the rRMSE of the uncovered corners.
 """
@@ -49,7 +46,7 @@ def _check_means(r, tol):
 
 
 @pytest.mark.parametrize("kind", ["checker", "image"])
-def test_textured_floor_matches_cycles(run_blender, kind):
+def test_textured_floor_matches_cycles(run_blender, kind, request):
     r = run_blender("tex_world_compare.py", "--kind", kind, "--preset", "HIGH",
                     "--ref", os.path.join(DATA, f"tex_{kind}_v3.npy"))
     if r.get("fake"):
@@ -59,11 +56,12 @@ def test_textured_floor_matches_cycles(run_blender, kind):
     print("\n" + _figures(r) + f"; texture evaluation {st['texture_seconds']} s "
           f"({st['texture_pieces']} pieces)")
     assert st["textured_objects"] == 1, st
-    # Measured on 3.4 (366281d): checker NRMSE 0.049, median 0.036, uncovered rRMSE 0.21;
-    # image 0.043, 0.033, 0.19; means within 1.2 %.
-    assert e["nrmse"] <= 0.06
-    assert e["rel_p50"] <= 0.05
-    assert e["rrmse_uncovered"] <= 0.30
+    # Measured on 3.4 with the final gather on (issue 16; dbda0eb): checker NRMSE 0.0095,
+    # median 0.0026, uncovered rRMSE 0.061, all corners 0.090; image 0.0065, 0.0017, 0.035,
+    # 0.081. (Before the gather, 366281d: NRMSE 0.049 / 0.043, rRMSE 1.26 / 1.32.)
+    assert e["nrmse"] <= 0.015
+    assert e["rel_p50"] <= 0.006
+    assert e["rrmse_uncovered"] <= 0.08
     assert abs(e["mean_ratio"] - 1.0) <= 0.02
     _check_means(r, 0.02)
     # Colour bleeding of the floor's mean onto the white cube: its red over green as in Cycles
@@ -71,6 +69,12 @@ def test_textured_floor_matches_cycles(run_blender, kind):
     ours, ref = r["per_object"]["Cube"]["ours_mean"], r["per_object"]["Cube"]["ref_mean"]
     assert ref[0] / ref[1] > 1.03
     assert abs((ours[0] / ours[1]) / (ref[0] / ref[1]) - 1.0) <= 0.01, (ours, ref)
+    # The issue's acceptance, every corner within 5 % rRMSE, is not met yet (9.0 / 8.1 %):
+    # strict, so the mark must go when it is.
+    if e["rrmse"] > 0.05:
+        request.node.add_marker(pytest.mark.xfail(strict=True, reason="issue 18 acceptance (5 % rRMSE, "
+                                                  "every corner) not met on textured floors"))
+    assert e["rrmse"] <= 0.05
 
 
 def test_sky_world_matches_cycles(run_blender):
@@ -85,11 +89,12 @@ def test_sky_world_matches_cycles(run_blender):
     st, e = r["stats"], r["all"]
     print("\n" + _figures(r) + f"; world evaluation {st['world_seconds']} s")
     assert st["world_sun"] and st["lights"] == 2, st      # the sun disc as a sun light + the map
-    # Measured on 3.4 (366281d): NRMSE 0.031, median 0.006, p90 0.056, rRMSE 0.20 (uncovered
-    # 0.21), means within 0.7 %.
-    assert e["nrmse"] <= 0.05
-    assert e["rel_p50"] <= 0.02
-    assert e["rrmse"] <= 0.30
+    # Measured on 3.4 with the final gather on (dbda0eb): NRMSE 0.0059, median 0.0048, rRMSE
+    # 0.025 (uncovered 0.023), means within 0.5 %. (Before the gather: 0.031, 0.006, 0.20.)
+    # The issue's acceptance: 5 % rRMSE over every corner (2 % once issue 16 is resolved).
+    assert e["nrmse"] <= 0.015
+    assert e["rel_p50"] <= 0.01
+    assert e["rrmse"] <= 0.05
     assert abs(e["mean_ratio"] - 1.0) <= 0.02
     _check_means(r, 0.02)
 

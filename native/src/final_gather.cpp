@@ -4,6 +4,7 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <unordered_map>
 
 #include "radiosity/gather_plan.h"
 #include "radiosity/lights.h"
@@ -144,6 +145,7 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
     pt.records.clear();
     pt.direct = Rgb{};
     pt.near = Rgb{};
+    pt.escapes = -1;
     pt.c_own = pt.c_inherited = 1;
     pt.fill = 0;
     if (pt.covered) return;
@@ -193,6 +195,19 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
     double total = 0;
     for (const Use& u : use) total += u.weight;
 
+    // Whether the near-field correction and the escape answer of the point are kept (below).
+    // (Also when every ray is cast again, Settings::replay_rays off: that mode checks that
+    // replayed rays are exact, not this.)
+    bool unchanged = old != nullptr && !moves->lights_changed;
+    if (unchanged) {
+        // Nothing moved within 5 % of the scene's size of the point.
+        const double r = 0.05 * h.scene_diag;
+        Aabb around;
+        around.lo = x - Vec3{r, r, r};
+        around.hi = x + Vec3{r, r, r};
+        for (const Aabb& b : moves->clips)
+            if (b.overlaps(around)) unchanged = false;
+    }
     double f_own = 0, f_inherited = 0;
     for (const Use& u : use) {
         // A dark sender brings nothing, but in a closed pocket its coupling still counts
@@ -272,13 +287,21 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
         (u.own ? f_own : f_inherited) += rec.F;
         pt.records.push_back(rec);
     }
-    near_field(s, c, pt, counts);
+    // Kept after a move that comes nowhere near the point: the senders it corrects lie within
+    // 20 d of it, and what a distant move changes there it changes about as much in their
+    // leaves' averages, which the samples read afresh; the correction is the difference of
+    // the two (L(s*) - the average), so keeping it errs by the difference of the changes.
+    if (unchanged)
+        pt.near = old->near;
+    else
+        near_field(s, c, pt, counts);
     // Closure at the point, as the solver's at the leaf: where no escape ray of the leaf found
     // open space, the point's couplings must sum to 1 -- unless the point itself sees out.
     // A ceiling leaf over a lamp hung 1 mm below it finds no way out with its 32 rays, but its
     // points near the lamp's rim see 3 % of their hemisphere through the gap, dark: filling
     // that with the leaf's own radiance read them 3 % too bright.
-    if (enclosed && !point_escapes(s, x, n, pt.seed, counts)) {
+    if (enclosed) pt.escapes = unchanged && old->escapes >= 0 ? old->escapes : int8_t(point_escapes(s, x, n, pt.seed, counts));
+    if (enclosed && pt.escapes == 0) {
         const ClosureFactors cf = closure_factors(f_own, f_inherited);  // gather_plan.h
         pt.c_own = cf.c_own;
         pt.c_inherited = cf.c_inherited;
@@ -551,6 +574,10 @@ void FinalGather::run(const Solution& s, const Config& c, std::vector<Job>& jobs
     std::vector<Point> old;
     if (moves) old.swap(points_);
     occluded_.build(s.h, s.links);
+    auto key_of = [](int object, int prim, int k) { return (uint64_t(uint32_t(object)) << 40) ^ (uint64_t(uint32_t(prim)) << 4) ^ uint64_t(k); };
+    std::unordered_map<uint64_t, size_t> old_at;
+    old_at.reserve(old.size());
+    for (size_t i = 0; i < old.size(); ++i) old_at.emplace(key_of(old[i].object, old[i].prim, old[i].k), i);
     points_.assign(jobs.size(), Point{});
     std::atomic<int64_t> n_links{0}, n_rays{0}, n_refined{0}, n_samples{0}, n_kept{0}, n_replayed{0}, n_fresh{0}, n_near{0};
     const size_t block = 512;
@@ -571,8 +598,11 @@ void FinalGather::run(const Solution& s, const Config& c, std::vector<Job>& jobs
             pt.beyond = j.beyond;
             // The same corner, unmoved, at the same leaf: re-traced from what it had.
             const Point* was = nullptr;
-            if (moves && b + i < old.size()) {
-                const Point& o = old[b + i];
+            // Found by its corner, not its index: points before it may have been added or
+            // dropped (a vertex that comes onto a contact line shares no point any more).
+            const auto at = moves ? old_at.find(key_of(j.object, j.prim, j.k)) : old_at.end();
+            if (at != old_at.end()) {
+                const Point& o = old[at->second];
                 if (o.object == j.object && o.prim == j.prim && o.k == j.k && o.leaf == j.leaf && o.covered == j.covered &&
                     !moves->moved[size_t(j.object)] && o.x.x == j.x.x && o.x.y == j.x.y && o.x.z == j.x.z)
                     was = &o;

@@ -115,6 +115,7 @@ private:
         // Near-field correction (final_gather.cpp near_field), irradiance / pi: the senders a
         // hair from the point read at a point of theirs instead of their leaf's average.
         Rgb near;
+        int8_t escapes = -1;  // enclosed leaves only: whether the point's own escape rays find open space
         // Closure (as the solver's at the leaf): factors on own and inherited couplings, and
         // the share of the hemisphere taken to see the leaf's own radiance.
         double c_own = 1, c_inherited = 1, fill = 0;

@@ -490,6 +490,7 @@ void Solver::update(Control* control) {
         return;
     }
     const bool topology = !pending_adds_.empty() || !pending_removes_.empty();
+    const bool materials_changed = materials_changed_;  // for the output (it is cleared below)
     if (pending_moves_.empty() && !materials_changed_ && !topology) {
         stats_.mode_incremental = true;
         stats_.seconds_adjust = 0;
@@ -718,6 +719,7 @@ void Solver::update(Control* control) {
         mv.moved = moved_objects.empty() ? std::vector<char>(scene_.objects().size(), 0) : moved_objects;
         mv.clips = replay_clips_;
         if (moved_objects.empty()) mv.clips.clear();
+        mv.materials_changed = materials_changed;
         final_gather(0.95, 1.0, &mv);
     } else {
         final_gather(0.95, 1.0);

@@ -198,7 +198,7 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
     // Whether the near-field correction and the escape answer of the point are kept (below).
     // (Also when every ray is cast again, Settings::replay_rays off: that mode checks that
     // replayed rays are exact, not this.)
-    bool unchanged = old != nullptr && !moves->lights_changed;
+    bool unchanged = old != nullptr && !moves->lights_changed && !moves->materials_changed;
     if (unchanged) {
         // Nothing moved within 5 % of the scene's size of the point.
         const double r = 0.05 * h.scene_diag;

@@ -71,6 +71,7 @@ public:
         // for bit; Settings::replay_rays off, to check that).
         bool cast_all = false;
         bool lights_changed = false;  // set by retrace: the lamps differ from the last trace's
+        bool materials_changed = false;  // emission or reflectance changed (radiances everywhere)
     };
     // The trace after moves: a point that did not move keeps what its rays found where no ray
     // of it meets a moved box (a link whose rays' hull with the point meets none keeps its

@@ -424,14 +424,13 @@ void FinalGather::near_field(const Solution& s, const Config& c, Point& pt, Coun
         const int surface_root = h.surfaces[size_t(sn.surface)].root;
         const uint64_t seed = Hierarchy::mix(pt.seed, Hierarchy::mix(root.key, 0x4ea7u));
         Rng rng(seed);
-        const Vec3 tt = std::fabs(n.x) > 0.5 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
-        const Vec3 u = normalize(cross(n, tt)), v = cross(n, u);
+        Vec3 u, v;
+        frame(n, u, v);
         Rgb sum;
         int got = 0;
         for (int tries = 0; tries < 8 * kNearPoints && got < kNearPoints; ++tries) {
             const double r1 = rng.next(), r2 = rng.next();
-            const double phi = 2 * kPi * r1, sr = std::sqrt(r2);
-            const Vec3 w = u * (std::cos(phi) * sr) + v * (std::sin(phi) * sr) + n * std::sqrt(1 - r2);
+            const Vec3 w = cosine_direction(u, v, n, r1, r2);
             const double dn = -dot(w, root.normal);
             if (!(dn > 1e-6)) continue;
             const double t = d / dn;
@@ -460,13 +459,12 @@ bool FinalGather::point_escapes(const Solution& s, const Vec3& x, const Vec3& n,
     const double far = 4.0 * s.h.scene_diag;
     const double lift = 1e-5 * s.h.scene_diag;
     Rng rng(Hierarchy::mix(seed, 0xe5ca9eu));
-    const Vec3 t = std::fabs(n.x) > 0.5 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
-    const Vec3 u = normalize(cross(n, t)), v = cross(n, u);
+    Vec3 u, v;
+    frame(n, u, v);
     const Vec3 o = x + n * lift;
     for (int i = 0; i < kSide * kSide; ++i) {
         const double r1 = (i % kSide + rng.next()) / kSide, r2 = (i / kSide + rng.next()) / kSide;
-        const double phi = 2 * kPi * r1, sr = std::sqrt(r2);
-        const Vec3 d = u * (std::cos(phi) * sr) + v * (std::sin(phi) * sr) + n * std::sqrt(1 - r2);
+        const Vec3 d = cosine_direction(u, v, n, r1, r2);
         ++counts.rays;
         if (!s.vis.occluded(o, o + d * far, 0.0)) return true;
     }

@@ -191,13 +191,12 @@ void Solver::escape_rays(const Node& n, std::vector<std::pair<Vec3, Vec3>>& rays
     const double far = 4.0 * h_.scene_diag;
     const double lift = 1e-5 * h_.scene_diag;  // off its own surface; tnear 0 sees neighbours
     Rng rng(Hierarchy::mix(settings_.seed, n.key));
-    Vec3 t = std::fabs(n.normal.x) > 0.5 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
-    Vec3 u = normalize(cross(n.normal, t)), v = cross(n.normal, u);
+    Vec3 u, v;
+    frame(n.normal, u, v);
     rays.clear();
     for (int r = 0; r < settings_.closure_rays; ++r) {
         double r1 = rng.next(), r2 = rng.next();
-        double phi = 2 * kPi * r1, sr = std::sqrt(r2);
-        Vec3 d = u * (std::cos(phi) * sr) + v * (std::sin(phi) * sr) + n.normal * std::sqrt(1 - r2);
+        Vec3 d = cosine_direction(u, v, n.normal, r1, r2);
         Vec3 o = n.poly.sample(rng.next(), rng.next()) + n.normal * lift;
         rays.emplace_back(o, o + d * far);
     }

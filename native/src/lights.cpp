@@ -86,12 +86,6 @@ double spot_mask(const ILight& l, const Vec3& from_light) {
     return l.cos_falloff ? m * z : m;
 }
 
-void frame(const Vec3& w, Vec3& u, Vec3& v) {
-    Vec3 t = std::fabs(w.x) > 0.5 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
-    u = normalize(cross(w, t));
-    v = cross(w, u);
-}
-
 // What one child's samples say about a light.
 struct Sampled {
     Rgb mean;           // irradiance / pi, visibility included
@@ -134,8 +128,7 @@ Sampled estimate(const ILight& l, const Where& where, const Vec3& n, int m, Rng&
                     if (i % 2) {
                         d = l.env->sample(a, b, pm);
                     } else {
-                        double phi = 2 * kPi * a, sr = std::sqrt(b);
-                        d = nu * (std::cos(phi) * sr) + nv * (std::sin(phi) * sr) + n * std::sqrt(1 - b);
+                        d = cosine_direction(nu, nv, n, a, b);
                         pm = l.env->pdf(d);
                     }
                     const double c = dot(n, d);
@@ -153,8 +146,7 @@ Sampled estimate(const ILight& l, const Where& where, const Vec3& n, int m, Rng&
                     continue;
                 }
                 // Cosine-weighted direction: the estimator of E/pi is L_sky x visibility.
-                double phi = 2 * kPi * a, sr = std::sqrt(b);
-                Vec3 d = nu * (std::cos(phi) * sr) + nv * (std::sin(phi) * sr) + n * std::sqrt(1 - b);
+                Vec3 d = cosine_direction(nu, nv, n, a, b);
                 u = 1.0;
                 if (!touching && !vis.occluded(o, o + d * far, 0.0)) f = 1.0;
                 break;

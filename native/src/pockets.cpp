@@ -46,12 +46,12 @@ void Solver::pocket_rays(int s, int rays, uint64_t stream, std::vector<PocketRay
     const Node& n = h_.nodes[size_t(h_.surfaces[size_t(s)].root)];
     const double far = 4.0 * h_.scene_diag, lift = 1e-5 * h_.scene_diag;
     Rng rng(Hierarchy::mix(settings_.seed ^ 0x5EA1ED ^ stream, n.key));
-    const Vec3 t = std::fabs(n.normal.x) > 0.5 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
-    const Vec3 u = normalize(cross(n.normal, t)), v = cross(n.normal, u);
+    Vec3 u, v;
+    frame(n.normal, u, v);
     for (int r = 0; r < rays; ++r) {
         // Cosine-distributed: the directions that carry the most light are tried most.
-        const double phi = 2 * kPi * rng.next(), r2 = rng.next(), sr = std::sqrt(r2);
-        const Vec3 d = u * (std::cos(phi) * sr) + v * (std::sin(phi) * sr) + n.normal * std::sqrt(1 - r2);
+        const double r1 = rng.next(), r2 = rng.next();
+        const Vec3 d = cosine_direction(u, v, n.normal, r1, r2);
         const Vec3 o = n.poly.sample(rng.next(), rng.next()) + n.normal * lift;
         if (old && size_t(r) < old->size()) {
             // Nothing changed between o and what it hit (or the ray's end): the same hit.

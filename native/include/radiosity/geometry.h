@@ -2,6 +2,7 @@
 // point-to-polygon form factor that every surface link is built on.
 #pragma once
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <random>
 
@@ -67,6 +68,20 @@ double point_polygon_form_factor(const Vec3& x, const Vec3& nx, const Vec3* v, i
 
 // Whether any transfer from `src` (front side) to `rcv` (front side) is geometrically possible.
 bool can_face(const Poly& src, const Vec3& src_n, const Poly& rcv, const Vec3& rcv_n, double eps);
+
+// An orthonormal frame (u, v, w) around the unit vector w.
+inline void frame(const Vec3& w, Vec3& u, Vec3& v) {
+    const Vec3 t = std::fabs(w.x) > 0.5 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
+    u = normalize(cross(w, t));
+    v = cross(w, u);
+}
+
+// The cosine-distributed direction about w (frame u, v, w) for (r1, r2) in [0, 1)^2: azimuth
+// 2 pi r1, sine of the polar angle sqrt(r2).
+inline Vec3 cosine_direction(const Vec3& u, const Vec3& v, const Vec3& w, double r1, double r2) {
+    const double phi = 2 * kPi * r1, sr = std::sqrt(r2);
+    return u * (std::cos(phi) * sr) + v * (std::sin(phi) * sr) + w * std::sqrt(1 - r2);
+}
 
 // Counter-based RNG seeded per link so results do not depend on thread scheduling.
 class Rng {

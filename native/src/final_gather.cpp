@@ -148,6 +148,16 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
     pt.escapes = -1;
     pt.c_own = pt.c_inherited = 1;
     pt.fill = 0;
+    pt.sealed = false;
+    // Inside a closed solid (the floor inside a bottomless block, under a box's bottom):
+    // nothing lights it, whatever the leaves around say. One ray tells most points they are
+    // not (it escapes or meets a face's front).
+    if (sealed_rule_ && (!pt.covered || pt.beyond >= 0) &&
+        point_sealed(s, pt.x + pt.n * (1e-5 * s.h.scene_diag), pt.n, Hierarchy::mix(pt.seed, 0x5ea1edu), counts)) {
+        pt.sealed = true;
+        pt.beyond = -1;
+        return;
+    }
     if (pt.covered) return;
     const Hierarchy& h = s.h;
     const Node& L = h.nodes[size_t(pt.leaf)];
@@ -155,7 +165,7 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
     const Vec3& n = pt.n;
     // Lamps: kept after a move when no shadow ray can meet a moved box (a point or spot light's
     // segment hull; the sun's and the sky's rays go anywhere in front: cast again).
-    bool lamps_kept = old != nullptr && !moves->cast_all && !moves->lights_changed;
+    bool lamps_kept = old != nullptr && !old->sealed && !moves->cast_all && !moves->lights_changed;
     if (old) {
         for (const LightDesc& d : s.scene.lights()) {
             if (d.intensity.max() <= 0) continue;
@@ -198,7 +208,7 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
     // Whether the near-field correction and the escape answer of the point are kept (below).
     // (Also when every ray is cast again, Settings::replay_rays off: that mode checks that
     // replayed rays are exact, not this.)
-    bool unchanged = old != nullptr && !moves->lights_changed && !moves->materials_changed;
+    bool unchanged = old != nullptr && !old->sealed && !moves->lights_changed && !moves->materials_changed;
     if (unchanged) {
         // Nothing moved within 5 % of the scene's size of the point.
         const double r = 0.05 * h.scene_diag;
@@ -471,6 +481,73 @@ bool FinalGather::point_escapes(const Solution& s, const Vec3& x, const Vec3& n,
     return false;
 }
 
+bool FinalGather::point_sealed(const Solution& s, const Vec3& o, const Vec3& n, uint64_t seed, Counts& counts) {
+    // As point_escapes: stratified and cosine-distributed; a gap in the solid (a crack under
+    // a wall standing a hair above the floor) lets light in and is found with the same odds.
+    constexpr int kSide = 8;
+    const Hierarchy& h = s.h;
+    const double far = 4.0 * h.scene_diag;
+    Rng rng(seed);
+    Vec3 u, v;
+    frame(n, u, v);
+    // The backs met must face at least three ways: one plane seen from behind (a lamp hung
+    // under a ceiling, a rug a hair above the floor) covers a point's hemisphere without
+    // enclosing anything, and Cycles lights what lies behind it (an emitter's back glows).
+    Vec3 ways[3];
+    int nways = 0;
+    for (int i = 0; i < kSide * kSide; ++i) {
+        const double r1 = (i % kSide + rng.next()) / kSide, r2 = (i / kSide + rng.next()) / kSide;
+        const Vec3 d = cosine_direction(u, v, n, r1, r2);
+        ++counts.rays;
+        int tri = -1;
+        Vec3 at;
+        const int obj = s.vis.hit_object(o, o + d * far, 0.0, &at, &tri);
+        if (obj < 0 || size_t(obj) >= s.tri_prim->size() || tri < 0) return false;
+        const std::vector<int>& tp = (*s.tri_prim)[size_t(obj)];
+        if (size_t(tri) >= tp.size()) return false;
+        const Primitive& p = h.prims[size_t(tp[size_t(tri)])];
+        // The face's orientation as placed now (a moved object's surfaces turn with it).
+        Vec3 fn = p.front >= 0 ? h.nodes[size_t(h.surfaces[size_t(p.front)].root)].normal : p.poly.normal();
+        // The front of a face covered there by another turned against it (a plinth's top
+        // under a cabinet's bottom: the ray meets either of the two coplanar faces) is the
+        // back of the covering one.
+        if (!(dot(d, fn) > 0) && p.front >= 0 && s.contact && s.contact(p.front, at) >= 0) fn = fn * -1.0;
+        if (!(dot(d, fn) > 0)) return false;  // its front: outside every solid there
+        for (int side : {p.front, p.back})
+            if (side >= 0 && h.nodes[size_t(h.surfaces[size_t(side)].root)].emission.max() > 0) return false;
+        bool seen = false;
+        for (int k = 0; k < nways && !seen; ++k) seen = dot(ways[k], fn) > 0.99;
+        if (!seen && nways < 3) ways[nways++] = fn;
+    }
+    return nways >= 3;
+}
+
+bool FinalGather::light_sealed_in(const Solution& s, Counts& counts) {
+    const Hierarchy& h = s.h;
+    const double lift = 1e-5 * h.scene_diag;
+    // A lamp at a point: inside a solid when both hemispheres are sealed.
+    for (const LightDesc& d : s.scene.lights()) {
+        if (d.intensity.max() <= 0 || d.type == LightDesc::Type::Sun || d.type == LightDesc::Type::Sky) continue;
+        const Vec3 q = h.to_internal(d.position);
+        const Vec3 z{0, 0, 1};
+        if (point_sealed(s, q, z, 0x1a3bu, counts) && point_sealed(s, q, z * -1.0, 0x1a3cu, counts)) return true;
+    }
+    // Emitting faces, from their centroid on each emitting side (at most 512 faces, evenly
+    // spread: a lamp is a few faces, an emissive wall many alike).
+    std::vector<int> emitting;
+    for (size_t i = 0; i < h.surfaces.size(); ++i) {
+        const Surface& sf = h.surfaces[i];
+        if (sf.root < 0 || h.surface_dead(int(i))) continue;
+        if (h.nodes[size_t(sf.root)].emission.max() > 0) emitting.push_back(int(i));
+    }
+    const size_t step = std::max<size_t>(1, emitting.size() / 512);
+    for (size_t k = 0; k < emitting.size(); k += step) {
+        const Node& r = h.nodes[size_t(h.surfaces[size_t(emitting[k])].root)];
+        if (point_sealed(s, r.poly.centroid() + r.normal * lift, r.normal, 0x1a3du + k, counts)) return true;
+    }
+    return false;
+}
+
 void FinalGather::OccludedLinks::build(const Hierarchy& h, const std::vector<Link>& links) {
     begin.assign(h.nodes.size() + 1, 0);
     for (const Link& l : links)
@@ -577,7 +654,12 @@ void FinalGather::run(const Solution& s, const Config& c, std::vector<Job>& jobs
     old_at.reserve(old.size());
     for (size_t i = 0; i < old.size(); ++i) old_at.emplace(key_of(old[i].object, old[i].prim, old[i].k), i);
     points_.assign(jobs.size(), Point{});
-    std::atomic<int64_t> n_links{0}, n_rays{0}, n_refined{0}, n_samples{0}, n_kept{0}, n_replayed{0}, n_fresh{0}, n_near{0};
+    std::atomic<int64_t> n_links{0}, n_rays{0}, n_refined{0}, n_samples{0}, n_kept{0}, n_replayed{0}, n_fresh{0}, n_near{0}, n_sealed{0};
+    {
+        Counts guard;
+        sealed_rule_ = c.sealed_solids && s.tri_prim != nullptr && !light_sealed_in(s, guard);
+        n_rays += guard.rays;
+    }
     const size_t block = 512;
     for (size_t b = 0; b < jobs.size(); b += block) {
         if (progress) progress(double(b) / double(jobs.size()));
@@ -612,6 +694,7 @@ void FinalGather::run(const Solution& s, const Config& c, std::vector<Job>& jobs
             n_rays += local.rays;
             n_refined += local.refined;
             n_near += local.near;
+            n_sealed += pt.sealed;
             n_kept += local.kept;
             n_replayed += local.replayed;
             n_fresh += was == nullptr;
@@ -631,6 +714,7 @@ void FinalGather::run(const Solution& s, const Config& c, std::vector<Job>& jobs
     counts_.replayed = n_replayed;
     counts_.fresh_points = n_fresh;
     counts_.near = n_near;
+    counts_.sealed = n_sealed;
     traced_ = true;
 }
 

@@ -70,8 +70,9 @@ void Solver::final_gather(double from, double to, const FinalGather::Moves* move
     c.threads = settings_.threads;
     c.seed = settings_.seed;
     c.cycles_points = settings_.cycles_corner_points;
+    c.sealed_solids = settings_.gather_sealed_solids;
     const FinalGather::Solution s{scene_, h_, *vis_, links_,
-                                  [this](int surface, const Vec3& p) { return light_contact(surface, p); }};
+                                  [this](int surface, const Vec3& p) { return light_contact(surface, p); }, &tri_prim_};
     auto progress = [&](double f) {
         check_cancel();
         set_progress(from + (to - from) * f);
@@ -92,6 +93,7 @@ void Solver::final_gather(double from, double to, const FinalGather::Moves* move
     stats_.gather_points = k.points;
     stats_.gather_corners = k.corners;
     stats_.gather_covered = k.covered;
+    stats_.gather_sealed = k.sealed;
     stats_.gather_links = k.links;
     stats_.gather_rays = k.rays;
     stats_.gather_bytes = int64_t(output_.bytes());

@@ -178,3 +178,124 @@ TEST(FinalGather, DimmingTheLampScalesEveryCorner) {
     ASSERT_EQ(before.size(), after.size());
     for (size_t i = 0; i < before.size(); ++i) EXPECT_NEAR(after[i], 0.3f * before[i], 0.01f * before[i] + 1e-7f);
 }
+
+namespace {
+
+// A block open at the bottom (top and four sides, faces outward) standing on the floor, as
+// the Cornell box's blocks are: the floor under it is inside a closed solid.
+void add_bottomless_block(SceneDesc& sc, Vec3 lo, Vec3 hi, bool two_sided) {
+    const Rgb rho = Rgb::all(0.5);
+    scenes::add_grid(sc, "top", -1, {Vec3{lo.x, lo.y, hi.z}, Vec3{hi.x, lo.y, hi.z}, Vec3{hi.x, hi.y, hi.z}, Vec3{lo.x, hi.y, hi.z}},
+                     2, 2, rho, Rgb{}, two_sided);
+    scenes::add_grid(sc, "south", -1, {Vec3{lo.x, lo.y, lo.z}, Vec3{hi.x, lo.y, lo.z}, Vec3{hi.x, lo.y, hi.z}, Vec3{lo.x, lo.y, hi.z}},
+                     2, 2, rho, Rgb{}, two_sided);
+    scenes::add_grid(sc, "north", -1, {Vec3{hi.x, hi.y, lo.z}, Vec3{lo.x, hi.y, lo.z}, Vec3{lo.x, hi.y, hi.z}, Vec3{hi.x, hi.y, hi.z}},
+                     2, 2, rho, Rgb{}, two_sided);
+    scenes::add_grid(sc, "west", -1, {Vec3{lo.x, hi.y, lo.z}, Vec3{lo.x, lo.y, lo.z}, Vec3{lo.x, lo.y, hi.z}, Vec3{lo.x, hi.y, hi.z}},
+                     2, 2, rho, Rgb{}, two_sided);
+    scenes::add_grid(sc, "east", -1, {Vec3{hi.x, lo.y, lo.z}, Vec3{hi.x, hi.y, lo.z}, Vec3{hi.x, hi.y, hi.z}, Vec3{hi.x, lo.y, hi.z}},
+                     2, 2, rho, Rgb{}, two_sided);
+}
+
+// Floor corners whose point lies strictly inside the rectangle lo-hi (x, y), and the others.
+struct Split {
+    double inside_max = 0, outside_mean = 0;
+    int inside = 0, outside = 0;
+};
+Split split_floor(const SceneDesc& sc, int floor, const std::vector<float>& c, Vec3 lo, Vec3 hi) {
+    const ObjectDesc& fo = sc.objects()[size_t(floor)];
+    Split r;
+    for (size_t f = 0; f < fo.polygon_count(); ++f) {
+        Vec3 centre;
+        for (int k = 0; k < fo.loop_totals[f]; ++k) centre += fo.vertices[size_t(fo.corner_verts[size_t(fo.loop_starts[f] + k)])] / fo.loop_totals[f];
+        for (int k = 0; k < fo.loop_totals[f]; ++k) {
+            const size_t ci = size_t(fo.loop_starts[f] + k);
+            const Vec3 p = fo.vertices[size_t(fo.corner_verts[ci])];
+            // The corner's point lies a hair from p toward the face's centre.
+            const Vec3 q = p + (centre - p) * 1e-3;
+            const bool in = q.x > lo.x && q.x < hi.x && q.y > lo.y && q.y < hi.y;
+            if (in) {
+                r.inside_max = std::max(r.inside_max, double(c[3 * ci + 1]));
+                ++r.inside;
+            } else {
+                r.outside_mean += c[3 * ci + 1];
+                ++r.outside;
+            }
+        }
+    }
+    if (r.outside > 0) r.outside_mean /= r.outside;
+    return r;
+}
+
+}  // namespace
+
+TEST(FinalGather, FloorInsideABottomlessBlockIsUnlit) {
+    // The Cornell box's blocks have no bottom: the floor under one is inside a closed solid,
+    // and Cycles reads it 0. The floor's faces straddle the block's walls (0.5 m grid, block
+    // from 1.3 to 2.7 m), so its leaves carry the room's light inside and the block's inner
+    // faces glow with it: the Cornell box read 7 % of the mean there, 98 % of its error.
+    for (bool two_sided : {false, true}) {
+        SceneDesc sc;
+        const int floor = scenes::add_grid(sc, "floor", -1, {Vec3{0, 0, 0}, Vec3{4, 0, 0}, Vec3{4, 4, 0}, Vec3{0, 4, 0}},
+                                           8, 8, Rgb::all(0.5), Rgb{}, false);
+        const Vec3 lo{1.3, 1.3, 0}, hi{2.7, 2.7, 1};
+        add_bottomless_block(sc, lo, hi, two_sided);
+        scenes::add_grid(sc, "lamp", -1, {Vec3{0.5, 0.5, 3}, Vec3{0.5, 3.5, 3}, Vec3{3.5, 3.5, 3}, Vec3{3.5, 0.5, 3}}, 1, 1,
+                         Rgb{}, Rgb::all(10), false);
+        for (bool rule : {true, false}) {
+            Settings st = gathered("MEDIUM");
+            st.gather_sealed_solids = rule;
+            Solver s(sc, st);
+            s.solve();
+            const Split r = split_floor(sc, floor, s.corner_radiance(floor), lo, hi);
+            std::printf("[ figure ] two-sided %d, rule %d: floor inside the block max %.5f (%d corners), outside mean %.4f, "
+                        "sealed points %lld\n", int(two_sided), int(rule), r.inside_max, r.inside, r.outside_mean,
+                        (long long)s.stats().gather_sealed);
+            ASSERT_GT(r.inside, 8);
+            ASSERT_GT(r.outside_mean, 0.1);
+            if (rule) {
+                EXPECT_EQ(r.inside_max, 0.0);
+                EXPECT_GT(s.stats().gather_sealed, 0);
+            } else if (two_sided) {
+                // Without it the leak shows (two-sided, as the add-on hands Blender's meshes
+                // over: the block's inner faces are surfaces that can hold light; one-sided,
+                // they are none and nothing leaks): the test tells the rule from its absence.
+                EXPECT_GT(r.inside_max, 1e-3 * r.outside_mean);
+            }
+        }
+    }
+}
+
+TEST(FinalGather, ALampInsideAClosedBoxKeepsTheBoxLitInside) {
+    // A point light inside a closed box standing on the floor: the inside of that solid is lit
+    // (the floor under the box reads what lies beyond its bottom, as in Cycles), so the
+    // sealed rule must stand down. And over a one-sided lamp hung under a ceiling, the ceiling
+    // sees the lamp's back everywhere: one plane, not a solid, never sealed.
+    SceneDesc sc;
+    const int floor = scenes::add_grid(sc, "floor", -1, {Vec3{0, 0, 0}, Vec3{4, 0, 0}, Vec3{4, 4, 0}, Vec3{0, 4, 0}},
+                                       8, 8, Rgb::all(0.5), Rgb{}, false);
+    scenes::add_box(sc, "box", -1, {1.3, 1.3, 0}, {2.7, 2.7, 1}, 2, Rgb::all(0.5), Rgb{});
+    scenes::add_grid(sc, "ceiling", -1, {Vec3{0, 0, 3}, Vec3{0, 4, 3}, Vec3{4, 4, 3}, Vec3{4, 0, 3}}, 8, 8, Rgb::all(0.5),
+                     Rgb{}, false);
+    scenes::add_grid(sc, "lamp", -1, {Vec3{1.4, 1.4, 2.999}, Vec3{1.4, 2.6, 2.999}, Vec3{2.6, 2.6, 2.999}, Vec3{2.6, 1.4, 2.999}},
+                     1, 1, Rgb{}, Rgb::all(10), false);
+    {
+        Solver s(sc, gathered("DRAFT"));
+        s.solve();
+        std::printf("[ figure ] lamp outside the box: sealed points %lld\n", (long long)s.stats().gather_sealed);
+        // Only the floor under the box is sealed (its corners covered by the box's bottom).
+        const Split r = split_floor(sc, floor, s.corner_radiance(floor), {1.3, 1.3, 0}, {2.7, 2.7, 1});
+        EXPECT_GT(s.stats().gather_sealed, 0);
+        EXPECT_EQ(r.inside_max, 0.0);
+    }
+    LightDesc l;
+    l.type = LightDesc::Type::Point;
+    l.position = {2.0, 2.0, 0.5};
+    l.intensity = Rgb::all(50);
+    l.radius = 0.05;
+    sc.add_light(l);
+    Solver s(sc, gathered("DRAFT"));
+    s.solve();
+    std::printf("[ figure ] a lamp inside the box too: sealed points %lld\n", (long long)s.stats().gather_sealed);
+    EXPECT_EQ(s.stats().gather_sealed, 0);
+}

@@ -37,6 +37,8 @@ public:
         // The surface of another polygon lying on a surface at a point, turned against it (a
         // box's bottom on a floor: lights.cpp's contact test), or -1.
         std::function<int(int surface, const Vec3& p)> contact;
+        // Per object, its Embree triangles' primitives (which side of a face a ray met).
+        const std::vector<std::vector<int>>* tri_prim = nullptr;
     };
     struct Config {
         int rays = 256;      // ray budget per point, shared among its links by the light they bring
@@ -47,6 +49,7 @@ public:
         // Corner points where Cycles puts them (a world-space step off the vertex), or at a
         // step relative to the scene's size (the same at any scale): final_gather.cpp.
         bool cycles_points = true;
+        bool sealed_solids = true;  // Settings::gather_sealed_solids
     };
     struct Counts {
         int64_t points = 0, corners = 0, covered = 0;
@@ -58,6 +61,7 @@ public:
         int64_t replayed = 0;    // ... replayed (rays through a moved box cast again)
         int64_t fresh_points = 0;  // retrace: points traced anew
         int64_t near = 0;        // near-field corrections (a sender a hair from the point)
+        int64_t sealed = 0;      // points inside a closed solid (no light)
     };
 
     // Traces every output point of the scene's objects. `progress(f)` is called with f in
@@ -116,6 +120,9 @@ private:
         // Near-field correction (final_gather.cpp near_field), irradiance / pi: the senders a
         // hair from the point read at a point of theirs instead of their leaf's average.
         Rgb near;
+        // Inside a closed solid (point_sealed): no light reaches it; a covered point so
+        // sealed reads nothing beyond its contact either.
+        bool sealed = false;
         int8_t escapes = -1;  // enclosed leaves only: whether the point's own escape rays find open space
         // Closure (as the solver's at the leaf): factors on own and inherited couplings, and
         // the share of the hemisphere taken to see the leaf's own radiance.
@@ -137,6 +144,12 @@ private:
     Rgb radiance_at(const Solution& s, const Config& c, int m_id, const Vec3& sp, uint64_t seed, Counts& counts) const;
     // Whether an escape ray from x finds open space (the point is not enclosed).
     static bool point_escapes(const Solution& s, const Vec3& x, const Vec3& n, uint64_t seed, Counts& counts);
+    // Whether every one of 64 stratified rays from o (already off its surface) over the
+    // hemisphere of n reaches the back of a face: o lies inside a closed solid.
+    static bool point_sealed(const Solution& s, const Vec3& o, const Vec3& n, uint64_t seed, Counts& counts);
+    // Whether the sealed rule holds for this scene: no lamp and no emitting face lies inside a
+    // closed solid (a lamp in a closed box, a room whose normals all point outward).
+    static bool light_sealed_in(const Solution& s, Counts& counts);
     void run(const Solution& s, const Config& c, std::vector<Job>& jobs, const Moves* moves,
              const std::function<void(double)>& progress);
 
@@ -147,6 +160,7 @@ private:
         void build(const Hierarchy& h, const std::vector<Link>& links);
     };
     OccludedLinks occluded_;
+    bool sealed_rule_ = false;  // for the duration of a run: Config::sealed_solids && !light_sealed_in
 
     bool traced_ = false;
     Config config_;

@@ -35,6 +35,11 @@ struct Settings {
     // within a millimetre. Off: a step of 3e-5 of the scene's size, so that the output, as the
     // rest of the solution, does not depend on the scene's scale or offset.
     bool cycles_corner_points = true;
+    // A point inside a closed solid (each of its 64 escape rays reaches the back of a face)
+    // reads no light, as in Cycles, unless some lamp or emitting face lies inside a solid
+    // itself (final_gather.cpp point_sealed). The solution's leaves cannot give that: a floor
+    // polygon straddling the wall of a box standing on it carries the room's light inside.
+    bool gather_sealed_solids = true;
     int closure_rays = 32;              // escape rays per leaf for the closure correction
     // Closure-driven refinement (refine.cpp): an enclosed leaf whose form factors sum further
     // than this from 1 has the links at its ancestors split toward it (0 = off), at most

@@ -61,6 +61,7 @@ struct Stats {
     // The output's final gather (final_gather.h): points traced (one per vertex and normal),
     // corners, covered corners (lying on another object's face: unlit), point-link
     // evaluations, rays, and the bytes its trace keeps for re-output without rays.
+    int64_t gather_sealed = 0;  // output points inside a closed solid (read 0)
     int64_t gather_points = 0, gather_corners = 0, gather_covered = 0, gather_links = 0, gather_rays = 0;
     int64_t gather_bytes = 0;
     // After an update: point-link transfers kept as they were, replayed (only rays through a

@@ -399,26 +399,38 @@ void FinalGather::near_field(const Solution& s, const Config& c, Point& pt, Coun
     constexpr double kReach = 20.0;    // R / d
     constexpr int kNearPoints = 4;
     constexpr double kLeafShare = 0.05;  // R must be under this share of the sender polygon's size
+    constexpr double kGapLeaf = 4.0;     // ... or the leaves read at least this many times wider than d
+    constexpr double kGapShare = 0.05;   //     and its coupling to the point at least this
     const Hierarchy& h = s.h;
     const Vec3& x = pt.x;
     const Vec3& n = pt.n;
     const int own_surface = h.nodes[size_t(pt.leaf)].surface;
     // What the point's samples read of each surface: (surface, visible weight, weighted radiance).
-    struct Seen { int surface; double W; Rgb WL; };
+    // (WS: the weighted sum of the sizes of the leaves read.)
+    struct Seen { int surface; double W; Rgb WL; double WS; };
     thread_local std::vector<Seen> seen;
     seen.clear();
     for (const auto& [node, w] : pt.samples) {
         const Node& m = h.nodes[size_t(h.live_element(node))];
         if (m.is_cluster() || m.surface < 0) continue;
+        const double size = std::sqrt(m.area);
         auto it = std::find_if(seen.begin(), seen.end(), [&](const Seen& e) { return e.surface == m.surface; });
-        if (it == seen.end()) seen.push_back({m.surface, double(w), m.L * double(w)});
-        else it->W += double(w), it->WL += m.L * double(w);
+        if (it == seen.end()) seen.push_back({m.surface, double(w), m.L * double(w), size * double(w)});
+        else it->W += double(w), it->WL += m.L * double(w), it->WS += size * double(w);
     }
     for (const Seen& sn : seen) {
         if (sn.surface == own_surface || !(sn.W > 0)) continue;
         const Node& root = h.nodes[size_t(h.surfaces[size_t(sn.surface)].root)];
         const double d = dot(x - root.poly.v[0], root.normal);
-        if (!(d > 0) || kReach * d > kLeafShare * std::sqrt(root.area)) continue;
+        if (!(d > 0)) continue;
+        // Near: a hair from the sender's polygon, or in a narrow gap in front of a sender whose
+        // leaves are much wider than the gap (a cabinet's back 2 cm from the wall: the wall's
+        // leaves there average the lit wall beside the cabinet with the dark wall behind it,
+        // and the point sees the dark part; the back read 3x Cycles' value) and that brings
+        // the point a real share of its light.
+        const bool hair = kReach * d <= kLeafShare * std::sqrt(root.area);
+        const bool gap = kGapLeaf * d < sn.WS / sn.W && sn.W >= kGapShare;
+        if (!hair && !gap) continue;
         const double R = kReach * d;
         Aabb box;
         box.lo = x - Vec3{R, R, R};

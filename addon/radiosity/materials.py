@@ -1,7 +1,9 @@
 """Material -> (reflectance, emission) for the solver.
 
 Supported, following the link into the active Material Output's Surface input (through reroutes):
-  Diffuse BSDF (Color), Principled BSDF (diffuse part: Base Color x (1-metallic) x (1-transmission);
+  Diffuse BSDF (Color), Principled BSDF (diffuse part: Base Color x (1-metallic) x (1-transmission),
+  in Blender 4.0+ times the share the specular layers leave to the diffuse, measured by Cycles:
+  principled.py;
   emission colour x strength; socket names differ: 3.x "Emission", 4.x "Emission Color"),
   Emission (Color x Strength), Mix Shader (constant Fac: linear mix) and Add Shader (sum).
 Anything else (textures or links into the used colour sockets, groups, other BSDFs) is
@@ -11,6 +13,8 @@ grey 0.8. A material without nodes uses diffuse_color, as Cycles does.
 """
 import bpy
 import numpy as np
+
+from . import principled
 
 from .core.scene_data import DEFAULT_REFLECTANCE, MAX_REFLECTANCE
 
@@ -79,7 +83,8 @@ def _shader(node, depth=0):
         base = _const(node, ("Base Color",), "color")
         metallic = _const(node, ("Metallic",), "float") or 0.0
         transmission = _const(node, ("Transmission Weight", "Transmission"), "float") or 0.0
-        rho = base * (1.0 - metallic) * (1.0 - transmission)
+        # Blender 4.0+: Cycles takes from the diffuse what the specular layers above reflect.
+        rho = base * principled.diffuse_factor(node) * (1.0 - metallic) * (1.0 - transmission)
         e_col = _const(node, ("Emission Color", "Emission"), "color")
         e_str = _const(node, ("Emission Strength",), "float")
         emission = _ZERO.copy()
@@ -148,6 +153,7 @@ class MaterialTable:
         hit = self._values.get(key)
         if hit is None:
             rho, emission, warning = material_values(mat)
+            self.warnings.extend(principled.pop_errors())
             hit = self._values[key] = (rho, emission)
             if warning:
                 self.textured[key] = warning

@@ -8,8 +8,8 @@ sky (per version: tex_sky_v3 for 3.4, tex_sky_v5_0 / tex_sky_v5_2 for bpy 5.0 / 
 models differ). Cycles' own noise at 16384 spp: 0.3 % rRMSE (2048 against 16384 spp: 0.8 %).
 
 The error is bench/corner_metric.py's over every corner but the emitter's, covered ones
-included. With the final gather on (issue 16) it is, on 3.4 at HIGH: checker 9.0 %, image 8.1 %
-(not yet the issue's 5 %: strict xfails), sky 2.5 % (before the gather: 1.26, 1.32, 0.20). The tests below judge what the textures and
+included. With the final gather on (issue 16) it is, on 3.4 at HIGH: checker 5.8 %, image 3.3 %
+(the checker not yet the 5 % asked here: a strict xfail), sky 2.2 % (before the gather: 1.26, 1.32, 0.20). The tests below judge what the textures and
 the world decide: the texture followed corner by corner (median error), the energy and the
 colour bled onto the cube (means), NRMSE, and the rRMSE of the uncovered corners.
 """
@@ -69,11 +69,13 @@ def test_textured_floor_matches_cycles(run_blender, kind, request):
     ours, ref = r["per_object"]["Cube"]["ours_mean"], r["per_object"]["Cube"]["ref_mean"]
     assert ref[0] / ref[1] > 1.03
     assert abs((ours[0] / ours[1]) / (ref[0] / ref[1]) - 1.0) <= 0.01, (ours, ref)
-    # The issue's acceptance, every corner within 5 % rRMSE, is not met yet (9.0 / 8.1 %):
-    # strict, so the mark must go when it is.
-    if e["rrmse"] > 0.05:
-        request.node.add_marker(pytest.mark.xfail(strict=True, reason="issue 18 acceptance (5 % rRMSE, "
-                                                  "every corner) not met on textured floors"))
+    # Every corner within 5 % rRMSE: on 3.4 and bpy 5.x at HIGH, checker 0.058, image 0.033
+    # (0.090 / 0.081 before the corners inside the cube, under its bottom, read 0: the
+    # final gather's sealed rule). The checker is still over: a strict xfail in every flavour,
+    # so the mark must go when it passes. (The issue's own target is 2 %.)
+    if kind == "checker":
+        request.node.add_marker(pytest.mark.xfail(strict=True, reason="issue 18: checker floor 5.8 % rRMSE, "
+                                                  "every corner (target 5 %)"))
     assert e["rrmse"] <= 0.05
 
 

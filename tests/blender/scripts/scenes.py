@@ -13,6 +13,13 @@ def build_furnace(n=4):
     outer = rt.new_collection("Walls")
     inner = rt.new_collection("Caps", outer)
     p = rt.principled_material("Furnace Principled", (FURNACE_RHO,) * 3, (1, 1, 1), FURNACE_E)
+    # Blender 4.0+ (Principled v2): the dielectric layer takes its share of the diffuse (0.963
+    # by default: addon/radiosity/principled.py) and reflects it specularly, which no closed
+    # form covers. Without it (Specular IOR Level 0) the Principled is the pure diffuse the
+    # analytic furnace assumes, in Cycles and in the add-on alike.
+    bsdf = [n for n in p.node_tree.nodes if n.type == "BSDF_PRINCIPLED"][0]
+    if bsdf.inputs.get("Specular IOR Level") is not None:
+        bsdf.inputs["Specular IOR Level"].default_value = 0.0
     a = rt.add_diffuse_emission_material("Furnace Add", (FURNACE_RHO,) * 3, (1, 1, 1), FURNACE_E)
     s = 2.0
     # (origin, u, v) with u x v pointing out of the box [0,2]^3

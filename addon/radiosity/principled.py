@@ -16,6 +16,8 @@ One bake per distinct parameter set in a Blender session (about 0.1-0.3 s), kept
 import bpy
 import numpy as np
 
+from . import textures
+
 # Inputs that do not enter the factor: modelled elsewhere (base colour, metallic, transmission,
 # emission: materials.py) or irrelevant to a diffuse colour pass (normals, tangents, weights of
 # absent lobes are read anyway: a changed value is just another key).
@@ -97,30 +99,12 @@ def _measure(node):
         mesh = bpy.data.meshes.new("radiosity_principled_tmp")
         mesh.from_pydata([(-0.5, -0.5, 0), (0.5, -0.5, 0), (0.5, 0.5, 0), (-0.5, 0.5, 0)], [], [(0, 1, 2, 3)])
         mesh.materials.append(mat)
-        attr = mesh.color_attributes.new("radiosity_principled", "FLOAT_COLOR", "CORNER")
-        mesh.color_attributes.active_color = attr
         scene = bpy.data.scenes.new("radiosity_principled_tmp")
-        scene.render.engine = "CYCLES"
-        c = scene.cycles
-        c.device = "CPU"
-        c.samples = 1
-        c.use_adaptive_sampling = False
-        c.use_denoising = False
-        scene.render.bake.target = "VERTEX_COLORS"
-        scene.render.bake.use_selected_to_active = False
+        textures.set_cycles(scene)
         obj = bpy.data.objects.new("radiosity_principled_tmp", mesh)
         scene.collection.objects.link(obj)
-        layer = scene.view_layers[0]
-        obj.select_set(True, view_layer=layer)
-        layer.objects.active = obj
-        with bpy.context.temp_override(scene=scene, view_layer=layer, active_object=obj, object=obj,
-                                       selected_objects=[obj], selected_editable_objects=[obj]):
-            result = bpy.ops.object.bake(type="DIFFUSE", pass_filter={"COLOR"})
-        if "FINISHED" not in result:
-            raise RuntimeError(f"Cycles' DIFFUSE bake did not finish ({result})")
-        values = np.empty(len(mesh.loops) * 4, dtype=np.float32)
-        mesh.color_attributes["radiosity_principled"].data.foreach_get("color", values)
-        f = values.reshape(-1, 4)[:, :3].astype(np.float64).mean(axis=0)
+        textures.bake(scene, scene.view_layers[0], [obj], "DIFFUSE")
+        f = textures.colours(mesh, textures.ATTR + "DIFFUSE").mean(axis=0)
         if not np.all(np.isfinite(f)):
             raise RuntimeError("the DIFFUSE bake gave a non-finite colour")
         return np.clip(f, 0.0, 1.0)

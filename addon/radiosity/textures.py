@@ -61,7 +61,8 @@ def _emits(tree, depth=0):
     return False
 
 
-def _set_cycles(scene):
+def set_cycles(scene):
+    """A temporary scene set up for Cycles bakes to colour attributes (also principled.py)."""
     scene.render.engine = "CYCLES"
     c = scene.cycles
     c.device = "CPU"
@@ -93,7 +94,7 @@ def _cut(me, cuts):
         bm.free()
 
 
-def _colours(me, name):
+def colours(me, name):
     attr = me.color_attributes[name]
     out = np.empty(len(me.loops) * 4, dtype=np.float32)
     attr.data.foreach_get("color", out)
@@ -135,7 +136,9 @@ class Request:
         self.slots = slots      # material slot indices that are textured
 
 
-def _bake(tmp, view_layer, objs, kind):
+def bake(tmp, view_layer, objs, kind):
+    """Cycles bake of `kind` (DIFFUSE: its COLOR pass only) of `objs` into a new corner colour
+    attribute ATTR + kind of each (also principled.py)."""
     for o in objs:
         me = o.data
         attr = me.color_attributes.new(ATTR + kind, "FLOAT_COLOR", "CORNER")
@@ -226,7 +229,7 @@ def evaluate(si, requests, depsgraph, materials, warnings):
             k = int(np.sqrt(PIECE_BUDGET / max(total_faces, 1)))
             cuts = int(np.clip(k - 1, 0, MAX_CUTS))
             tmp = bpy.data.scenes.new("radiosity_textures_tmp")
-            _set_cycles(tmp)
+            set_cycles(tmp)
             view_layer = tmp.view_layers[0]
             plain, cut, emit = [], [], False
             for r, obj_eval, _ in todo:
@@ -259,15 +262,15 @@ def evaluate(si, requests, depsgraph, materials, warnings):
                     dst.append(o)
             kinds = ["DIFFUSE"] + (["EMIT"] if emit else [])
             for kind in kinds:
-                _bake(tmp, view_layer, plain + cut, kind)
+                bake(tmp, view_layer, plain + cut, kind)
             for n, (r, _, key) in enumerate(todo):
                 o = si.objects[r.index]
                 a = plain[n]
                 values = {}
                 for kind in kinds:
-                    corners = _colours(a.data, ATTR + kind)
+                    corners = colours(a.data, ATTR + kind)
                     if cut:
-                        means = _face_means(cut[n].data, _colours(cut[n].data, ATTR + kind),
+                        means = _face_means(cut[n].data, colours(cut[n].data, ATTR + kind),
                                             o.polygon_count)
                     else:
                         means = np.add.reduceat(corners, o.loop_starts, axis=0) \

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <string>
 
+#include "radiosity/compare.h"
 #include "test_util.h"
 
 using namespace radiosity;
@@ -183,17 +184,17 @@ namespace {
 
 // A block open at the bottom (top and four sides, faces outward) standing on the floor, as
 // the Cornell box's blocks are: the floor under it is inside a closed solid.
-void add_bottomless_block(SceneDesc& sc, Vec3 lo, Vec3 hi, bool two_sided) {
+void add_bottomless_block(SceneDesc& sc, Vec3 lo, Vec3 hi, bool two_sided, int cluster = -1) {
     const Rgb rho = Rgb::all(0.5);
-    scenes::add_grid(sc, "top", -1, {Vec3{lo.x, lo.y, hi.z}, Vec3{hi.x, lo.y, hi.z}, Vec3{hi.x, hi.y, hi.z}, Vec3{lo.x, hi.y, hi.z}},
+    scenes::add_grid(sc, "top", cluster, {Vec3{lo.x, lo.y, hi.z}, Vec3{hi.x, lo.y, hi.z}, Vec3{hi.x, hi.y, hi.z}, Vec3{lo.x, hi.y, hi.z}},
                      2, 2, rho, Rgb{}, two_sided);
-    scenes::add_grid(sc, "south", -1, {Vec3{lo.x, lo.y, lo.z}, Vec3{hi.x, lo.y, lo.z}, Vec3{hi.x, lo.y, hi.z}, Vec3{lo.x, lo.y, hi.z}},
+    scenes::add_grid(sc, "south", cluster, {Vec3{lo.x, lo.y, lo.z}, Vec3{hi.x, lo.y, lo.z}, Vec3{hi.x, lo.y, hi.z}, Vec3{lo.x, lo.y, hi.z}},
                      2, 2, rho, Rgb{}, two_sided);
-    scenes::add_grid(sc, "north", -1, {Vec3{hi.x, hi.y, lo.z}, Vec3{lo.x, hi.y, lo.z}, Vec3{lo.x, hi.y, hi.z}, Vec3{hi.x, hi.y, hi.z}},
+    scenes::add_grid(sc, "north", cluster, {Vec3{hi.x, hi.y, lo.z}, Vec3{lo.x, hi.y, lo.z}, Vec3{lo.x, hi.y, hi.z}, Vec3{hi.x, hi.y, hi.z}},
                      2, 2, rho, Rgb{}, two_sided);
-    scenes::add_grid(sc, "west", -1, {Vec3{lo.x, hi.y, lo.z}, Vec3{lo.x, lo.y, lo.z}, Vec3{lo.x, lo.y, hi.z}, Vec3{lo.x, hi.y, hi.z}},
+    scenes::add_grid(sc, "west", cluster, {Vec3{lo.x, hi.y, lo.z}, Vec3{lo.x, lo.y, lo.z}, Vec3{lo.x, lo.y, hi.z}, Vec3{lo.x, hi.y, hi.z}},
                      2, 2, rho, Rgb{}, two_sided);
-    scenes::add_grid(sc, "east", -1, {Vec3{hi.x, lo.y, lo.z}, Vec3{hi.x, hi.y, lo.z}, Vec3{hi.x, hi.y, hi.z}, Vec3{hi.x, lo.y, hi.z}},
+    scenes::add_grid(sc, "east", cluster, {Vec3{hi.x, lo.y, lo.z}, Vec3{hi.x, hi.y, lo.z}, Vec3{hi.x, hi.y, hi.z}, Vec3{hi.x, lo.y, hi.z}},
                      2, 2, rho, Rgb{}, two_sided);
 }
 
@@ -298,4 +299,40 @@ TEST(FinalGather, ALampInsideAClosedBoxKeepsTheBoxLitInside) {
     s.solve();
     std::printf("[ figure ] a lamp inside the box too: sealed points %lld\n", (long long)s.stats().gather_sealed);
     EXPECT_EQ(s.stats().gather_sealed, 0);
+}
+
+TEST(FinalGather, MovingABottomlessBlockSealsTheFloorItComesToCover) {
+    // The sealed state of a point is found again by every update: the block moved 0.8 m across
+    // the floor darkens the floor it now stands on and frees the floor it left, and the update
+    // equals a full solve of the moved scene.
+    const Vec3 lo{1.3, 1.3, 0}, hi{2.2, 2.2, 1}, to{0.8, 0.4, 0};
+    auto scene = [&](Vec3 offset) {
+        SceneDesc sc;
+        scenes::add_grid(sc, "floor", -1, {Vec3{0, 0, 0}, Vec3{4, 0, 0}, Vec3{4, 4, 0}, Vec3{0, 4, 0}}, 8, 8, Rgb::all(0.5),
+                         Rgb{}, false);
+        add_bottomless_block(sc, lo + offset, hi + offset, true, sc.add_cluster("block"));
+        scenes::add_grid(sc, "lamp", -1, {Vec3{0.5, 0.5, 3}, Vec3{0.5, 3.5, 3}, Vec3{3.5, 3.5, 3}, Vec3{3.5, 0.5, 3}}, 1, 1,
+                         Rgb{}, Rgb::all(10), false);
+        return sc;
+    };
+    const SceneDesc before = scene({}), after = scene(to);
+    Solver inc(before, gathered("MEDIUM"));
+    inc.solve();
+    const std::array<double, 16> m{1, 0, 0, to.x, 0, 1, 0, to.y, 0, 0, 1, to.z, 0, 0, 0, 1};
+    for (int o = 1; o <= 5; ++o) inc.move_object(o, m.data());
+    inc.update();
+    Solver full(after, gathered("MEDIUM"));
+    full.solve();
+    const Split now = split_floor(after, 0, inc.corner_radiance(0), lo + to, hi + to);
+    const Split was = split_floor(after, 0, inc.corner_radiance(0), lo, hi);
+    const double e = nrmse(inc.all_corner_radiance(), full.all_corner_radiance());
+    std::printf("[ figure ] block moved: floor inside its new footprint max %.5f (%d corners), inside the old one "
+                "max %.4f; update vs full NRMSE %.4f; sealed points %lld (full %lld)\n", now.inside_max, now.inside,
+                was.inside_max, e, (long long)inc.stats().gather_sealed, (long long)full.stats().gather_sealed);
+    EXPECT_TRUE(inc.stats().mode_incremental);
+    ASSERT_GT(now.inside, 8);
+    EXPECT_EQ(now.inside_max, 0.0);
+    EXPECT_GT(was.inside_max, 0.1);  // the floor the block left is lit again
+    EXPECT_EQ(inc.stats().gather_sealed, full.stats().gather_sealed);
+    EXPECT_LE(e, 0.005);
 }

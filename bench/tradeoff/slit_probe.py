@@ -5,10 +5,15 @@ corners, positions and owners to OUT.npz.
     blender -b --factory-startup example_blends/box_room.blend --python-exit-code 1 \
         --python bench/tradeoff/slit_probe.py -- DROP SPP OUT.npz
 """
-import sys, os, json
+import os
+import sys
+
+import bpy
+import numpy as np
+
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import bpy, numpy as np
-import bt_common as bc
+import bt_common as bc  # noqa: E402
+
 a = bc.args()
 drop, spp, out = float(a[0]), int(a[1]), a[2]
 bc.install_addon(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "build", "radiosity.zip"))

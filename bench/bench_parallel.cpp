@@ -69,16 +69,7 @@ void thread_per_loop_for(size_t n, int threads, F&& f, size_t grain = 64) {
 // parallel_for's loop (parallel.h) without its arena and isolation.
 template <class F, class P = const tbb::auto_partitioner>
 void tbb_loop(size_t n, size_t grain, F&& f, P&& partitioner = P()) {
-    tbb::parallel_for(
-        tbb::blocked_range<size_t>(0, n, grain),
-        [&](const tbb::blocked_range<size_t>& r) {
-            for (size_t b = r.begin(); b < r.end(); b += grain) {
-                if (b != r.begin() && tbb::is_current_task_group_canceling()) return;
-                const size_t e = std::min(r.end(), b + grain);
-                for (size_t i = b; i < e; ++i) f(i);
-            }
-        },
-        partitioner);
+    detail::grain_loop(n, grain, f, partitioner);
 }
 
 enum class Way { ThreadPerLoop, Tbb, TbbKeptArena, TbbArenaPerLoop, TbbNoIsolate, TbbSimple };

@@ -20,6 +20,23 @@ namespace detail {
 // the first loop that asks for that limit and kept for the process: making one per loop costs
 // more than a short loop (measured in bench/bench_parallel.cpp).
 tbb::task_arena& limited_arena(int threads);
+
+// parallel_for's loop proper, in the current arena and isolation: items handed out in ranges
+// of `grain` or more. A range may be many grains long (TBB splits only as far as threads ask
+// for work): after each grain it stops if an item threw elsewhere.
+template <class F, class P>
+void grain_loop(size_t n, size_t grain, F& f, P&& partitioner) {
+    tbb::parallel_for(
+        tbb::blocked_range<size_t>(0, n, grain),
+        [&](const tbb::blocked_range<size_t>& r) {
+            for (size_t b = r.begin(); b < r.end(); b += grain) {
+                if (b != r.begin() && tbb::is_current_task_group_canceling()) return;
+                const size_t e = std::min(r.end(), b + grain);
+                for (size_t i = b; i < e; ++i) f(i);
+            }
+        },
+        partitioner);
+}
 }  // namespace detail
 
 // Calls f(i) for i in [0, n) on up to `threads` threads (0 = all cores; a limit above the
@@ -42,20 +59,7 @@ void parallel_for(size_t n, int threads, F&& f, size_t grain = 64) {
         // Isolated: a thread that waits inside f (for a nested loop) takes only that nested
         // loop's items, never another item of this loop, so no f(i) starts on a thread where
         // another f(j) is half done (transfer.cpp's thread_local scratch relies on that).
-        tbb::this_task_arena::isolate([&] {
-            tbb::parallel_for(
-                tbb::blocked_range<size_t>(0, n, grain),
-                [&](const tbb::blocked_range<size_t>& r) {
-                    // A range may be many grains long (TBB splits only as far as threads
-                    // ask for work): after each grain, stop if an item threw elsewhere.
-                    for (size_t b = r.begin(); b < r.end(); b += grain) {
-                        if (b != r.begin() && tbb::is_current_task_group_canceling()) return;
-                        const size_t e = std::min(r.end(), b + grain);
-                        for (size_t i = b; i < e; ++i) f(i);
-                    }
-                },
-                tbb::auto_partitioner());
-        });
+        tbb::this_task_arena::isolate([&] { detail::grain_loop(n, grain, f, tbb::auto_partitioner()); });
     };
     if (threads == hardware_threads())
         loop();  // the caller's own arena, shared with Embree

@@ -23,8 +23,6 @@ SceneDesc room(Vec3 box1_offset = {}, double light = 12.0) {
     return s;
 }
 
-std::array<double, 16> translation(Vec3 t) { return {1, 0, 0, t.x, 0, 1, 0, t.y, 0, 0, 1, t.z, 0, 0, 0, 1}; }
-
 Settings settings() {
     Settings st = Settings::preset("MEDIUM");
     st.rays_per_link = 32;

@@ -14,8 +14,6 @@ using namespace radiosity::testing;
 
 namespace {
 
-std::array<double, 16> translation(Vec3 t) { return {1, 0, 0, t.x, 0, 1, 0, t.y, 0, 0, 1, t.z, 0, 0, 0, 1}; }
-
 // One object from explicit polygons (vertex index lists); one material for all of them.
 ObjectDesc make_object(const std::string& name, int cluster, std::vector<Vec3> verts,
                        const std::vector<std::vector<int>>& faces, Rgb rho, Rgb emission, bool two_sided = true) {

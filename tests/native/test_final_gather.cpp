@@ -318,8 +318,7 @@ TEST(FinalGather, MovingABottomlessBlockSealsTheFloorItComesToCover) {
     const SceneDesc before = scene({}), after = scene(to);
     Solver inc(before, gathered("MEDIUM"));
     inc.solve();
-    const std::array<double, 16> m{1, 0, 0, to.x, 0, 1, 0, to.y, 0, 0, 1, to.z, 0, 0, 0, 1};
-    for (int o = 1; o <= 5; ++o) inc.move_object(o, m.data());
+    for (int o = 1; o <= 5; ++o) inc.move_object(o, translation(to).data());
     inc.update();
     Solver full(after, gathered("MEDIUM"));
     full.solve();

@@ -41,8 +41,6 @@ void sleepy(Concurrency& c) {
     c.leave();
 }
 
-std::array<double, 16> translation(Vec3 t) { return {1, 0, 0, t.x, 0, 1, 0, t.y, 0, 0, 1, t.z, 0, 0, 0, 1}; }
-
 struct Numbered : std::runtime_error {
     explicit Numbered(size_t i) : std::runtime_error("item " + std::to_string(i)), item(i) {}
     size_t item;
@@ -172,7 +170,7 @@ TEST(Parallel, SolutionsDoNotDependOnThreadsOrSchedule) {
         std::vector<float> got;
         auto work = [&](Control* control) {
             s.solve(control);
-            s.move_object(2, translation(Vec3{10, 15, 0}).data());
+            s.move_object(2, radiosity::testing::translation(Vec3{10, 15, 0}).data());
             s.update(control);
             got = s.all_corner_radiance();
         };

@@ -14,8 +14,6 @@ using namespace radiosity::testing;
 
 namespace {
 
-std::array<double, 16> translation(Vec3 t) { return {1, 0, 0, t.x, 0, 1, 0, t.y, 0, 0, 1, t.z, 0, 0, 0, 1}; }
-
 // Pockets of an object's front (or back) sides.
 std::set<int> pockets_of(const Solver& s, int object, bool back) {
     const Hierarchy& h = s.hierarchy();

@@ -12,6 +12,9 @@
 
 namespace radiosity::testing {
 
+// A move by t, as Solver::move_object takes it (row-major 4 x 4).
+inline std::array<double, 16> translation(Vec3 t) { return {1, 0, 0, t.x, 0, 1, 0, t.y, 0, 0, 1, t.z, 0, 0, 0, 1}; }
+
 inline Poly quad(Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
     Poly p;
     p.n = 4;

@@ -107,6 +107,27 @@ def corner_error(x, ref, emitter=None, ref_var=None, mask=None, floor=None):
     return out
 
 
+def per_object(x, ref, names, counts, emitter=None, floor=None,
+               keys=("rrmse", "nrmse", "covered", "covered_share"), skip=()):
+    """{name: error of that object's corners (the `keys` of corner_error) with its and the
+    reference's mean corner, "ours_mean" / "ref_mean"} for objects whose corners lie one after
+    another in x and ref (counts, in names' order); objects named in `skip` are left out. Pass
+    the scene's floor (scene_floor) so the objects' squared errors add up to the scene's."""
+    x = np.asarray(x, dtype=np.float64)
+    r = np.asarray(ref, dtype=np.float64)
+    out, start = {}, 0
+    for name, n in zip(names, counts):
+        if name not in skip:
+            m = np.zeros(len(r), bool)
+            m[start:start + n] = True
+            e = corner_error(x, r, emitter=emitter, mask=m, floor=floor)
+            out[name] = {**{k: e[k] for k in keys if k in e},
+                         "ours_mean": x[start:start + n].mean(axis=0).tolist(),
+                         "ref_mean": r[start:start + n].mean(axis=0).tolist()}
+        start += n
+    return out
+
+
 def scene_floor(ref, emitter=None):
     """The floor of the whole scene's rRMSE: 0.05 mean r over every corner but emitters'."""
     r = np.asarray(ref, dtype=np.float64)

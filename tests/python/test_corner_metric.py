@@ -64,3 +64,18 @@ def test_parts_and_noise_removal():
     assert e["rrmse_denoised"] == pytest.approx(true_err, rel=0.03)
     one, none = cm.combine_parts(parts[:1], spp[:1])
     assert none is None and np.allclose(one, parts[0])
+
+
+def test_per_object_adds_up_to_the_scene():
+    # Two objects' corners one after another; with the scene's floor their squared errors add
+    # up to the scene's, and a skipped object is left out.
+    rng = np.random.default_rng(3)
+    ref = rng.uniform(0.1, 1.0, (10, 3))
+    x = ref * rng.uniform(0.9, 1.1, (10, 3))
+    floor = cm.scene_floor(ref)
+    per = cm.per_object(x, ref, ["A", "B"], [4, 6], floor=floor)
+    whole = cm.corner_error(x, ref)
+    assert per["A"]["rrmse"] ** 2 * 4 + per["B"]["rrmse"] ** 2 * 6 == pytest.approx(whole["rrmse"] ** 2 * 10)
+    assert per["B"]["ours_mean"] == pytest.approx(x[4:].mean(axis=0).tolist())
+    assert per["A"]["ref_mean"] == pytest.approx(ref[:4].mean(axis=0).tolist())
+    assert list(cm.per_object(x, ref, ["A", "B"], [4, 6], skip=("A",))) == ["B"]

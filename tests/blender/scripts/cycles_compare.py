@@ -34,17 +34,7 @@ if ok:
     out["all"] = cm.corner_error(ours, ref, emitter=emit)
     out["nrmse"], out["rrmse"] = out["all"]["nrmse"], out["all"]["rrmse"]
     floor = cm.scene_floor(ref, emit)
-    out["per_object"] = {}
-    start = 0
-    for o in objs:
-        n = len(o.data.loops)
-        m = np.zeros(len(ref), bool)
-        m[start:start + n] = True
-        e = cm.corner_error(ours, ref, emitter=emit, mask=m, floor=floor)
-        out["per_object"][o.name] = {
-            **{k: e[k] for k in ("rrmse", "nrmse", "covered", "covered_share") if k in e},
-            "ours_mean": ours[start:start + n].mean(axis=0).tolist(),
-            "ref_mean": ref[start:start + n].mean(axis=0).tolist()}
-        start += n
+    out["per_object"] = cm.per_object(ours, ref, [o.name for o in objs], [len(o.data.loops) for o in objs],
+                                      emitter=emit, floor=floor)
     out["shape_ok"] = ours.shape == ref.shape
 rt.result(**out)

@@ -4,7 +4,6 @@ by make_light_references.py: a 4x4 m floor (10x10 quads, rho 0.5) with a coloure
 import math
 
 import bpy
-import numpy as np
 
 import rt_common as rt
 
@@ -48,22 +47,7 @@ def build(case, box_collection=True):
     box_mat = rt.diffuse_material("Box", (0.7, 0.35, 0.2))
     verts, faces = rt.grid((-2, -2, 0), (4, 0, 0), (0, 4, 0), 10)
     floor = rt.mesh_object("Floor", verts, faces, None, floor_mat)
-    bv, bf = [], []
-    c, h = np.array([0.6, 0.3, 0.4]), np.array([0.5, 0.5, 0.4])
-    for axis in range(3):
-        for sign in (-1, 1):
-            o = c.copy()
-            o[axis] += sign * h[axis]
-            a1, a2 = [k for k in range(3) if k != axis]
-            u = np.zeros(3); u[a1] = 2 * h[a1]
-            v = np.zeros(3); v[a2] = 2 * h[a2]
-            if np.cross(u, v)[axis] * sign < 0:
-                u, v = v, u
-            o = o - u / 2 - v / 2
-            gv, gf = rt.grid(o, u, v, 4)
-            base = len(bv)
-            bv += list(gv)
-            bf += [tuple(i + base for i in f) for f in gf]
+    bv, bf = rt.gridded_box([0.6, 0.3, 0.4], [0.5, 0.5, 0.4], 4)
     box = rt.mesh_object("Box", bv, bf, rt.new_collection("Props") if box_collection else None, box_mat)
     kind, settings, loc, rot = CASES[case]
     if kind == "WORLD":

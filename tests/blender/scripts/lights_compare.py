@@ -35,18 +35,8 @@ if ok and out["have_ref"]:
         out["all"] = cm.corner_error(ours, ref)
         out["nrmse"], out["rrmse"] = out["all"]["nrmse"], out["all"]["rrmse"]
         floor = cm.scene_floor(ref)
-        out["per_object"] = {}
-        start = 0
-        for o in objs:
-            n = len(o.data.loops)
-            m = np.zeros(len(ref), bool)
-            m[start:start + n] = True
-            e = cm.corner_error(ours, ref, mask=m, floor=floor)
-            out["per_object"][o.name] = {
-                **{k: e[k] for k in ("rrmse", "nrmse", "covered", "covered_share") if k in e},
-                "ours_mean": ours[start:start + n].mean(axis=0).tolist(),
-                "ref_mean": ref[start:start + n].mean(axis=0).tolist()}
-            start += n
+        out["per_object"] = cm.per_object(ours, ref, [o.name for o in objs], [len(o.data.loops) for o in objs],
+                                          floor=floor)
 rt.result(**out)
 if ok and out.get("shape_ok") and rt.arg("--per-face"):
     n_floor = len(objs[0].data.loops)

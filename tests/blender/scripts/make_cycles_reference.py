@@ -19,33 +19,9 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rt_common as rt  # noqa: E402
 import scenes  # noqa: E402
+from cycles_ref import cycles_bake  # noqa: E402
 
 ORDER = ("Floor", "Light", "Box")
-
-
-def cycles_bake(objs, samples, name="CyclesRef"):
-    scene = bpy.context.scene
-    scene.render.engine = "CYCLES"
-    c = scene.cycles
-    c.device = "CPU"
-    c.samples = samples
-    c.use_adaptive_sampling = False
-    c.use_denoising = False
-    c.max_bounces = c.diffuse_bounces = 64
-    c.glossy_bounces = c.transmission_bounces = c.volume_bounces = c.transparent_max_bounces = 64
-    c.sample_clamp_direct = c.sample_clamp_indirect = 0.0
-    c.seed = 1
-    scene.render.bake.target = "VERTEX_COLORS"
-    for o in bpy.data.objects:
-        o.select_set(False)
-    for o in objs:
-        me = o.data
-        attr = me.color_attributes.new(name, "FLOAT_COLOR", "CORNER")
-        me.color_attributes.active_color = attr
-        o.select_set(True)
-    bpy.context.view_layer.objects.active = objs[0]
-    bpy.ops.object.bake(type="COMBINED")
-    return [rt.corner_colors(o, name)[:, :3].copy() for o in objs]
 
 
 def main():

@@ -78,6 +78,28 @@ def grid(origin, u, v, n):
     return verts, faces
 
 
+def gridded_box(center, half, n):
+    """Axis-aligned box, faces outward, each side n x n quads (grid()); sides in the order
+    -x, +x, -y, +y, -z, +z. Returns (verts, faces) of one mesh."""
+    c, h = np.asarray(center, float), np.asarray(half, float)
+    bv, bf = [], []
+    for axis in range(3):
+        for sign in (-1, 1):
+            o = c.copy()
+            o[axis] += sign * h[axis]
+            a1, a2 = [k for k in range(3) if k != axis]
+            u = np.zeros(3); u[a1] = 2 * h[a1]
+            v = np.zeros(3); v[a2] = 2 * h[a2]
+            if np.cross(u, v)[axis] * sign < 0:
+                u, v = v, u                     # keep u x v pointing outward
+            o = o - u / 2 - v / 2
+            gv, gf = grid(o, u, v, n)
+            base = len(bv)
+            bv += list(gv)
+            bf += [tuple(i + base for i in f) for f in gf]
+    return bv, bf
+
+
 def box(center, size, inward=False):
     """Axis-aligned box as one mesh (6 quads), outward or inward normals."""
     c = np.asarray(center, float)
@@ -159,11 +181,18 @@ def textured_material(name):
     return mat
 
 
-def black_world():
-    scene = bpy.context.scene
-    world = bpy.data.worlds.new("Black")
+def node_world(name):
+    """A new world with its node tree (Background, World Output) in use, in every version (5.0
+    deprecates use_nodes: worlds always use nodes there)."""
+    world = bpy.data.worlds.new(name)
     if bpy.app.version < (5, 0, 0):
         world.use_nodes = True
+    return world
+
+
+def black_world():
+    scene = bpy.context.scene
+    world = node_world("Black")
     bg = world.node_tree.nodes.get("Background")
     if bg is not None:
         bg.inputs["Strength"].default_value = 0.0

@@ -1,5 +1,4 @@
 """Test scenes, built identically in the tests and in the reference generator."""
-import numpy as np
 
 import rt_common as rt
 
@@ -51,21 +50,6 @@ def build_diffuse_scene():
     lv, lf = rt.grid((-0.5, -0.5, 2.0), (0, 1, 0), (1, 0, 0), 1)     # normal -z
     light = rt.mesh_object("Light", lv, lf, None, light_mat)
     coll = rt.new_collection("Props")
-    bv, bf = [], []
-    c, h = np.array([0.6, 0.3, 0.4]), np.array([0.5, 0.5, 0.4])
-    for axis in range(3):
-        for sign in (-1, 1):
-            o = c.copy()
-            o[axis] += sign * h[axis]
-            a1, a2 = [k for k in range(3) if k != axis]
-            u = np.zeros(3); u[a1] = 2 * h[a1]
-            v = np.zeros(3); v[a2] = 2 * h[a2]
-            if np.cross(u, v)[axis] * sign < 0:
-                u, v = v, u                     # keep u x v pointing outward
-            o = o - u / 2 - v / 2
-            gv, gf = rt.grid(o, u, v, 4)
-            base = len(bv)
-            bv += list(gv)
-            bf += [tuple(i + base for i in f) for f in gf]
+    bv, bf = rt.gridded_box([0.6, 0.3, 0.4], [0.5, 0.5, 0.4], 4)
     box = rt.mesh_object("Box", bv, bf, coll, box_mat)
     return [floor, light, box]

@@ -54,19 +54,9 @@ if ok:
         if out["shape_ok"]:
             out["all"] = cm.corner_error(ours, ref, emitter=emit)
             floor = cm.scene_floor(ref, emit)
-            out["per_object"] = {}
-            start = 0
-            for o in objs:
-                n = len(o.data.loops)
-                m = np.zeros(len(ref), bool)
-                m[start:start + n] = True
-                if o.name != "Light":
-                    e = cm.corner_error(ours, ref, emitter=emit, mask=m, floor=floor)
-                    out["per_object"][o.name] = {
-                        **{k: e[k] for k in ("rrmse", "nrmse") if k in e},
-                        "ours_mean": ours[start:start + n].mean(axis=0).tolist(),
-                        "ref_mean": ref[start:start + n].mean(axis=0).tolist()}
-                start += n
+            out["per_object"] = cm.per_object(ours, ref, [o.name for o in objs],
+                                              [len(o.data.loops) for o in objs], emitter=emit, floor=floor,
+                                              keys=("rrmse", "nrmse"), skip=("Light",))
 v = bpy.app.version
 out["blender"] = bpy.app.version_string
 out["ref_tag"] = "v3" if v < (4, 0, 0) else f"v{v[0]}_{v[1]}"

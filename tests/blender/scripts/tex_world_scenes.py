@@ -12,22 +12,7 @@ SUN_ELEVATION, SUN_ROTATION = np.radians(35.0), np.radians(40.0)
 
 def _cube(name, material):
     """A white 1 m cube standing on the floor beside the centre, 4 x 4 quads per side."""
-    bv, bf = [], []
-    c, h = np.array([0.5, 0.3, 0.5]), np.array([0.5, 0.5, 0.5])
-    for axis in range(3):
-        for sign in (-1, 1):
-            o = c.copy()
-            o[axis] += sign * h[axis]
-            a1, a2 = [k for k in range(3) if k != axis]
-            u = np.zeros(3); u[a1] = 2 * h[a1]
-            v = np.zeros(3); v[a2] = 2 * h[a2]
-            if np.cross(u, v)[axis] * sign < 0:
-                u, v = v, u
-            o = o - u / 2 - v / 2
-            gv, gf = rt.grid(o, u, v, 4)
-            base = len(bv)
-            bv += list(gv)
-            bf += [tuple(i + base for i in f) for f in gf]
+    bv, bf = rt.gridded_box([0.5, 0.3, 0.5], [0.5, 0.5, 0.5], 4)
     return rt.mesh_object(name, bv, bf, None, material)
 
 
@@ -101,9 +86,7 @@ def build_textured(kind):
 
 def sky_world():
     scene = bpy.context.scene
-    world = bpy.data.worlds.new("Sky")
-    if bpy.app.version < (5, 0, 0):
-        world.use_nodes = True
+    world = rt.node_world("Sky")
     nt = world.node_tree
     bg = nt.nodes.get("Background")
     sky = nt.nodes.new("ShaderNodeTexSky")

@@ -12,12 +12,22 @@ import rt_common as rt
 rt.setup()
 from radiosity import world as world_map  # noqa: E402  (the installed add-on)
 
+
+
+def image_world(name, image):
+    """A world whose Background colour is `image` as an Environment Texture, nearest texel."""
+    w = rt.node_world(name)
+    tex = w.node_tree.nodes.new("ShaderNodeTexEnvironment")
+    tex.image = image
+    tex.interpolation = "Closest"
+    w.node_tree.links.new(tex.outputs["Color"], w.node_tree.nodes["Background"].inputs["Color"])
+    return w
+
+
 out = {"ok": True}
 # 1. Colour = direction + (1, 1, 1): every map pixel against the native convention
 #    (environment.h: phi = pi (1 - 2u), lat = pi (v - 1/2), row 0 at the top).
-w = bpy.data.worlds.new("Direction")
-if bpy.app.version < (5, 0, 0):
-    w.use_nodes = True
+w = rt.node_world("Direction")
 nt = w.node_tree
 bg = nt.nodes["Background"]
 tc = nt.nodes.new("ShaderNodeTexCoord")
@@ -49,14 +59,7 @@ px[..., 1] = np.arange(8)[:, None] + 1.0     # Blender rows from the bottom
 px[..., 3] = 1.0
 img.pixels.foreach_set(px.ravel())
 img.pack()
-w2 = bpy.data.worlds.new("Image")
-if bpy.app.version < (5, 0, 0):
-    w2.use_nodes = True
-nt2 = w2.node_tree
-tex = nt2.nodes.new("ShaderNodeTexEnvironment")
-tex.image = img
-tex.interpolation = "Closest"
-nt2.links.new(tex.outputs["Color"], nt2.nodes["Background"].inputs["Color"])
+w2 = image_world("Image", img)
 env2, _, _ = world_map.render_world(w2)
 # Map row 0 is the top: image row (from the bottom) 7 - i // (H / 8); column j // (W / 16).
 col = np.floor((np.arange(W) + 0.5) * 16 / W)[None, :] + 1.0
@@ -78,14 +81,7 @@ px[..., 3] = 1.0
 px[HH - 1 - SI, SJ, :3] = 400000.0      # Blender rows from the bottom
 hdr.pixels.foreach_set(px.ravel())
 hdr.pack()
-w4 = bpy.data.worlds.new("Hdri")
-if bpy.app.version < (5, 0, 0):
-    w4.use_nodes = True
-nt4 = w4.node_tree
-tex4 = nt4.nodes.new("ShaderNodeTexEnvironment")
-tex4.image = hdr
-tex4.interpolation = "Closest"
-nt4.links.new(tex4.outputs["Color"], nt4.nodes["Background"].inputs["Color"])
+w4 = image_world("Hdri", hdr)
 env4, _, st4 = world_map.render_world(w4)
 lat_e = np.pi * (0.5 - np.arange(HH + 1) / HH)
 om_img = 2 * np.pi / HW * (np.sin(lat_e[:-1]) - np.sin(lat_e[1:]))
@@ -101,9 +97,7 @@ out["hdri_flux_ratio_unrefined"] = float(world_map._map_flux(env5).sum()) / (sun
 
 # 3. A bake: a white cube on no floor under a world bright toward +X only.
 
-w3 = bpy.data.worlds.new("HalfX")
-if bpy.app.version < (5, 0, 0):
-    w3.use_nodes = True
+w3 = rt.node_world("HalfX")
 nt3 = w3.node_tree
 tc3 = nt3.nodes.new("ShaderNodeTexCoord")
 sep = nt3.nodes.new("ShaderNodeSeparateXYZ")

@@ -90,6 +90,10 @@ class Scene:
                    # there); None: the polygon's values (textured materials, textures.py)
                    corner_reflectance: Optional[np.ndarray] = None,
                    corner_emission: Optional[np.ndarray] = None,
+                   # A texture's reflectance inside polygons, for the transport: (face int32 (P,),
+                   # world position float64 (P,3), area float64 (P,), reflectance (P,3) in [0,1));
+                   # elements take the area mean of the pieces inside them. None: uniform polygons.
+                   pieces: Optional[tuple] = None,
                    ) -> int:
         """A rigid object. cluster=-1: a surface set by itself (object directly in the scene).
         Raises ValueError naming the object and polygon on NaN/inf, bad indices, rho outside [0,1),
@@ -136,7 +140,7 @@ class Solver:
                    loop_totals: np.ndarray, corner_verts: np.ndarray, reflectance: np.ndarray,
                    emission: np.ndarray, two_sided: Optional[np.ndarray] = None,
                    occluder: bool = True, corner_reflectance: Optional[np.ndarray] = None,
-                   corner_emission: Optional[np.ndarray] = None) -> int:
+                   corner_emission: Optional[np.ndarray] = None, pieces: Optional[tuple] = None) -> int:
         """As Scene.add_object (world space, placed as given: later moves are relative to it).
         ValueError naming the object and polygon for bad input."""
     def remove_object(self, object_id: int) -> None: ...  # ValueError: unknown id, removed already
@@ -150,7 +154,8 @@ class Solver:
     def set_emission(self, object_id: int, emission: np.ndarray) -> None: ...      # (F,3) or (3,)
     def set_reflectance(self, object_id: int, reflectance: np.ndarray) -> None: ... # (F,3) or (3,), < 1
     def set_corner_materials(self, object_id: int, reflectance: Optional[np.ndarray] = None,
-                             emission: Optional[np.ndarray] = None) -> None:
-        """(C,3) per corner or None; the output only (no update() needed)."""
+                             emission: Optional[np.ndarray] = None, pieces: Optional[tuple] = None) -> None:
+        """(C,3) per corner or None: the output's (no update() needed); pieces as add_object's
+        (None: none): the transport's, taken by the next update()."""
     def update(self) -> None: ...        # incremental re-solve (full solve if none is kept); GIL released
     def start_update(self) -> None: ...  # the same as a job: poll like start()

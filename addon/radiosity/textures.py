@@ -11,7 +11,9 @@ tree Cycles can render is understood exactly as Cycles understands it:
   does, so the output's radiance = albedo x irradiance + emission there is Cycles' own.
 - per polygon, for the light transport: the area mean over a copy of the mesh whose polygons
   are cut into up to 8 x 8 pieces (n-gons triangulated first), baked the same way: a checker
-  on a single quad has the same colour at its four corners, the mean needs points inside.
+  on a single quad has the same colour at its four corners, the mean needs points inside. The
+  pieces themselves (centroid, area, value) go to the solver too, whose elements take the mean
+  of the pieces inside them (a quad refined along a checker's edge: red and white halves).
 
 Everything happens in a temporary scene (its own Cycles settings, the copies, the colour
 attributes) that is deleted before returning, whatever happens: the user's scene, objects,
@@ -127,6 +129,36 @@ def _face_means(me, corner_values, polygons):
     return out
 
 
+def _pieces(me, corner_values):
+    """The pieces of a cut copy for the transport (scene_data.ObjectInput.reflectance_pieces):
+    per piece its original polygon, its centroid and area in object space (kept with the
+    evaluation, which a move does not redo: _apply places them), and the mean of its corners'
+    values. Areas only weigh pieces of one polygon against each other, which an affine map
+    keeps."""
+    n = len(me.polygons)
+    starts = np.empty(n, np.int32)
+    totals = np.empty(n, np.int32)
+    orig = np.empty(n, np.int32)
+    me.polygons.foreach_get("loop_start", starts)
+    me.polygons.foreach_get("loop_total", totals)
+    me.attributes[ORIG].data.foreach_get("value", orig)
+    co = np.empty(len(me.vertices) * 3, np.float64)
+    me.vertices.foreach_get("co", co)
+    lv = np.empty(len(me.loops), np.int32)
+    me.loops.foreach_get("vertex_index", lv)
+    p = co.reshape(-1, 3)[lv]
+    centroid = np.add.reduceat(p, starts, axis=0) / totals[:, None]
+    # Area by the fan from each piece's first corner (pieces are triangles and quads).
+    first = np.repeat(starts, totals)
+    nxt = np.arange(len(lv)) + 1
+    last = np.repeat(starts + totals - 1, totals)
+    nxt = np.where(np.arange(len(lv)) == last, first, nxt)
+    tri = np.cross(p - p[first], p[nxt] - p[first])
+    area = 0.5 * np.linalg.norm(np.add.reduceat(tri, starts, axis=0), axis=1)
+    value = np.add.reduceat(corner_values, starts, axis=0) / totals[:, None]
+    return orig, centroid, area, value
+
+
 class Request:
     """One gathered object (SceneInput index) with textured material slots."""
 
@@ -183,7 +215,18 @@ def _apply(o, slots, mi, values):
     face_of = np.repeat(np.arange(o.polygon_count), o.loop_totals)
     textured = np.isin(mi, np.asarray(slots, dtype=np.int64))
     sel = textured[face_of]
-    for kind, (corners, means) in values.items():
+    o.reflectance_pieces = None
+    for kind, entry in values.items():
+        if kind == "pieces":
+            face, local, area, value = entry
+            keep = textured[face]
+            if keep.any():
+                m = np.eye(4) if o.matrix is None else np.asarray(o.matrix, dtype=np.float64)
+                pos = local[keep] @ m[:3, :3].T + m[:3, 3]      # placed as the vertices are
+                o.reflectance_pieces = (face[keep].astype(np.int32), pos, area[keep],
+                                        scene_data.clamp_reflectance(value[keep]))
+            continue
+        corners, means = entry
         if kind == "DIFFUSE":
             rho = o.reflectance.astype(np.float64)
             rho[textured] = means[textured]
@@ -276,6 +319,8 @@ def evaluate(si, requests, depsgraph, materials, warnings):
                         means = np.add.reduceat(corners, o.loop_starts, axis=0) \
                             / o.loop_totals[:, None]
                     values[kind] = (corners, means)
+                if cut:
+                    values["pieces"] = _pieces(cut[n].data, colours(cut[n].data, ATTR + "DIFFUSE"))
                 mi = _material_index(a.data)
                 eval_cache.put(key, (mi, values))
                 _apply(o, r.slots, mi, values)
@@ -286,7 +331,7 @@ def evaluate(si, requests, depsgraph, materials, warnings):
                         f"viewport colours are used")
         for r in requests:
             o = si.objects[r.index]
-            o.corner_reflectance = o.corner_emission = None
+            o.corner_reflectance = o.corner_emission = o.reflectance_pieces = None
         return {}
     finally:
         for o in made_objects:

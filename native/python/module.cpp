@@ -37,10 +37,36 @@ std::vector<Rgb> optional_rgb(const py::object& a, const char* what, size_t rows
     return rgb_rows(a.cast<Arr<double>>(), what, rows);
 }
 
+// None -> no pieces, else (face (P,) int32, position (P,3), area (P,), reflectance (P,3)).
+std::vector<ReflectancePiece> reflectance_pieces(const py::object& a, const std::string& name) {
+    std::vector<ReflectancePiece> out;
+    if (a.is_none()) return out;
+    auto t = a.cast<py::tuple>();
+    if (t.size() != 4) throw py::value_error("object '" + name + "': pieces must be (face, position, area, reflectance)");
+    auto face = t[0].cast<Arr<int32_t>>();
+    auto pos = t[1].cast<Arr<double>>();
+    auto area = t[2].cast<Arr<double>>();
+    const size_t n = size_t(face.size());
+    check_shape(area, 0, "piece area", n);
+    if (pos.ndim() != 2 || size_t(pos.shape(0)) != n || pos.shape(1) != 3)
+        throw py::value_error("object '" + name + "': piece positions must be (P,3)");
+    const std::vector<Rgb> rho = rgb_rows(t[3].cast<Arr<double>>(), "piece reflectance", n);
+    auto p = pos.unchecked<2>();
+    out.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        out[i].face = face.data()[i];
+        out[i].position = {p(ssize_t(i), 0), p(ssize_t(i), 1), p(ssize_t(i), 2)};
+        out[i].area = area.data()[i];
+        out[i].rho = rho[i];
+    }
+    return out;
+}
+
 ObjectDesc make_object(const std::string& name, int cluster, const Arr<double>& verts,
                        const Arr<int32_t>& loop_starts, const Arr<int32_t>& loop_totals, const Arr<int32_t>& corner_verts,
                        const Arr<double>& reflectance, const Arr<double>& emission, const py::object& two_sided,
-                       bool occluder, const py::object& corner_reflectance, const py::object& corner_emission) {
+                       bool occluder, const py::object& corner_reflectance, const py::object& corner_emission,
+                       const py::object& pieces) {
     ObjectDesc o;
     o.name = name;
     o.occluder = occluder;
@@ -64,15 +90,17 @@ ObjectDesc make_object(const std::string& name, int cluster, const Arr<double>& 
     }
     o.corner_reflectance = optional_rgb(corner_reflectance, "corner_reflectance", o.corner_verts.size());
     o.corner_emission = optional_rgb(corner_emission, "corner_emission", o.corner_verts.size());
+    o.pieces = reflectance_pieces(pieces, name);
     return o;
 }
 
 int add_object(SceneDesc& s, const std::string& name, int cluster, const Arr<double>& verts,
                const Arr<int32_t>& loop_starts, const Arr<int32_t>& loop_totals, const Arr<int32_t>& corner_verts,
                const Arr<double>& reflectance, const Arr<double>& emission, const py::object& two_sided,
-               bool occluder, const py::object& corner_reflectance, const py::object& corner_emission) {
+               bool occluder, const py::object& corner_reflectance, const py::object& corner_emission,
+               const py::object& pieces) {
     return s.add_object(make_object(name, cluster, verts, loop_starts, loop_totals, corner_verts, reflectance,
-                                    emission, two_sided, occluder, corner_reflectance, corner_emission));
+                                    emission, two_sided, occluder, corner_reflectance, corner_emission, pieces));
 }
 
 // A solver plus the job that may be running it.
@@ -195,7 +223,8 @@ PYBIND11_MODULE(radiosity_native, m) {
         .def("add_object", &add_object, py::arg("name"), py::arg("cluster"), py::arg("vertices"),
              py::arg("loop_starts"), py::arg("loop_totals"), py::arg("corner_verts"), py::arg("reflectance"),
              py::arg("emission"), py::arg("two_sided") = py::none(), py::arg("occluder") = true,
-             py::arg("corner_reflectance") = py::none(), py::arg("corner_emission") = py::none())
+             py::arg("corner_reflectance") = py::none(), py::arg("corner_emission") = py::none(),
+             py::arg("pieces") = py::none())
         .def("add_light", &SceneDesc::add_light, py::arg("light"))
         .def_property_readonly("light_count", [](const SceneDesc& s) { return s.lights().size(); })
         .def_property_readonly("object_count", [](const SceneDesc& s) { return s.objects().size(); })
@@ -222,15 +251,16 @@ PYBIND11_MODULE(radiosity_native, m) {
                               const Arr<int32_t>& loop_starts, const Arr<int32_t>& loop_totals,
                               const Arr<int32_t>& corner_verts, const Arr<double>& reflectance,
                               const Arr<double>& emission, const py::object& two_sided, bool occluder,
-                              const py::object& corner_reflectance, const py::object& corner_emission) {
+                              const py::object& corner_reflectance, const py::object& corner_emission,
+                              const py::object& pieces) {
             s.idle();
             return s.solver->add_object(make_object(name, cluster, verts, loop_starts, loop_totals, corner_verts,
                                                     reflectance, emission, two_sided, occluder, corner_reflectance,
-                                                    corner_emission));
+                                                    corner_emission, pieces));
         }, py::arg("name"), py::arg("cluster"), py::arg("vertices"), py::arg("loop_starts"), py::arg("loop_totals"),
            py::arg("corner_verts"), py::arg("reflectance"), py::arg("emission"), py::arg("two_sided") = py::none(),
            py::arg("occluder") = true, py::arg("corner_reflectance") = py::none(),
-           py::arg("corner_emission") = py::none())
+           py::arg("corner_emission") = py::none(), py::arg("pieces") = py::none())
         .def("remove_object", [](PySolver& s, int object) {
             s.idle();
             s.solver->remove_object(object);
@@ -247,12 +277,18 @@ PYBIND11_MODULE(radiosity_native, m) {
             s.idle();
             s.solver->set_reflectance(object, rgb_list(v));
         }, py::arg("object_id"), py::arg("reflectance"))
-        .def("set_corner_materials", [](PySolver& s, int object, const py::object& rho, const py::object& e) {
+        // A texture changed: its values at the corners (the output's) and, for the transport,
+        // its pieces inside the polygons (None: none, each polygon uniform).
+        .def("set_corner_materials", [](PySolver& s, int object, const py::object& rho, const py::object& e,
+                                        const py::object& pieces) {
             s.idle();
-            const size_t nc = s.solver->scene().objects().at(size_t(object)).corner_count();
+            const ObjectDesc& o = s.solver->scene().objects().at(size_t(object));
+            const size_t nc = o.corner_count();
             s.solver->set_corner_materials(object, optional_rgb(rho, "corner_reflectance", nc),
                                            optional_rgb(e, "corner_emission", nc));
-        }, py::arg("object_id"), py::arg("reflectance") = py::none(), py::arg("emission") = py::none())
+            s.solver->set_reflectance_pieces(object, reflectance_pieces(pieces, o.name));
+        }, py::arg("object_id"), py::arg("reflectance") = py::none(), py::arg("emission") = py::none(),
+           py::arg("pieces") = py::none())
         .def("set_light", [](PySolver& s, int index, const LightDesc& l) {
             s.idle();
             s.solver->set_light(index, l);

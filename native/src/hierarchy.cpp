@@ -176,7 +176,85 @@ std::vector<int> Hierarchy::make_prims(const ObjectDesc& o, int oi) {
             ids.push_back(int(p));
         }
     }
+    bind_pieces(o, ids);
     return ids;
+}
+
+void Hierarchy::bind_pieces(const ObjectDesc& o, const std::vector<int>& ids) {
+    prim_pieces.resize(prims.size());
+    for (int id : ids) prim_pieces[size_t(id)].clear();
+    if (o.pieces.empty()) return;
+    // A polygon's primitives in `ids` are consecutive: find each face's range once.
+    size_t i = 0;
+    while (i < ids.size()) {
+        const int face = prims[size_t(ids[i])].face;
+        size_t j = i;
+        while (j < ids.size() && prims[size_t(ids[j])].face == face) ++j;
+        auto lo = std::lower_bound(o.pieces.begin(), o.pieces.end(), face,
+                                   [](const ReflectancePiece& q, int f) { return q.face < f; });
+        for (auto it = lo; it != o.pieces.end() && it->face == face; ++it) {
+            const Vec3 x = to_internal(it->position);
+            // The primitive that holds it (of a fanned n-gon: the piece's triangle), else the
+            // nearest; its coordinates in that primitive's own frame.
+            int best = -1;
+            double best_d = 0;
+            for (size_t k = i; k < j; ++k) {
+                const Primitive& p = prims[size_t(ids[k])];
+                const double d = distance_outside(p.poly0, p.poly0.normal(), x);
+                if (best < 0 || d < best_d) best = ids[k], best_d = d;
+                if (d <= 0) break;
+            }
+            const Poly& q = prims[size_t(best)].poly0;
+            const Vec3 e1 = q.v[1] - q.v[0], e2 = q.v[size_t(q.n - 1)] - q.v[0], r = x - q.v[0];
+            // Least squares in the plane: [e1 e2]^T [e1 e2] (a b)^T = [e1 e2]^T r.
+            const double g11 = dot(e1, e1), g12 = dot(e1, e2), g22 = dot(e2, e2), det = g11 * g22 - g12 * g12;
+            if (!(std::fabs(det) > 0)) continue;
+            PrimPiece pp;
+            pp.a = (g22 * dot(e1, r) - g12 * dot(e2, r)) / det;
+            pp.b = (g11 * dot(e2, r) - g12 * dot(e1, r)) / det;
+            pp.area = it->area;
+            pp.rho = it->rho;
+            prim_pieces[size_t(best)].push_back(pp);
+        }
+        i = j;
+    }
+}
+
+Rgb Hierarchy::element_rho(const Node& e, const Rgb& uniform) const {
+    if (e.surface < 0) return uniform;
+    const int pi = surfaces[size_t(e.surface)].prim;
+    if (pi < 0 || size_t(pi) >= prim_pieces.size() || prim_pieces[size_t(pi)].empty()) return uniform;
+    const Poly& q = prims[size_t(pi)].poly;
+    const Vec3 e1 = q.v[1] - q.v[0], e2 = q.v[size_t(q.n - 1)] - q.v[0];
+    Rgb sum;
+    double w = 0, near_d = 0;
+    const PrimPiece* nearest = nullptr;
+    for (const PrimPiece& pp : prim_pieces[size_t(pi)]) {
+        const Vec3 x = q.v[0] + e1 * pp.a + e2 * pp.b;
+        if (distance_outside(e.poly, e.normal, x) <= 0) {
+            sum += pp.rho * pp.area;
+            w += pp.area;
+        }
+        const double d = length(x - e.center);
+        if (!nearest || d < near_d) nearest = &pp, near_d = d;
+    }
+    return w > 0 ? sum / w : nearest->rho;
+}
+
+Rgb Hierarchy::rho_at(int id, const Vec3& x) const {
+    const Node& e = nodes[size_t(id)];
+    if (e.surface < 0) return e.rho;
+    const int pi = surfaces[size_t(e.surface)].prim;
+    if (pi < 0 || size_t(pi) >= prim_pieces.size() || prim_pieces[size_t(pi)].empty()) return e.rho;
+    const Poly& q = prims[size_t(pi)].poly;
+    const Vec3 e1 = q.v[1] - q.v[0], e2 = q.v[size_t(q.n - 1)] - q.v[0];
+    const PrimPiece* nearest = nullptr;
+    double near_d = 0;
+    for (const PrimPiece& pp : prim_pieces[size_t(pi)]) {
+        const double d = length(q.v[0] + e1 * pp.a + e2 * pp.b - x);
+        if (!nearest || d < near_d) nearest = &pp, near_d = d;
+    }
+    return nearest->rho;
 }
 
 void Hierarchy::add_surfaces_of_prims(const std::vector<int>& ids, int begin, int end, int parent) {
@@ -368,7 +446,7 @@ void Hierarchy::build(const SceneDesc& scene, bool use_clustering) {
 void Hierarchy::set_surface_material(const SceneDesc& scene, int s) {
     Node& e = nodes[surfaces[s].root];
     const Primitive& p = prims[surfaces[s].prim];
-    e.rho = scene.objects()[p.object].reflectance[p.face];
+    e.rho = element_rho(e, scene.objects()[p.object].reflectance[p.face]);
     e.emission = scene.objects()[p.object].emission[p.face];
     e.L = e.emission;
     e.Lmin = e.Lmax = e.L;
@@ -399,7 +477,7 @@ void Hierarchy::subdivide(int id) {
             e.box.grow(e.poly.v[i]);
             e.radius = std::max(e.radius, length(e.poly.v[i] - e.center));
         }
-        e.rho = p.rho;
+        e.rho = element_rho(e, p.rho);
         e.emission = p.emission;
         e.L = p.L;
         e.Lmin = e.Lmax = p.L;

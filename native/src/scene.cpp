@@ -1,5 +1,6 @@
 #include "radiosity/scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -31,6 +32,22 @@ void check_corner_materials(const ObjectDesc& o, const std::vector<Rgb>& rho, co
         for (int k = 0; k < 3; ++k)
             if (!(emission[c][k] >= 0 && emission[c][k] <= kMaxEmission))
                 fail(o, "corner " + std::to_string(c) + " has a negative, non-finite or too large emission");
+}
+
+void check_pieces(const ObjectDesc& o, std::vector<ReflectancePiece>& pieces) {
+    for (size_t i = 0; i < pieces.size(); ++i) {
+        const ReflectancePiece& q = pieces[i];
+        const std::string what = "object '" + o.name + "': reflectance piece " + std::to_string(i);
+        if (q.face < 0 || size_t(q.face) >= o.polygon_count()) throw InputError(what + " names a missing polygon");
+        if (!finite(q.position)) throw InputError(what + " has a non-finite position");
+        if (!std::isfinite(q.area) || q.area < 0) throw InputError(what + " has an area that is not a finite number >= 0");
+        if (!finite(q.rho)) throw InputError(what + " has a non-finite reflectance");
+        for (int k = 0; k < 3; ++k)
+            if (q.rho[k] < 0 || q.rho[k] >= 1)
+                throw InputError(what + " has reflectance outside [0,1) (energy would not converge)");
+    }
+    std::stable_sort(pieces.begin(), pieces.end(),
+                     [](const ReflectancePiece& a, const ReflectancePiece& b) { return a.face < b.face; });
 }
 
 int SceneDesc::add_object(ObjectDesc o) {
@@ -67,6 +84,7 @@ int SceneDesc::add_object(ObjectDesc o) {
         }
     }
     check_corner_materials(o, o.corner_reflectance, o.corner_emission);
+    check_pieces(o, o.pieces);
     objects_.push_back(std::move(o));
     return int(objects_.size()) - 1;
 }

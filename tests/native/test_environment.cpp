@@ -190,3 +190,66 @@ TEST(Environment, CornerMaterialsShadeEachCorner) {
     SceneDesc s2;
     EXPECT_THROW(s2.add_object(bad), InputError);
 }
+
+TEST(Environment, ReflectancePiecesGiveElementsAndPointsTheirOwnValue) {
+    // One 4 x 4 m quad whose texture is dark on its left half and bright on its right, given as
+    // 2 x 2 pieces (textures.py's cut copy): the quad's elements take the mean of the pieces
+    // inside them, a point the nearest piece's value; the polygon's own value is their mean.
+    SceneDesc s = floor_scene(1);
+    ObjectDesc& o = s.objects_mut()[0];
+    const Rgb dark = Rgb::all(0.2), bright = Rgb::all(0.8);
+    for (double y : {-1.0, 1.0})
+        for (double x : {-1.0, 1.0}) o.pieces.push_back({0, Vec3{x, y, 0}, 4.0, x < 0 ? dark : bright});
+    SceneDesc bad = s;
+    bad.objects_mut()[0].pieces[1].face = 1;  // the floor has one polygon
+    EXPECT_THROW(SceneDesc().add_object(bad.objects()[0]), InputError);
+    bad.objects_mut()[0].pieces[1] = {0, Vec3{0, 0, 0}, 1.0, Rgb::all(1.0)};
+    EXPECT_THROW(SceneDesc().add_object(bad.objects()[0]), InputError);
+    SceneDesc ok;
+    ok.add_object(s.objects()[0]);
+    Hierarchy h;
+    h.build(ok, true);
+    ASSERT_EQ(h.surfaces.size(), 2u);  // front and back of the two-sided quad
+    for (const Surface& sf : h.surfaces) {
+        const int root = sf.root;
+        EXPECT_NEAR(h.nodes[size_t(root)].rho.r, 0.5, 1e-12);  // all four pieces' mean
+        h.subdivide(root);
+        for (int c : h.nodes[size_t(root)].children) {
+            const Node& e = h.nodes[size_t(c)];
+            EXPECT_NEAR(e.rho.r, e.center.x < h.to_internal(Vec3{0, 0, 0}).x ? 0.2 : 0.8, 1e-12);
+            // A grandchild holds no piece's centre: it takes the nearest piece's value.
+            h.subdivide(c);
+            for (int g : h.nodes[size_t(c)].children) EXPECT_NEAR(h.nodes[size_t(g)].rho.r, e.rho.r, 1e-12);
+        }
+        EXPECT_NEAR(h.rho_at(root, h.to_internal(Vec3{-1.9, 1.5, 0})).r, 0.2, 1e-12);
+        EXPECT_NEAR(h.rho_at(root, h.to_internal(Vec3{0.1, -1.5, 0})).r, 0.8, 1e-12);
+    }
+    // Through the solver, lit by a point lamp 1 m over the middle (the floor is refined under
+    // it, so the corners' leaves lie in one half each): a left corner reflects a quarter of
+    // what the mirror-image right corner does (the output reads its leaf's rho); new pieces
+    // (set_reflectance_pieces) swap that at the next update.
+    LightDesc lamp;
+    lamp.name = "lamp";
+    lamp.type = LightDesc::Type::Point;
+    lamp.position = Vec3{0, 0, 1};
+    lamp.intensity = Rgb::all(100);
+    s.add_light(lamp);
+    Solver solver(s, Settings::preset("MEDIUM"));
+    solver.solve();
+    const ObjectDesc& f = solver.scene().objects()[0];
+    auto halves = [&]() {
+        const std::vector<Rgb> v = rgb(solver.corner_radiance(0));
+        double left = 0, right = 0;
+        for (size_t c = 0; c < v.size(); ++c) (f.vertices[size_t(f.corner_verts[c])].x < 0 ? left : right) += v[c].r;
+        return std::make_pair(left, right);
+    };
+    const auto [left, right] = halves();
+    EXPECT_NEAR(left / right, 0.25, 1e-3) << left << " " << right;
+    std::vector<ReflectancePiece> swapped = s.objects()[0].pieces;
+    for (ReflectancePiece& q : swapped) q.rho = q.position.x < 0 ? bright : dark;
+    solver.set_reflectance_pieces(0, swapped);
+    solver.update();
+    const auto [left2, right2] = halves();
+    EXPECT_NEAR(left2 / right2, 4.0, 4e-3) << left2 << " " << right2;
+    EXPECT_THROW(solver.set_reflectance_pieces(0, {{3, Vec3{}, 1.0, dark}}), InputError);
+}

@@ -245,3 +245,30 @@ def test_radiance_at_inside_a_fan_split_ngon(rn):
         exact = 0.5 * 10 * rs.point_to_rect(x, y, -0.5, 0.5, -0.5, 0.5, 1.0)
         assert a == pytest.approx(b, rel=0.02), ((x, y), a, b, exact)
         assert b == pytest.approx(exact, rel=0.10), ((y, x), b, exact)
+
+
+def _pieces(n=4, face=None, pos=None, area=None, rho=None):
+    """Reflectance pieces (textures.py) for plate_mesh: one per quad, at its centre."""
+    f = np.arange(n, dtype=np.int32) % 4 if face is None else np.asarray(face, np.int32)
+    c = np.array([[0.25, 0.25, 0], [0.75, 0.25, 0], [0.25, 0.75, 0], [0.75, 0.75, 0]])[np.arange(n) % 4]
+    return (f, c if pos is None else pos, np.full(n, 0.25) if area is None else area,
+            np.full((n, 3), 0.5) if rho is None else rho)
+
+
+def test_reflectance_pieces_are_accepted_and_checked(rn):
+    s = rn.Scene()
+    m = plate_mesh()
+    args = (m.vertices, m.loop_starts, m.loop_totals, m.corner_verts, np.full((4, 3), 0.5, np.float32),
+            np.zeros((4, 3), np.float32))
+    s.add_object("ok", -1, *args, pieces=_pieces())
+    bad = {"missing polygon": _pieces(face=[0, 1, 2, 4]),
+           "non-finite position": _pieces(pos=np.array([[0.25, 0.25, 0]] * 3 + [[np.nan, 0, 0]])),
+           "area": _pieces(area=np.array([0.25, -1.0, 0.25, 0.25])),
+           "reflectance outside": _pieces(rho=np.array([[0.5] * 3] * 3 + [[1.0, 0.5, 0.5]]))}
+    for what, p in bad.items():
+        with pytest.raises(ValueError) as e:
+            s.add_object("Floor", -1, *args, pieces=p)
+        assert "Floor" in str(e.value) and what in str(e.value), str(e.value)
+    with pytest.raises(ValueError):
+        s.add_object("Floor", -1, *args, pieces=(np.zeros(2, np.int32), np.zeros((3, 3)), np.zeros(2),
+                                                  np.zeros((2, 3))))

@@ -240,7 +240,11 @@ class SolveJob:
                 hit.solver.set_reflectance(oid, r)
             for oid, o in corner_changes:
                 rho, emission = scene_data.corner_materials(o)
-                hit.solver.set_corner_materials(oid, rho, emission)
+                pieces = scene_data.native_pieces(o)
+                if pieces is None:
+                    hit.solver.set_corner_materials(oid, rho, emission)
+                else:
+                    hit.solver.set_corner_materials(oid, rho, emission, pieces=pieces)
             if light_changes:
                 from . import lights as core_lights
                 for i in light_changes:

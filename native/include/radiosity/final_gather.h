@@ -140,8 +140,29 @@ private:
     // above its surface, fully occluded ones included.
     void links_reaching(const Solution& s, int leaf, std::vector<std::pair<int, bool>>& out) const;
     void near_field(const Solution& s, const Config& c, Point& pt, Counts& counts) const;
-    // Outgoing radiance at a point sp of leaf m_id, gathered there (lamps and m's links).
-    Rgb radiance_at(const Solution& s, const Config& c, int m_id, const Vec3& sp, uint64_t seed, Counts& counts) const;
+    // Near field (near_field): a sender's part within kNearReach x d of a point at distance d.
+    static constexpr double kNearReach = 20.0;
+    // The plane of the surface a point lies on, as a point of a sender near it sees it: what
+    // its samples read there (per surface of that plane), then the coupling F of the part of
+    // the plane near the sender's point and the radiance its samples read over that part
+    // (WL, weighted by F). The two sides of a contact light each other there (near_field).
+    struct NearPlane {
+        Vec3 n;
+        double offset = 0, tol = 0;
+        // Only the plane's part here is coupled: where the point's radiance stands for it
+        // (in front of the sender's polygons); past it s* reads points gathered there.
+        Aabb region;
+        double F = 0, F_all = 0;   // in the region; within s*'s reach (20 x its distance)
+        Rgb WL, WL_all;
+        std::vector<std::pair<int, std::pair<double, Rgb>>> seen;  // surface, (weight, weighted L)
+        std::vector<int> surfaces;  // the plane's surfaces met near any s* of one sender
+        void read(const Hierarchy& h, const Node& k, double w);
+        void couple(const Hierarchy& h, const Vec3& sp, const Vec3& sn);
+    };
+    // Outgoing radiance at a point sp of leaf m_id, gathered there (lamps and m's links); with
+    // `wall`, also what it gathers of that plane near sp.
+    Rgb radiance_at(const Solution& s, const Config& c, int m_id, const Vec3& sp, uint64_t seed, Counts& counts,
+                    NearPlane* wall = nullptr) const;
     // Whether an escape ray from x finds open space (the point is not enclosed).
     static bool point_escapes(const Solution& s, const Vec3& x, const Vec3& n, uint64_t seed, Counts& counts);
     // Whether every one of 64 stratified rays from o (already off its surface) over the

@@ -167,6 +167,20 @@ public:
 
     std::vector<Node> nodes;
     std::vector<Primitive> prims;
+    // A textured polygon's reflectance pieces (ObjectDesc::pieces) in the primitive that holds
+    // them: position = v0 + a (v1 - v0) + b (v[n-1] - v0) of its polygon, so they move with it.
+    struct PrimPiece {
+        double a = 0, b = 0, area = 0;
+        Rgb rho;
+    };
+    std::vector<std::vector<PrimPiece>> prim_pieces;  // per primitive (empty: uniform)
+    // An element's reflectance: the area mean of its primitive's pieces inside it (the
+    // nearest piece when none is), or `uniform` for a primitive without pieces.
+    Rgb element_rho(const Node& e, const Rgb& uniform) const;
+    // The reflectance at point x of element `id` (its primitive's nearest piece), or its rho.
+    Rgb rho_at(int id, const Vec3& x) const;
+    // (Re)binds object `o`'s pieces to its primitives `ids` (after make_prims or new pieces).
+    void bind_pieces(const ObjectDesc& o, const std::vector<int>& ids);
     std::vector<Surface> surfaces;
     std::vector<int> surface_order;   // surface ids; each cluster's are contiguous
     // Parallel to surface_order. Refreshed wherever surface roots move, change their pocket

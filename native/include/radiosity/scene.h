@@ -25,6 +25,17 @@ struct ClusterDesc {
     int parent = -1;  // -1: the root
 };
 
+// A textured reflectance's sample inside a polygon (addon/radiosity/textures.py: a piece of a
+// cut copy of the mesh): what the material evaluates to around `position` (world space, as
+// the vertices), over `area`. Elements take the area mean of the pieces inside them, points
+// (the output's near field) the nearest piece's value: a checker's squares inside one quad.
+struct ReflectancePiece {
+    int32_t face = -1;
+    Vec3 position;
+    double area = 0;
+    Rgb rho;
+};
+
 struct ObjectDesc {
     std::string name;
     int cluster = -1;  // -1: its polygons are surfaces by themselves (paper 3.1.1)
@@ -36,6 +47,9 @@ struct ObjectDesc {
     // reflectance x irradiance there, as Cycles shades a corner); the light transport uses
     // the per-polygon values, the texture's area mean over each polygon.
     std::vector<Rgb> corner_reflectance, corner_emission;
+    // Optional (empty: each polygon uniform, its `reflectance`), sorted by face by
+    // SceneDesc::add_object; a polygon without pieces keeps its value.
+    std::vector<ReflectancePiece> pieces;
     std::vector<uint8_t> two_sided;             // per polygon
     // false: casts no shadow (rays pass through it), like a Blender area light in Cycles.
     bool occluder = true;
@@ -45,6 +59,9 @@ struct ObjectDesc {
 
 // Throws InputError unless each array is empty or holds one valid value per corner of `o`.
 void check_corner_materials(const ObjectDesc& o, const std::vector<Rgb>& reflectance, const std::vector<Rgb>& emission);
+// Throws InputError unless every piece names a polygon of `o` and has a finite position, a
+// finite area >= 0 and a reflectance in [0, 1); sorts them by face.
+void check_pieces(const ObjectDesc& o, std::vector<ReflectancePiece>& pieces);
 
 class SceneDesc {
 public:

@@ -79,7 +79,7 @@ class Scene:
 
     def add_object(self, name, cluster, vertices, loop_starts, loop_totals, corner_verts,
                    reflectance, emission, two_sided=None, occluder=True,
-                   corner_reflectance=None, corner_emission=None):
+                   corner_reflectance=None, corner_emission=None, pieces=None):
         v = np.array(vertices, dtype=np.float64)
         ls = np.array(loop_starts, dtype=np.int64)
         lt = np.array(loop_totals, dtype=np.int64)
@@ -157,7 +157,7 @@ class Solver:
 
     def add_object(self, name, cluster, vertices, loop_starts, loop_totals, corner_verts,
                    reflectance, emission, two_sided=None, occluder=True,
-                   corner_reflectance=None, corner_emission=None):
+                   corner_reflectance=None, corner_emission=None, pieces=None):
         oid = self.scene.add_object(name, cluster, vertices, loop_starts, loop_totals,
                                     corner_verts, reflectance, emission, two_sided, occluder)
         self._base.append(self.scene.objects[oid]["v"].copy())
@@ -202,7 +202,7 @@ class Solver:
     def set_reflectance(self, object_id, reflectance):
         self._set(object_id, reflectance, "rho")
 
-    def set_corner_materials(self, object_id, reflectance=None, emission=None):
+    def set_corner_materials(self, object_id, reflectance=None, emission=None, pieces=None):
         pass    # plumbing only: the stand-in's output ignores per-corner materials
 
     def update(self):

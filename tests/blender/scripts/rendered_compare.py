@@ -68,6 +68,10 @@ if ok:
     out["written"] = [c is not None for c in cols]
     if all(c is not None for c in cols):
         ours = np.concatenate([c[:, :3] for c in cols])
+        if rt.arg("--dump", None):      # corners and their positions, to study them (not the tests)
+            pos = np.concatenate([np.array([tuple(o.matrix_world @ o.data.vertices[lp.vertex_index].co)
+                                            for lp in o.data.loops]) for o in objs])
+            np.savez(rt.arg("--dump"), ours=ours, pos=pos)
         ref = np.load(ref_path)
         out["shape_ok"] = ours.shape == ref.shape
         if out["shape_ok"]:

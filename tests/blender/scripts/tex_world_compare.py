@@ -2,7 +2,7 @@
 --ref, just the bake and what it left in bpy.data), for test_textures_world.py.
 
     ... tex_world_compare.py -- --zip build/radiosity.zip --kind checker|image|sky
-        [--ref tests/blender/data/tex_checker_v3.npy] [--preset HIGH]
+        [--ref tests/blender/data/tex_checker_v3.npy] [--preset HIGH] [--dump OURS.npy]
 """
 import os
 import sys
@@ -41,6 +41,8 @@ out = {"ok": ok, "err": err, "reports": reports, "stats": rt.last_stats(),
 if ok:
     ours = np.concatenate([rt.corner_colors(o)[:, :3] for o in objs])
     out["means"] = {o.name: rt.corner_colors(o)[:, :3].mean(axis=0).tolist() for o in objs}
+    if rt.arg("--dump", None):      # the corners, to study them (not used by the tests)
+        np.save(rt.arg("--dump"), ours)
     if ref_path:
         ref = np.load(ref_path)
         out["shape_ok"] = ours.shape == ref.shape

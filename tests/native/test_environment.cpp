@@ -214,12 +214,14 @@ TEST(Environment, ReflectancePiecesGiveElementsAndPointsTheirOwnValue) {
         const int root = sf.root;
         EXPECT_NEAR(h.nodes[size_t(root)].rho.r, 0.5, 1e-12);  // all four pieces' mean
         h.subdivide(root);
-        for (int c : h.nodes[size_t(root)].children) {
+        const std::vector<int> children = h.nodes[size_t(root)].children;  // (a copy: nodes move)
+        for (int c : children) {
             const Node& e = h.nodes[size_t(c)];
-            EXPECT_NEAR(e.rho.r, e.center.x < h.to_internal(Vec3{0, 0, 0}).x ? 0.2 : 0.8, 1e-12);
+            const double rho = e.rho.r;  // (subdivide below may move the nodes)
+            EXPECT_NEAR(rho, e.center.x < h.to_internal(Vec3{0, 0, 0}).x ? 0.2 : 0.8, 1e-12);
             // A grandchild holds no piece's centre: it takes the nearest piece's value.
             h.subdivide(c);
-            for (int g : h.nodes[size_t(c)].children) EXPECT_NEAR(h.nodes[size_t(g)].rho.r, e.rho.r, 1e-12);
+            for (int g : h.nodes[size_t(c)].children) EXPECT_NEAR(h.nodes[size_t(g)].rho.r, rho, 1e-12);
         }
         EXPECT_NEAR(h.rho_at(root, h.to_internal(Vec3{-1.9, 1.5, 0})).r, 0.2, 1e-12);
         EXPECT_NEAR(h.rho_at(root, h.to_internal(Vec3{0.1, -1.5, 0})).r, 0.8, 1e-12);

@@ -90,9 +90,10 @@ class Scene:
                    # there); None: the polygon's values (textured materials, textures.py)
                    corner_reflectance: Optional[np.ndarray] = None,
                    corner_emission: Optional[np.ndarray] = None,
-                   # A texture's reflectance inside polygons, for the transport: (face int32 (P,),
-                   # world position float64 (P,3), area float64 (P,), reflectance (P,3) in [0,1));
-                   # elements take the area mean of the pieces inside them. None: uniform polygons.
+                   # A texture inside polygons, for the transport: (face int32 (P,), world
+                   # position float64 (P,3), area float64 (P,), reflectance (P,3) in [0,1)
+                   # [, emission (P,3) >= 0]); elements take the area mean of the pieces inside
+                   # them. None: uniform polygons.
                    pieces: Optional[tuple] = None,
                    ) -> int:
         """A rigid object. cluster=-1: a surface set by itself (object directly in the scene).

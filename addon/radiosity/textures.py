@@ -129,11 +129,11 @@ def _face_means(me, corner_values, polygons):
     return out
 
 
-def _pieces(me, corner_values):
-    """The pieces of a cut copy for the transport (scene_data.ObjectInput.reflectance_pieces):
+def _pieces(me, corner_values, emit_values=None):
+    """The pieces of a cut copy for the transport (scene_data.ObjectInput.texture_pieces):
     per piece its original polygon, its centroid and area in object space (kept with the
     evaluation, which a move does not redo: _apply places them), and the mean of its corners'
-    values. Areas only weigh pieces of one polygon against each other, which an affine map
+    values (reflectance, and emission when the material emits, else None). Areas only weigh pieces of one polygon against each other, which an affine map
     keeps."""
     n = len(me.polygons)
     starts = np.empty(n, np.int32)
@@ -156,7 +156,8 @@ def _pieces(me, corner_values):
     tri = np.cross(p - p[first], p[nxt] - p[first])
     area = 0.5 * np.linalg.norm(np.add.reduceat(tri, starts, axis=0), axis=1)
     value = np.add.reduceat(corner_values, starts, axis=0) / totals[:, None]
-    return orig, centroid, area, value
+    emit = None if emit_values is None else np.add.reduceat(emit_values, starts, axis=0) / totals[:, None]
+    return orig, centroid, area, value, emit
 
 
 class Request:
@@ -215,16 +216,17 @@ def _apply(o, slots, mi, values):
     face_of = np.repeat(np.arange(o.polygon_count), o.loop_totals)
     textured = np.isin(mi, np.asarray(slots, dtype=np.int64))
     sel = textured[face_of]
-    o.reflectance_pieces = None
+    o.texture_pieces = None
     for kind, entry in values.items():
         if kind == "pieces":
-            face, local, area, value = entry
+            face, local, area, value, emitted = entry
             keep = textured[face]
             if keep.any():
                 m = np.eye(4) if o.matrix is None else np.asarray(o.matrix, dtype=np.float64)
                 pos = local[keep] @ m[:3, :3].T + m[:3, 3]      # placed as the vertices are
-                o.reflectance_pieces = (face[keep].astype(np.int32), pos, area[keep],
-                                        scene_data.clamp_reflectance(value[keep]))
+                o.texture_pieces = (face[keep].astype(np.int32), pos, area[keep],
+                                    scene_data.clamp_reflectance(value[keep]),
+                                    None if emitted is None else scene_data.clamp_emission(emitted[keep]))
             continue
         corners, means = entry
         if kind == "DIFFUSE":
@@ -320,7 +322,8 @@ def evaluate(si, requests, depsgraph, materials, warnings):
                             / o.loop_totals[:, None]
                     values[kind] = (corners, means)
                 if cut:
-                    values["pieces"] = _pieces(cut[n].data, colours(cut[n].data, ATTR + "DIFFUSE"))
+                    values["pieces"] = _pieces(cut[n].data, colours(cut[n].data, ATTR + "DIFFUSE"),
+                                               colours(cut[n].data, ATTR + "EMIT") if emit else None)
                 mi = _material_index(a.data)
                 eval_cache.put(key, (mi, values))
                 _apply(o, r.slots, mi, values)
@@ -331,7 +334,7 @@ def evaluate(si, requests, depsgraph, materials, warnings):
                         f"viewport colours are used")
         for r in requests:
             o = si.objects[r.index]
-            o.corner_reflectance = o.corner_emission = o.reflectance_pieces = None
+            o.corner_reflectance = o.corner_emission = o.texture_pieces = None
         return {}
     finally:
         for o in made_objects:

@@ -37,12 +37,15 @@ std::vector<Rgb> optional_rgb(const py::object& a, const char* what, size_t rows
     return rgb_rows(a.cast<Arr<double>>(), what, rows);
 }
 
-// None -> no pieces, else (face (P,) int32, position (P,3), area (P,), reflectance (P,3)).
-std::vector<ReflectancePiece> reflectance_pieces(const py::object& a, const std::string& name) {
-    std::vector<ReflectancePiece> out;
+// None -> no pieces, else (face (P,) int32, position (P,3), area (P,), reflectance (P,3)
+// [, emission (P,3)]); `emit` tells whether the emission was given.
+std::vector<TexturePiece> texture_pieces(const py::object& a, const std::string& name, bool* emit = nullptr) {
+    std::vector<TexturePiece> out;
+    if (emit) *emit = false;
     if (a.is_none()) return out;
     auto t = a.cast<py::tuple>();
-    if (t.size() != 4) throw py::value_error("object '" + name + "': pieces must be (face, position, area, reflectance)");
+    if (t.size() != 4 && t.size() != 5)
+        throw py::value_error("object '" + name + "': pieces must be (face, position, area, reflectance[, emission])");
     auto face = t[0].cast<Arr<int32_t>>();
     auto pos = t[1].cast<Arr<double>>();
     auto area = t[2].cast<Arr<double>>();
@@ -51,6 +54,9 @@ std::vector<ReflectancePiece> reflectance_pieces(const py::object& a, const std:
     if (pos.ndim() != 2 || size_t(pos.shape(0)) != n || pos.shape(1) != 3)
         throw py::value_error("object '" + name + "': piece positions must be (P,3)");
     const std::vector<Rgb> rho = rgb_rows(t[3].cast<Arr<double>>(), "piece reflectance", n);
+    const bool has_emission = t.size() == 5 && !t[4].is_none();
+    const std::vector<Rgb> em = has_emission ? rgb_rows(t[4].cast<Arr<double>>(), "piece emission", n) : std::vector<Rgb>();
+    if (emit) *emit = has_emission;
     auto p = pos.unchecked<2>();
     out.resize(n);
     for (size_t i = 0; i < n; ++i) {
@@ -58,6 +64,7 @@ std::vector<ReflectancePiece> reflectance_pieces(const py::object& a, const std:
         out[i].position = {p(ssize_t(i), 0), p(ssize_t(i), 1), p(ssize_t(i), 2)};
         out[i].area = area.data()[i];
         out[i].rho = rho[i];
+        if (has_emission) out[i].emission = em[i];
     }
     return out;
 }
@@ -90,7 +97,7 @@ ObjectDesc make_object(const std::string& name, int cluster, const Arr<double>& 
     }
     o.corner_reflectance = optional_rgb(corner_reflectance, "corner_reflectance", o.corner_verts.size());
     o.corner_emission = optional_rgb(corner_emission, "corner_emission", o.corner_verts.size());
-    o.pieces = reflectance_pieces(pieces, name);
+    o.pieces = texture_pieces(pieces, name, &o.pieces_emit);
     return o;
 }
 
@@ -286,7 +293,9 @@ PYBIND11_MODULE(radiosity_native, m) {
             const size_t nc = o.corner_count();
             s.solver->set_corner_materials(object, optional_rgb(rho, "corner_reflectance", nc),
                                            optional_rgb(e, "corner_emission", nc));
-            s.solver->set_reflectance_pieces(object, reflectance_pieces(pieces, o.name));
+            bool emit = false;
+            std::vector<TexturePiece> p = texture_pieces(pieces, o.name, &emit);
+            s.solver->set_texture_pieces(object, std::move(p), emit);
         }, py::arg("object_id"), py::arg("reflectance") = py::none(), py::arg("emission") = py::none(),
            py::arg("pieces") = py::none())
         .def("set_light", [](PySolver& s, int index, const LightDesc& l) {

@@ -121,12 +121,13 @@ void Solver::set_corner_materials(int object, std::vector<Rgb> reflectance, std:
     o.corner_emission = std::move(emission);
 }
 void Solver::set_reflectance(int object, const std::vector<Rgb>& v) { set_material(object, v, false); }
-void Solver::set_reflectance_pieces(int object, std::vector<ReflectancePiece> pieces) {
-    check_live(object, "set_reflectance_pieces");  // topology.cpp
+void Solver::set_texture_pieces(int object, std::vector<TexturePiece> pieces, bool emit) {
+    check_live(object, "set_texture_pieces");  // topology.cpp
     ObjectDesc& o = scene_.objects_mut()[object];
     if (pieces.empty() && o.pieces.empty()) return;
     check_pieces(o, pieces);
     o.pieces = std::move(pieces);
+    o.pieces_emit = emit && !o.pieces.empty();
     std::vector<int> ids;
     for (size_t p = 0; p < h_.prims.size(); ++p)
         if (h_.prims[p].object == object) ids.push_back(int(p));
@@ -145,7 +146,7 @@ void Solver::apply_materials() {
                 Node& n = h_.nodes[st.back()];
                 st.pop_back();
                 n.rho = h_.element_rho(n, o.reflectance[p.face]);
-                n.emission = o.emission[p.face];
+                n.emission = h_.element_emission(n, o.emission[p.face]);
                 for (int c : n.children) st.push_back(c);
             }
         }

@@ -191,7 +191,7 @@ void Hierarchy::bind_pieces(const ObjectDesc& o, const std::vector<int>& ids) {
         size_t j = i;
         while (j < ids.size() && prims[size_t(ids[j])].face == face) ++j;
         auto lo = std::lower_bound(o.pieces.begin(), o.pieces.end(), face,
-                                   [](const ReflectancePiece& q, int f) { return q.face < f; });
+                                   [](const TexturePiece& q, int f) { return q.face < f; });
         for (auto it = lo; it != o.pieces.end() && it->face == face; ++it) {
             const Vec3 x = to_internal(it->position);
             // The primitive that holds it (of a fanned n-gon: the piece's triangle), else the
@@ -214,31 +214,52 @@ void Hierarchy::bind_pieces(const ObjectDesc& o, const std::vector<int>& ids) {
             pp.b = (g11 * dot(e2, r) - g12 * dot(e1, r)) / det;
             pp.area = it->area;
             pp.rho = it->rho;
+            pp.emission = it->emission;
+            pp.emits = o.pieces_emit;
             prim_pieces[size_t(best)].push_back(pp);
         }
         i = j;
     }
 }
 
-Rgb Hierarchy::element_rho(const Node& e, const Rgb& uniform) const {
-    if (e.surface < 0) return uniform;
-    const int pi = surfaces[size_t(e.surface)].prim;
-    if (pi < 0 || size_t(pi) >= prim_pieces.size() || prim_pieces[size_t(pi)].empty()) return uniform;
-    const Poly& q = prims[size_t(pi)].poly;
+namespace {
+// The area mean of `value` over a primitive's pieces inside element e (the nearest piece's
+// value when none is inside).
+template <class F>
+Rgb piece_mean(const Node& e, const std::vector<Hierarchy::PrimPiece>& pieces, const Poly& q, const F& value) {
     const Vec3 e1 = q.v[1] - q.v[0], e2 = q.v[size_t(q.n - 1)] - q.v[0];
     Rgb sum;
     double w = 0, near_d = 0;
-    const PrimPiece* nearest = nullptr;
-    for (const PrimPiece& pp : prim_pieces[size_t(pi)]) {
+    const Hierarchy::PrimPiece* nearest = nullptr;
+    for (const Hierarchy::PrimPiece& pp : pieces) {
         const Vec3 x = q.v[0] + e1 * pp.a + e2 * pp.b;
         if (distance_outside(e.poly, e.normal, x) <= 0) {
-            sum += pp.rho * pp.area;
+            sum += value(pp) * pp.area;
             w += pp.area;
         }
         const double d = length(x - e.center);
         if (!nearest || d < near_d) nearest = &pp, near_d = d;
     }
-    return w > 0 ? sum / w : nearest->rho;
+    return w > 0 ? sum / w : value(*nearest);
+}
+}  // namespace
+
+Rgb Hierarchy::element_emission(const Node& e, const Rgb& uniform) const {
+    if (e.surface < 0) return uniform;
+    const int pi = surfaces[size_t(e.surface)].prim;
+    if (pi < 0 || size_t(pi) >= prim_pieces.size() || prim_pieces[size_t(pi)].empty() ||
+        !prim_pieces[size_t(pi)].front().emits)
+        return uniform;
+    return piece_mean(e, prim_pieces[size_t(pi)], prims[size_t(pi)].poly,
+                      [](const PrimPiece& p) { return p.emission; });
+}
+
+Rgb Hierarchy::element_rho(const Node& e, const Rgb& uniform) const {
+    if (e.surface < 0) return uniform;
+    const int pi = surfaces[size_t(e.surface)].prim;
+    if (pi < 0 || size_t(pi) >= prim_pieces.size() || prim_pieces[size_t(pi)].empty()) return uniform;
+    return piece_mean(e, prim_pieces[size_t(pi)], prims[size_t(pi)].poly,
+                      [](const PrimPiece& p) { return p.rho; });
 }
 
 Rgb Hierarchy::rho_at(int id, const Vec3& x) const {
@@ -447,7 +468,7 @@ void Hierarchy::set_surface_material(const SceneDesc& scene, int s) {
     Node& e = nodes[surfaces[s].root];
     const Primitive& p = prims[surfaces[s].prim];
     e.rho = element_rho(e, scene.objects()[p.object].reflectance[p.face]);
-    e.emission = scene.objects()[p.object].emission[p.face];
+    e.emission = element_emission(e, scene.objects()[p.object].emission[p.face]);
     e.L = e.emission;
     e.Lmin = e.Lmax = e.L;
 }
@@ -478,9 +499,12 @@ void Hierarchy::subdivide(int id) {
             e.radius = std::max(e.radius, length(e.poly.v[i] - e.center));
         }
         e.rho = element_rho(e, p.rho);
-        e.emission = p.emission;
+        e.emission = element_emission(e, p.emission);
         e.L = p.L;
-        e.Lmin = e.Lmax = p.L;
+        // A textured emitter's child emits its own part: its radiance swaps the emission.
+        if (!(e.emission.r == p.emission.r && e.emission.g == p.emission.g && e.emission.b == p.emission.b))
+            e.L = cmax(p.L - p.emission, Rgb{}) + e.emission;
+        e.Lmin = e.Lmax = e.L;
         e.closure = p.closure;
         e.closure_own = p.closure_own;
         e.closure_fill = p.closure_fill;

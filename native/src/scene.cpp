@@ -34,9 +34,9 @@ void check_corner_materials(const ObjectDesc& o, const std::vector<Rgb>& rho, co
                 fail(o, "corner " + std::to_string(c) + " has a negative, non-finite or too large emission");
 }
 
-void check_pieces(const ObjectDesc& o, std::vector<ReflectancePiece>& pieces) {
+void check_pieces(const ObjectDesc& o, std::vector<TexturePiece>& pieces) {
     for (size_t i = 0; i < pieces.size(); ++i) {
-        const ReflectancePiece& q = pieces[i];
+        const TexturePiece& q = pieces[i];
         const std::string what = "object '" + o.name + "': reflectance piece " + std::to_string(i);
         if (q.face < 0 || size_t(q.face) >= o.polygon_count()) throw InputError(what + " names a missing polygon");
         if (!finite(q.position)) throw InputError(what + " has a non-finite position");
@@ -45,9 +45,13 @@ void check_pieces(const ObjectDesc& o, std::vector<ReflectancePiece>& pieces) {
         for (int k = 0; k < 3; ++k)
             if (q.rho[k] < 0 || q.rho[k] >= 1)
                 throw InputError(what + " has reflectance outside [0,1) (energy would not converge)");
+        if (!finite(q.emission)) throw InputError(what + " has a non-finite emission");
+        for (int k = 0; k < 3; ++k)
+            if (q.emission[k] < 0 || q.emission[k] > kMaxEmission)
+                throw InputError(what + " has emission outside [0, 1e30]");
     }
     std::stable_sort(pieces.begin(), pieces.end(),
-                     [](const ReflectancePiece& a, const ReflectancePiece& b) { return a.face < b.face; });
+                     [](const TexturePiece& a, const TexturePiece& b) { return a.face < b.face; });
 }
 
 int SceneDesc::add_object(ObjectDesc o) {

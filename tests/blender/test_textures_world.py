@@ -155,6 +155,13 @@ def test_single_quad_takes_the_texture_mean(run_blender):
     assert sorted(tuple(round(x, 3) for x in c) for c in r["lamp_corners"]) == \
         [(0.0, 0.0, 5.0), (0.0, 0.0, 5.0), (5.0, 0.0, 0.0), (5.0, 0.0, 0.0)]
     assert r["plane_emission"] is None or max(map(max, r["plane_emission"])) == 0.0
+    # The transport's texture inside the polygons (textures.py's pieces): the plane's pieces
+    # hold both squares' reflectance, the lamp's both squares' emission (its elements emit
+    # their own part); at most 8 x 8 pieces per polygon.
+    assert 4 <= min(r["piece_counts"]) and max(r["piece_counts"]) <= 64, r["piece_counts"]
+    assert r["plane_piece_greens"] == [0.06, 0.8], r["plane_piece_greens"]
+    assert r["plane_piece_emission"] in (None, 0.0), r["plane_piece_emission"]
+    assert r["lamp_piece_emission"] == [[0.0, 0.0, 5.0], [5.0, 0.0, 0.0]], r["lamp_piece_emission"]
 
 
 def test_bake_button_undo_redo_in_the_ui(run_ui_window):

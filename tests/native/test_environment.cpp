@@ -191,7 +191,7 @@ TEST(Environment, CornerMaterialsShadeEachCorner) {
     EXPECT_THROW(s2.add_object(bad), InputError);
 }
 
-TEST(Environment, ReflectancePiecesGiveElementsAndPointsTheirOwnValue) {
+TEST(Environment, TexturePiecesGiveElementsAndPointsTheirOwnValue) {
     // One 4 x 4 m quad whose texture is dark on its left half and bright on its right, given as
     // 2 x 2 pieces (textures.py's cut copy): the quad's elements take the mean of the pieces
     // inside them, a point the nearest piece's value; the polygon's own value is their mean.
@@ -229,7 +229,7 @@ TEST(Environment, ReflectancePiecesGiveElementsAndPointsTheirOwnValue) {
     // Through the solver, lit by a point lamp 1 m over the middle (the floor is refined under
     // it, so the corners' leaves lie in one half each): a left corner reflects a quarter of
     // what the mirror-image right corner does (the output reads its leaf's rho); new pieces
-    // (set_reflectance_pieces) swap that at the next update.
+    // (set_texture_pieces) swap that at the next update.
     LightDesc lamp;
     lamp.name = "lamp";
     lamp.type = LightDesc::Type::Point;
@@ -247,11 +247,44 @@ TEST(Environment, ReflectancePiecesGiveElementsAndPointsTheirOwnValue) {
     };
     const auto [left, right] = halves();
     EXPECT_NEAR(left / right, 0.25, 1e-3) << left << " " << right;
-    std::vector<ReflectancePiece> swapped = s.objects()[0].pieces;
-    for (ReflectancePiece& q : swapped) q.rho = q.position.x < 0 ? bright : dark;
-    solver.set_reflectance_pieces(0, swapped);
+    std::vector<TexturePiece> swapped = s.objects()[0].pieces;
+    for (TexturePiece& q : swapped) q.rho = q.position.x < 0 ? bright : dark;
+    solver.set_texture_pieces(0, swapped);
     solver.update();
     const auto [left2, right2] = halves();
     EXPECT_NEAR(left2 / right2, 4.0, 4e-3) << left2 << " " << right2;
-    EXPECT_THROW(solver.set_reflectance_pieces(0, {{3, Vec3{}, 1.0, dark}}), InputError);
+    EXPECT_THROW(solver.set_texture_pieces(0, {{3, Vec3{}, 1.0, dark}}), InputError);
+}
+
+TEST(Environment, TexturePiecesGiveElementsTheirOwnEmission) {
+    // A quad emitting on its right half only (a textured emission's pieces): the polygon emits
+    // their mean, each child its half's, and its radiance swaps the emission with it.
+    SceneDesc s = floor_scene(1);
+    ObjectDesc& o = s.objects_mut()[0];
+    o.emission[0] = Rgb::all(2.5);
+    for (double y : {-1.0, 1.0})
+        for (double x : {-1.0, 1.0}) o.pieces.push_back({0, Vec3{x, y, 0}, 4.0, Rgb::all(0.5), Rgb::all(x < 0 ? 0.0 : 5.0)});
+    o.pieces_emit = true;
+    SceneDesc ok;
+    ok.add_object(s.objects()[0]);
+    Hierarchy h;
+    h.build(ok, true);
+    const int root = h.surfaces[0].root;
+    EXPECT_NEAR(h.nodes[size_t(root)].emission.r, 2.5, 1e-12);
+    h.subdivide(root);
+    for (int c : std::vector<int>(h.nodes[size_t(root)].children)) {
+        const Node& e = h.nodes[size_t(c)];
+        const double want = e.center.x < h.to_internal(Vec3{0, 0, 0}).x ? 0.0 : 5.0;
+        EXPECT_NEAR(e.emission.r, want, 1e-12);
+        EXPECT_NEAR(e.L.r, want, 1e-12);
+    }
+    // Without the flag the pieces' emission is not read.
+    ok.objects_mut()[0].pieces_emit = false;
+    Hierarchy h2;
+    h2.build(ok, true);
+    h2.subdivide(h2.surfaces[0].root);
+    for (int c : std::vector<int>(h2.nodes[size_t(h2.surfaces[0].root)].children))
+        EXPECT_NEAR(h2.nodes[size_t(c)].emission.r, 2.5, 1e-12);
+    o.pieces[2].emission = Rgb{-1, 0, 0};
+    EXPECT_THROW(SceneDesc().add_object(o), InputError);
 }

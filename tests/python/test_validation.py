@@ -255,7 +255,7 @@ def _pieces(n=4, face=None, pos=None, area=None, rho=None):
             np.full((n, 3), 0.5) if rho is None else rho)
 
 
-def test_reflectance_pieces_are_accepted_and_checked(rn):
+def test_texture_pieces_are_accepted_and_checked(rn):
     s = rn.Scene()
     m = plate_mesh()
     args = (m.vertices, m.loop_starts, m.loop_totals, m.corner_verts, np.full((4, 3), 0.5, np.float32),

@@ -240,7 +240,7 @@ class SolveJob:
                 hit.solver.set_reflectance(oid, r)
             for oid, o in corner_changes:
                 rho, emission = scene_data.corner_materials(o)
-                pieces = scene_data.native_pieces(o)
+                pieces = scene_data.native_texture_pieces(o)
                 if pieces is None:
                     hit.solver.set_corner_materials(oid, rho, emission)
                 else:

@@ -63,11 +63,12 @@ class ObjectInput:
     # the output uses them; `reflectance`/`emission` then hold each polygon's area mean.
     corner_reflectance: object = None
     corner_emission: object = None
-    # ... and, for the transport, the texture's reflectance inside textured polygons: a tuple
-    # (face int32 (P,), world position float64 (P,3), area float64 (P,), reflectance float32
-    # (P,3)) of the pieces of a cut copy (textures.py), or None. Elements take the area mean
-    # of the pieces inside them, so a checker's squares inside one quad are not one mix.
-    reflectance_pieces: object = None
+    # ... and, for the transport, the texture inside textured polygons: a tuple (face int32
+    # (P,), world position float64 (P,3), area float64 (P,), reflectance float32 (P,3),
+    # emission float32 (P,3) or None) of the pieces of a cut copy (textures.py), or None.
+    # Elements take the area mean of the pieces inside them, so a checker's squares inside one
+    # quad are not one mix.
+    texture_pieces: object = None
 
     @property
     def corner_count(self):
@@ -182,15 +183,17 @@ def validate_object(obj):
             raise InputError(f"object '{name}': {label} has shape {np.shape(arr)}")
         if not np.isfinite(arr).all():
             raise InputError(f"object '{name}': a non-finite {label}")
-    if obj.reflectance_pieces is not None:
-        face, pos, area, rho = obj.reflectance_pieces
+    if obj.texture_pieces is not None:
+        face, pos, area, rho, emission = obj.texture_pieces
         n = len(face)
-        if np.shape(pos) != (n, 3) or np.shape(area) != (n,) or np.shape(rho) != (n, 3):
-            raise InputError(f"object '{name}': reflectance pieces of mismatched shapes")
+        if np.shape(pos) != (n, 3) or np.shape(area) != (n,) or np.shape(rho) != (n, 3) \
+                or (emission is not None and np.shape(emission) != (n, 3)):
+            raise InputError(f"object '{name}': texture pieces of mismatched shapes")
         if n and (np.min(face) < 0 or np.max(face) >= obj.polygon_count):
             raise InputError(f"object '{name}': a reflectance piece names a missing polygon")
-        if not (np.isfinite(pos).all() and np.isfinite(area).all() and np.isfinite(rho).all()):
-            raise InputError(f"object '{name}': a non-finite reflectance piece")
+        if not (np.isfinite(pos).all() and np.isfinite(area).all() and np.isfinite(rho).all()
+                and (emission is None or np.isfinite(emission).all())):
+            raise InputError(f"object '{name}': a non-finite texture piece")
 
 
 def validate_light(li):
@@ -347,8 +350,8 @@ def add_native_object(target, obj, cluster_id):
         extra["corner_reflectance"] = corners[0]
     if corners[1] is not None:
         extra["corner_emission"] = corners[1]
-    if obj.reflectance_pieces is not None:
-        extra["pieces"] = native_pieces(obj)
+    if obj.texture_pieces is not None:
+        extra["pieces"] = native_texture_pieces(obj)
     return target.add_object(
         obj.name, cluster_id,
         np.ascontiguousarray(obj.vertices, dtype=np.float64),
@@ -361,14 +364,17 @@ def add_native_object(target, obj, cluster_id):
     )
 
 
-def native_pieces(obj):
-    """obj.reflectance_pieces as the native module takes them (contiguous, clamped), or None."""
-    if obj.reflectance_pieces is None:
+def native_texture_pieces(obj):
+    """obj.texture_pieces as the native module takes them (contiguous, clamped), or None."""
+    if obj.texture_pieces is None:
         return None
-    face, pos, area, rho = obj.reflectance_pieces
-    return (np.ascontiguousarray(face, dtype=np.int32), np.ascontiguousarray(pos, dtype=np.float64),
-            np.ascontiguousarray(np.maximum(area, 0.0), dtype=np.float64),
-            np.ascontiguousarray(clamp_reflectance(rho), dtype=np.float64))
+    face, pos, area, rho, emission = obj.texture_pieces
+    out = (np.ascontiguousarray(face, dtype=np.int32), np.ascontiguousarray(pos, dtype=np.float64),
+           np.ascontiguousarray(np.maximum(area, 0.0), dtype=np.float64),
+           np.ascontiguousarray(clamp_reflectance(rho), dtype=np.float64))
+    if emission is not None:
+        out += (np.ascontiguousarray(clamp_emission(emission), dtype=np.float64),)
+    return out
 
 
 def corner_materials(obj):

@@ -171,12 +171,15 @@ public:
     // them: position = v0 + a (v1 - v0) + b (v[n-1] - v0) of its polygon, so they move with it.
     struct PrimPiece {
         double a = 0, b = 0, area = 0;
-        Rgb rho;
+        Rgb rho, emission;
+        bool emits = false;  // its emission stands (ObjectDesc::pieces_emit)
     };
     std::vector<std::vector<PrimPiece>> prim_pieces;  // per primitive (empty: uniform)
     // An element's reflectance: the area mean of its primitive's pieces inside it (the
     // nearest piece when none is), or `uniform` for a primitive without pieces.
     Rgb element_rho(const Node& e, const Rgb& uniform) const;
+    // ... and its emission, likewise from pieces that carry one.
+    Rgb element_emission(const Node& e, const Rgb& uniform) const;
     // The reflectance at point x of element `id` (its primitive's nearest piece), or its rho.
     Rgb rho_at(int id, const Vec3& x) const;
     // (Re)binds object `o`'s pieces to its primitives `ids` (after make_prims or new pieces).

@@ -25,15 +25,16 @@ struct ClusterDesc {
     int parent = -1;  // -1: the root
 };
 
-// A textured reflectance's sample inside a polygon (addon/radiosity/textures.py: a piece of a
-// cut copy of the mesh): what the material evaluates to around `position` (world space, as
-// the vertices), over `area`. Elements take the area mean of the pieces inside them, points
-// (the output's near field) the nearest piece's value: a checker's squares inside one quad.
-struct ReflectancePiece {
+// A texture's sample inside a polygon (addon/radiosity/textures.py: a piece of a cut copy of
+// the mesh): what the material evaluates to around `position` (world space, as the vertices),
+// over `area`. Elements take the area mean of the pieces inside them, points (the output's
+// near field) the nearest piece's reflectance: a checker's squares inside one quad.
+struct TexturePiece {
     int32_t face = -1;
     Vec3 position;
     double area = 0;
     Rgb rho;
+    Rgb emission;  // read only when ObjectDesc::pieces_emit
 };
 
 struct ObjectDesc {
@@ -49,7 +50,8 @@ struct ObjectDesc {
     std::vector<Rgb> corner_reflectance, corner_emission;
     // Optional (empty: each polygon uniform, its `reflectance`), sorted by face by
     // SceneDesc::add_object; a polygon without pieces keeps its value.
-    std::vector<ReflectancePiece> pieces;
+    std::vector<TexturePiece> pieces;
+    bool pieces_emit = false;  // the pieces carry the texture's emission too (its polygons emit)
     std::vector<uint8_t> two_sided;             // per polygon
     // false: casts no shadow (rays pass through it), like a Blender area light in Cycles.
     bool occluder = true;
@@ -60,8 +62,8 @@ struct ObjectDesc {
 // Throws InputError unless each array is empty or holds one valid value per corner of `o`.
 void check_corner_materials(const ObjectDesc& o, const std::vector<Rgb>& reflectance, const std::vector<Rgb>& emission);
 // Throws InputError unless every piece names a polygon of `o` and has a finite position, a
-// finite area >= 0 and a reflectance in [0, 1); sorts them by face.
-void check_pieces(const ObjectDesc& o, std::vector<ReflectancePiece>& pieces);
+// finite area >= 0, a reflectance in [0, 1) and an emission in [0, 1e30]; sorts them by face.
+void check_pieces(const ObjectDesc& o, std::vector<TexturePiece>& pieces);
 
 class SceneDesc {
 public:

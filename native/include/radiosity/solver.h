@@ -59,9 +59,9 @@ public:
     // Per corner (ObjectDesc::corner_reflectance / corner_emission; empty: the polygon's). Only
     // the output reads them: no update() is needed, the next corner_radiance uses them.
     void set_corner_materials(int object, std::vector<Rgb> reflectance, std::vector<Rgb> emission);
-    // A texture's reflectance pieces inside the polygons (ObjectDesc::pieces; empty: uniform
-    // polygons). The elements take them at the next update().
-    void set_reflectance_pieces(int object, std::vector<ReflectancePiece> pieces);
+    // A texture's pieces inside the polygons (ObjectDesc::pieces, with their emission when
+    // `emit`; empty: uniform polygons). The elements take them at the next update().
+    void set_texture_pieces(int object, std::vector<TexturePiece> pieces, bool emit = false);
     // Objects added and removed (topology.cpp), applied by the next update() like moves: an
     // addition is linked into the kept solution, a removal's links and nodes go; env-env links
     // whose rays pass through the object's box are re-evaluated. Ids stay stable: a new object

@@ -35,4 +35,9 @@ lo = si.objects[1]
 rt.result(ok=True, polygon=o.reflectance[0].tolist(), corners=o.corner_reflectance.tolist(),
           lamp_polygon=lo.emission[0].tolist(), lamp_corners=lo.corner_emission.tolist(),
           plane_emission=None if o.corner_emission is None else o.corner_emission.tolist(),
+          # The pieces inside the polygons (the transport's texture; scene_data.texture_pieces).
+          plane_piece_greens=sorted({round(float(g), 2) for g in o.texture_pieces[3][:, 1]}),
+          plane_piece_emission=None if o.texture_pieces[4] is None else float(np.max(o.texture_pieces[4])),
+          lamp_piece_emission=sorted({tuple(round(float(x), 2) for x in e) for e in lo.texture_pieces[4]}),
+          piece_counts=[len(o.texture_pieces[0]), len(lo.texture_pieces[0])],
           warnings=warnings, stats=si.evaluation_stats)

@@ -279,33 +279,28 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
             PointTransfer t = point_transfer(h, rs, l.src, x, n, pt.leaf, rays, lseed, pt.samples);
             counts.rays += rs.cast;
             rec.outcome = rs.out;
-            // A shadow edge crosses what this point sees of a sender that matters: four times
-            // the rays (a corner at the rim of a lamp's footprint needs more than one mid-wall).
-            if (t.partial && rays < c.rays && total > 0 && u.weight > total / (4.0 * double(use.size()))) {
+            // The transfer again with more rays (and another seed), in place of the last.
+            auto retrace_with = [&](int more, uint64_t seed_step) {
                 pt.samples.resize(rec.begin);
-                rays = refined_rays;
-                PointRayStream rs2(s.vis);
-                t = point_transfer(h, rs2, l.src, x, n, pt.leaf, rays, lseed + 1, pt.samples);
-                counts.rays += rs2.cast;
-                rec.outcome = rs2.out;
+                rays = more;
+                PointRayStream again(s.vis);
+                t = point_transfer(h, again, l.src, x, n, pt.leaf, rays, lseed + seed_step, pt.samples);
+                counts.rays += again.cast;
+                rec.outcome = again.out;
                 rec.refined = true;
                 ++counts.refined;
-            }
+            };
+            // A shadow edge crosses what this point sees of a sender that matters: four times
+            // the rays (a corner at the rim of a lamp's footprint needs more than one mid-wall).
+            if (t.partial && rays < c.rays && total > 0 && u.weight > total / (4.0 * double(use.size())))
+                retrace_with(refined_rays, 1);
             // Deep in a penumbra of the sender that brings most of the point's light (under a
             // tenth of it seen), the estimate rests on the few rays that get through: 1 /
             // sqrt(rays seen), 13 % for a floor corner in a floating crate's shadow that sees
             // 6 % of the lamp with 1024 rays. Eight times the budget there.
             if (t.partial && total > 0 && u.weight > 0.5 * total && t.F < 0.1 * t.F_unoccluded &&
-                rays < kDeepRays * c.rays) {
-                pt.samples.resize(rec.begin);
-                rays = std::min(kDeepRays * c.rays, 65535);
-                PointRayStream rs3(s.vis);
-                t = point_transfer(h, rs3, l.src, x, n, pt.leaf, rays, lseed + 2, pt.samples);
-                counts.rays += rs3.cast;
-                rec.outcome = rs3.out;
-                rec.refined = true;
-                ++counts.refined;
-            }
+                rays < kDeepRays * c.rays)
+                retrace_with(std::min(kDeepRays * c.rays, 65535), 2);
             rec.F = float(t.F);
             rec.rays = uint16_t(std::min(rays, 65535));
         }

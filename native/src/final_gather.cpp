@@ -414,11 +414,8 @@ void FinalGather::NearPlane::read(const Hierarchy& h, const Node& k, double w) {
 
 void FinalGather::NearPlane::couple(const Hierarchy& h, const Vec3& sp, const Vec3& sn) {
     const double d = dot(sp, n) - offset;
-    F = 0;
-    WL = Rgb{};
-    if (!(d > 0)) return;
-    F_all = 0;
-    WL_all = Rgb{};
+    F = F_all = 0;
+    WL = WL_all = Rgb{};
     if (!(d > 0)) return;
     const double R = kNearReach * d;
     Aabb all;

@@ -103,8 +103,11 @@ def colours(me, name):
     return out.reshape(-1, 4)[:, :3].astype(np.float64)
 
 
-def _face_means(me, corner_values, polygons):
-    """Area mean per original polygon over the pieces of a cut copy."""
+def _pieces(me):
+    """The pieces of a cut copy: per piece its original polygon, its centroid and area in
+    object space (kept with the evaluation, which a move does not redo: _apply places them;
+    areas only weigh pieces of one polygon against each other, which an affine map keeps),
+    and a function giving the mean of a corner layer's values over each piece."""
     n = len(me.polygons)
     starts = np.empty(n, np.int32)
     totals = np.empty(n, np.int32)
@@ -114,7 +117,19 @@ def _face_means(me, corner_values, polygons):
     me.polygons.foreach_get("loop_total", totals)
     me.polygons.foreach_get("area", areas)
     me.attributes[ORIG].data.foreach_get("value", orig)
-    piece = np.add.reduceat(corner_values, starts, axis=0) / totals[:, None]
+    co = np.empty(len(me.vertices) * 3, np.float64)
+    me.vertices.foreach_get("co", co)
+    lv = np.empty(len(me.loops), np.int32)
+    me.loops.foreach_get("vertex_index", lv)
+
+    def mean(corner_values):
+        return np.add.reduceat(corner_values, starts, axis=0) / totals[:, None]
+
+    return orig, mean(co.reshape(-1, 3)[lv]), areas, mean
+
+
+def _face_means(orig, areas, piece, polygons):
+    """Area mean per original polygon of the pieces' values `piece`."""
     total = np.zeros((polygons, 3))
     weight = np.zeros(polygons)
     np.add.at(total, orig, piece * areas[:, None])
@@ -127,37 +142,6 @@ def _face_means(me, corner_values, polygons):
     out = np.where(weight[:, None] > 0, total / np.maximum(weight, 1e-300)[:, None],
                    plain / np.maximum(count, 1.0)[:, None])
     return out
-
-
-def _pieces(me, corner_values, emit_values=None):
-    """The pieces of a cut copy for the transport (scene_data.ObjectInput.texture_pieces):
-    per piece its original polygon, its centroid and area in object space (kept with the
-    evaluation, which a move does not redo: _apply places them), and the mean of its corners'
-    values (reflectance, and emission when the material emits, else None). Areas only weigh pieces of one polygon against each other, which an affine map
-    keeps."""
-    n = len(me.polygons)
-    starts = np.empty(n, np.int32)
-    totals = np.empty(n, np.int32)
-    orig = np.empty(n, np.int32)
-    me.polygons.foreach_get("loop_start", starts)
-    me.polygons.foreach_get("loop_total", totals)
-    me.attributes[ORIG].data.foreach_get("value", orig)
-    co = np.empty(len(me.vertices) * 3, np.float64)
-    me.vertices.foreach_get("co", co)
-    lv = np.empty(len(me.loops), np.int32)
-    me.loops.foreach_get("vertex_index", lv)
-    p = co.reshape(-1, 3)[lv]
-    centroid = np.add.reduceat(p, starts, axis=0) / totals[:, None]
-    # Area by the fan from each piece's first corner (pieces are triangles and quads).
-    first = np.repeat(starts, totals)
-    nxt = np.arange(len(lv)) + 1
-    last = np.repeat(starts + totals - 1, totals)
-    nxt = np.where(np.arange(len(lv)) == last, first, nxt)
-    tri = np.cross(p - p[first], p[nxt] - p[first])
-    area = 0.5 * np.linalg.norm(np.add.reduceat(tri, starts, axis=0), axis=1)
-    value = np.add.reduceat(corner_values, starts, axis=0) / totals[:, None]
-    emit = None if emit_values is None else np.add.reduceat(emit_values, starts, axis=0) / totals[:, None]
-    return orig, centroid, area, value, emit
 
 
 class Request:
@@ -312,18 +296,20 @@ def evaluate(si, requests, depsgraph, materials, warnings):
                 o = si.objects[r.index]
                 a = plain[n]
                 values = {}
+                per_piece = {}
+                if cut:
+                    orig, centroid, areas, piece_mean = _pieces(cut[n].data)
                 for kind in kinds:
                     corners = colours(a.data, ATTR + kind)
                     if cut:
-                        means = _face_means(cut[n].data, colours(cut[n].data, ATTR + kind),
-                                            o.polygon_count)
+                        per_piece[kind] = piece_mean(colours(cut[n].data, ATTR + kind))
+                        means = _face_means(orig, areas, per_piece[kind], o.polygon_count)
                     else:
                         means = np.add.reduceat(corners, o.loop_starts, axis=0) \
                             / o.loop_totals[:, None]
                     values[kind] = (corners, means)
                 if cut:
-                    values["pieces"] = _pieces(cut[n].data, colours(cut[n].data, ATTR + "DIFFUSE"),
-                                               colours(cut[n].data, ATTR + "EMIT") if emit else None)
+                    values["pieces"] = (orig, centroid, areas, per_piece["DIFFUSE"], per_piece.get("EMIT"))
                 mi = _material_index(a.data)
                 eval_cache.put(key, (mi, values))
                 _apply(o, r.slots, mi, values)

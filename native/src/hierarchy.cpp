@@ -223,59 +223,61 @@ void Hierarchy::bind_pieces(const ObjectDesc& o, const std::vector<int>& ids) {
 }
 
 namespace {
+// Where a piece lies: in its primitive's own frame, placed by the primitive's polygon q.
+Vec3 piece_position(const Poly& q, const Hierarchy::PrimPiece& pp) {
+    return q.v[0] + (q.v[1] - q.v[0]) * pp.a + (q.v[size_t(q.n - 1)] - q.v[0]) * pp.b;
+}
+
+const Hierarchy::PrimPiece& nearest_piece(const std::vector<Hierarchy::PrimPiece>& pieces, const Poly& q, const Vec3& x) {
+    const Hierarchy::PrimPiece* nearest = &pieces.front();
+    double near_d = length(piece_position(q, *nearest) - x);
+    for (const Hierarchy::PrimPiece& pp : pieces) {
+        const double d = length(piece_position(q, pp) - x);
+        if (d < near_d) nearest = &pp, near_d = d;
+    }
+    return *nearest;
+}
+
 // The area mean of `value` over a primitive's pieces inside element e (the nearest piece's
 // value when none is inside).
 template <class F>
 Rgb piece_mean(const Node& e, const std::vector<Hierarchy::PrimPiece>& pieces, const Poly& q, const F& value) {
-    const Vec3 e1 = q.v[1] - q.v[0], e2 = q.v[size_t(q.n - 1)] - q.v[0];
     Rgb sum;
-    double w = 0, near_d = 0;
-    const Hierarchy::PrimPiece* nearest = nullptr;
-    for (const Hierarchy::PrimPiece& pp : pieces) {
-        const Vec3 x = q.v[0] + e1 * pp.a + e2 * pp.b;
-        if (distance_outside(e.poly, e.normal, x) <= 0) {
+    double w = 0;
+    for (const Hierarchy::PrimPiece& pp : pieces)
+        if (distance_outside(e.poly, e.normal, piece_position(q, pp)) <= 0) {
             sum += value(pp) * pp.area;
             w += pp.area;
         }
-        const double d = length(x - e.center);
-        if (!nearest || d < near_d) nearest = &pp, near_d = d;
-    }
-    return w > 0 ? sum / w : value(*nearest);
+    return w > 0 ? sum / w : value(nearest_piece(pieces, q, e.center));
 }
 }  // namespace
 
-Rgb Hierarchy::element_emission(const Node& e, const Rgb& uniform) const {
-    if (e.surface < 0) return uniform;
+int Hierarchy::pieces_prim(const Node& e) const {
+    if (e.surface < 0) return -1;
     const int pi = surfaces[size_t(e.surface)].prim;
-    if (pi < 0 || size_t(pi) >= prim_pieces.size() || prim_pieces[size_t(pi)].empty() ||
-        !prim_pieces[size_t(pi)].front().emits)
-        return uniform;
+    return pi >= 0 && size_t(pi) < prim_pieces.size() && !prim_pieces[size_t(pi)].empty() ? pi : -1;
+}
+
+Rgb Hierarchy::element_emission(const Node& e, const Rgb& uniform) const {
+    const int pi = pieces_prim(e);
+    if (pi < 0 || !prim_pieces[size_t(pi)].front().emits) return uniform;
     return piece_mean(e, prim_pieces[size_t(pi)], prims[size_t(pi)].poly,
                       [](const PrimPiece& p) { return p.emission; });
 }
 
 Rgb Hierarchy::element_rho(const Node& e, const Rgb& uniform) const {
-    if (e.surface < 0) return uniform;
-    const int pi = surfaces[size_t(e.surface)].prim;
-    if (pi < 0 || size_t(pi) >= prim_pieces.size() || prim_pieces[size_t(pi)].empty()) return uniform;
+    const int pi = pieces_prim(e);
+    if (pi < 0) return uniform;
     return piece_mean(e, prim_pieces[size_t(pi)], prims[size_t(pi)].poly,
                       [](const PrimPiece& p) { return p.rho; });
 }
 
 Rgb Hierarchy::rho_at(int id, const Vec3& x) const {
     const Node& e = nodes[size_t(id)];
-    if (e.surface < 0) return e.rho;
-    const int pi = surfaces[size_t(e.surface)].prim;
-    if (pi < 0 || size_t(pi) >= prim_pieces.size() || prim_pieces[size_t(pi)].empty()) return e.rho;
-    const Poly& q = prims[size_t(pi)].poly;
-    const Vec3 e1 = q.v[1] - q.v[0], e2 = q.v[size_t(q.n - 1)] - q.v[0];
-    const PrimPiece* nearest = nullptr;
-    double near_d = 0;
-    for (const PrimPiece& pp : prim_pieces[size_t(pi)]) {
-        const double d = length(q.v[0] + e1 * pp.a + e2 * pp.b - x);
-        if (!nearest || d < near_d) nearest = &pp, near_d = d;
-    }
-    return nearest->rho;
+    const int pi = pieces_prim(e);
+    if (pi < 0) return e.rho;
+    return nearest_piece(prim_pieces[size_t(pi)], prims[size_t(pi)].poly, x).rho;
 }
 
 void Hierarchy::add_surfaces_of_prims(const std::vector<int>& ids, int begin, int end, int parent) {

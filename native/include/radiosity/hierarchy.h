@@ -184,6 +184,8 @@ public:
     Rgb rho_at(int id, const Vec3& x) const;
     // (Re)binds object `o`'s pieces to its primitives `ids` (after make_prims or new pieces).
     void bind_pieces(const ObjectDesc& o, const std::vector<int>& ids);
+    // The primitive of element e when it has pieces, else -1.
+    int pieces_prim(const Node& e) const;
     std::vector<Surface> surfaces;
     std::vector<int> surface_order;   // surface ids; each cluster's are contiguous
     // Parallel to surface_order. Refreshed wherever surface roots move, change their pocket

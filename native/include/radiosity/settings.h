@@ -25,8 +25,8 @@ struct Settings {
     double crease_angle_deg = 35.0;
     // Output by a final gather at each corner (final_gather.h): rays per output point, shared
     // among the links that reach it by the light they bring; 0 = the leaf element's average
-    // at the corner (the computational mesh as it is, no gather). The presets give 64 / 256 /
-    // 1024 (DRAFT / MEDIUM / HIGH: bench/results/corner_gather.md); a default-constructed
+    // at the corner (the computational mesh as it is, no gather). The presets give 64 / 512 /
+    // 1024 (DRAFT / MEDIUM / HIGH: bench/results/presets_sweep.md); a default-constructed
     // Settings has it off.
     int gather_rays = 0;
     int gather_min_rays = 8;  // ... and at least this many for every link that reaches the point

@@ -33,7 +33,7 @@ class Settings:
             raise ValueError(f"unknown preset '{name}'")
         s = Settings()
         s.rays_per_link = rays[name]
-        s.error_threshold = {"DRAFT": 0.1, "MEDIUM": 0.05, "HIGH": 0.01}[name]
+        s.error_threshold = {"DRAFT": 0.2, "MEDIUM": 0.07, "HIGH": 0.01}[name]
         return s
 
 

@@ -325,7 +325,7 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
     // 20 d of it, and what a distant move changes there it changes about as much in their
     // leaves' averages, which the samples read afresh; the correction is the difference of
     // the two (L(s*) - the average), so keeping it errs by the difference of the changes.
-    if (unchanged)
+    if (unchanged && old->leaf == pt.leaf)  // (the correction reads the leaf's own values)
         pt.near = old->near;
     else
         near_field(s, c, pt, counts);  // after the closure: it reads the point's full irradiance
@@ -833,14 +833,17 @@ void FinalGather::run(const Solution& s, const Config& c, std::vector<Job>& jobs
             pt.leaf = j.leaf;
             pt.covered = j.covered;
             pt.beyond = j.beyond;
-            // The same corner, unmoved, at the same leaf: re-traced from what it had.
+            // The same corner, unmoved: re-traced from what it had. Also when the update split
+            // or merged its leaf: its links are matched one by one (a link at an ancestor or a
+            // cluster above still reaches it; what the point's rays met does not depend on
+            // which leaf of its surface holds it), and the rest is traced anew.
             const Point* was = nullptr;
             // Found by its corner, not its index: points before it may have been added or
             // dropped (a vertex that comes onto a contact line shares no point any more).
             const auto at = moves ? old_at.find(key_of(j.object, j.prim, j.k)) : old_at.end();
             if (at != old_at.end()) {
                 const Point& o = old[at->second];
-                if (o.object == j.object && o.prim == j.prim && o.k == j.k && o.leaf == j.leaf && o.covered == j.covered &&
+                if (o.object == j.object && o.prim == j.prim && o.k == j.k && o.covered == j.covered &&
                     !moves->moved[size_t(j.object)] && o.x.x == j.x.x && o.x.y == j.x.y && o.x.z == j.x.z)
                     was = &o;
             }

@@ -1,6 +1,8 @@
 """Probe for bench/results/closure_bias.md: the box room with its ceiling lamp lowered by DROP
-(scene units, cm), baked by Cycles (COMBINED, SPP samples, seed 7) and by the add-on at MEDIUM;
-corners, positions and owners to OUT.npz.
+(scene units, cm), or with DROP = "skirt" the 1 cm slit between the lamp and the ceiling closed
+by a black band around the lamp's outline (the walls then cannot see the bright ceiling over the
+lamp); baked by Cycles (COMBINED, SPP samples, seed 7) and by the add-on at MEDIUM; corners,
+positions and owners to OUT.npz.
 
     blender -b --factory-startup example_blends/box_room.blend --python-exit-code 1 \
         --python bench/tradeoff/slit_probe.py -- DROP SPP OUT.npz
@@ -15,11 +17,30 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bt_common as bc  # noqa: E402
 
 a = bc.args()
-drop, spp, out = float(a[0]), int(a[1]), a[2]
+spp, out = int(a[1]), a[2]
 bc.install_addon(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "build", "radiosity.zip"))
 scene = bpy.context.scene
 lamp = bpy.data.objects["CeilingLight"]
-lamp.location.z -= drop
+if a[0] == "skirt":
+    # Four vertical quads from the lamp's outline up to the ceiling, black diffuse.
+    ws = [lamp.matrix_world @ v.co for v in lamp.data.vertices]
+    lo = [min(w[k] for w in ws) for k in range(3)]
+    hi = [max(w[k] for w in ws) for k in range(3)]
+    z0, z1 = lo[2], lo[2] + 1.0
+    c = [(lo[0], lo[1]), (hi[0], lo[1]), (hi[0], hi[1]), (lo[0], hi[1])]
+    verts = [(x, y, z) for (x, y) in c for z in (z0, z1)]
+    faces = [(2 * i, 2 * ((i + 1) % 4), 2 * ((i + 1) % 4) + 1, 2 * i + 1) for i in range(4)]
+    me = bpy.data.meshes.new("Skirt")
+    me.from_pydata(verts, [], faces)
+    mat = bpy.data.materials.new("SkirtBlack")
+    mat.use_nodes = True
+    bsdf = next(n for n in mat.node_tree.nodes if n.type == "BSDF_PRINCIPLED")
+    bsdf.inputs["Base Color"].default_value = (0, 0, 0, 1)
+    me.materials.append(mat)
+    skirt = bpy.data.objects.new("Skirt", me)
+    scene.collection.objects.link(skirt)
+else:
+    lamp.location.z -= float(a[0])
 bpy.context.view_layer.update()
 objs = bc.mesh_objects(scene)
 ref, sec, _ = bc.cycles_bake(scene, objs, spp, 7)

@@ -1,5 +1,6 @@
 """Probe for bench/results/closure_bias.md: the box room with its ceiling lamp lowered by DROP
-(scene units, cm), or with DROP = "skirt" the 1 cm slit between the lamp and the ceiling closed
+(scene units, cm), with DROP = "black:MATERIAL" that Diffuse material black, or with DROP =
+"skirt" the 1 cm slit between the lamp and the ceiling closed
 by a black band around the lamp's outline (the walls then cannot see the bright ceiling over the
 lamp); baked by Cycles (COMBINED, SPP samples, seed 7) and by the add-on at MEDIUM; corners,
 positions and owners to OUT.npz.
@@ -39,6 +40,10 @@ if a[0] == "skirt":
     me.materials.append(mat)
     skirt = bpy.data.objects.new("Skirt", me)
     scene.collection.objects.link(skirt)
+elif a[0].startswith("black:"):
+    # One material made black (Diffuse BSDF colour 0): what the rest gathers from it goes.
+    node = next(n for n in bpy.data.materials[a[0][6:]].node_tree.nodes if n.type == "BSDF_DIFFUSE")
+    node.inputs["Color"].default_value = (0, 0, 0, 1)
 else:
     lamp.location.z -= float(a[0])
 bpy.context.view_layer.update()

@@ -1,5 +1,6 @@
 """Probe for bench/results/closure_bias.md: the box room with its ceiling lamp lowered by DROP
-(scene units, cm), with DROP = "black:MATERIAL" that Diffuse material black, or with DROP =
+(scene units, cm), with DROP = "black:MATERIAL" that Diffuse material black, with DROP =
+"bsdf" Cycles without light sampling of the lamp (a check of the reference), or with DROP =
 "skirt" the 1 cm slit between the lamp and the ceiling closed
 by a black band around the lamp's outline (the walls then cannot see the bright ceiling over the
 lamp); baked by Cycles (COMBINED, SPP samples, seed 7) and by the add-on at MEDIUM; corners,
@@ -40,6 +41,15 @@ if a[0] == "skirt":
     me.materials.append(mat)
     skirt = bpy.data.objects.new("Skirt", me)
     scene.collection.objects.link(skirt)
+elif a[0] == "bsdf":
+    # Cycles without light sampling of the lamp (paths find it by BSDF sampling alone) and
+    # without the light threshold: another estimator of the same scene, to check the reference.
+    mat = bpy.data.materials["CeilingLight"]
+    if hasattr(mat.cycles, "sample_as_light"):
+        mat.cycles.sample_as_light = False
+    else:
+        mat.cycles.emission_sampling = "NONE"
+    scene.cycles.light_sampling_threshold = 0.0
 elif a[0].startswith("black:"):
     # One material made black (Diffuse BSDF colour 0): what the rest gathers from it goes.
     node = next(n for n in bpy.data.materials[a[0][6:]].node_tree.nodes if n.type == "BSDF_DIFFUSE")

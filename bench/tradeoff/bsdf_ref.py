@@ -19,13 +19,8 @@ a = bc.args()
 spp, nparts, out = int(a[0]), int(a[1]), a[2]
 mode = a[3] if len(a) > 3 else "bsdf"
 scene = bpy.context.scene
-for mat in (bpy.data.materials if mode == "bsdf" else []):
-    if hasattr(mat.cycles, "sample_as_light"):
-        mat.cycles.sample_as_light = False
-    elif hasattr(mat.cycles, "emission_sampling"):
-        mat.cycles.emission_sampling = "NONE"
 if mode == "bsdf":
-    scene.cycles.light_sampling_threshold = 0.0
+    bc.bsdf_sampling_only(scene, bpy.data.materials)
 objs = bc.mesh_objects(scene)
 parts, secs = [], []
 for seed in range(1, nparts + 1):

@@ -169,6 +169,18 @@ def cycles_bake(scene, objs, samples, seed):
     return all_corners(objs, ATTR_CYCLES), seconds, settings
 
 
+def bsdf_sampling_only(scene, materials):
+    """Cycles finds these materials' emission by BSDF sampling alone (no light sampling of them)
+    and without the light threshold: another estimator of the same scene. Blender 3.4's light
+    sampling reads a mesh lamp seen at grazing angles too dark (bench/results/reference_bias.md)."""
+    for mat in materials:
+        if hasattr(mat.cycles, "sample_as_light"):      # Blender 3.x
+            mat.cycles.sample_as_light = False
+        elif hasattr(mat.cycles, "emission_sampling"):  # 3.5 and later
+            mat.cycles.emission_sampling = "NONE"
+    scene.cycles.light_sampling_threshold = 0.0
+
+
 def sha256(path):
     import hashlib
     h = hashlib.sha256()

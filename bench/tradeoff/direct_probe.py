@@ -34,12 +34,7 @@ light_sampled, sec1, _ = bc.cycles_bake(scene, objs, spp, 7)
 threshold = scene.cycles.light_sampling_threshold
 scene.cycles.light_sampling_threshold = 0.0
 no_threshold, sec0, _ = bc.cycles_bake(scene, objs, spp, 7)
-lamp = bpy.data.materials["CeilingLight"]
-if hasattr(lamp.cycles, "sample_as_light"):
-    lamp.cycles.sample_as_light = False
-else:
-    lamp.cycles.emission_sampling = "NONE"
-scene.cycles.light_sampling_threshold = 0.0
+bc.bsdf_sampling_only(scene, [bpy.data.materials["CeilingLight"]])
 bsdf_only, sec2, _ = bc.cycles_bake(scene, objs, spp, 7)
 st, s3 = bc.our_bake(scene, "MEDIUM")
 ours = bc.all_corners(objs, scene.radiosity.attribute_name)

@@ -20,10 +20,9 @@ import scenes as bt_scenes  # noqa: E402
 def main():
     scene, parts_path, saved = sys.argv[1], sys.argv[2], sys.argv[3:]
     cached, cached_var, _ = cm.load_reference(bt_scenes.ref(scene))
-    parts = np.load(parts_path)["parts"].astype(np.float64)
-    ref = parts.mean(axis=0)
+    parts = np.load(parts_path)["parts"]
     k = len(parts)
-    var = parts.var(axis=0, ddof=1) / k if k > 1 else None
+    ref, var = cm.combine_parts(parts, np.ones(k))  # equal samples per part
     for path in saved:
         z = np.load(path)
         x, emit = z["corners"].astype(np.float64), z["emitter"]

@@ -44,12 +44,7 @@ if a[0] == "skirt":
 elif a[0] == "bsdf":
     # Cycles without light sampling of the lamp (paths find it by BSDF sampling alone) and
     # without the light threshold: another estimator of the same scene, to check the reference.
-    mat = bpy.data.materials["CeilingLight"]
-    if hasattr(mat.cycles, "sample_as_light"):
-        mat.cycles.sample_as_light = False
-    else:
-        mat.cycles.emission_sampling = "NONE"
-    scene.cycles.light_sampling_threshold = 0.0
+    bc.bsdf_sampling_only(scene, [bpy.data.materials["CeilingLight"]])
 elif a[0].startswith("black:"):
     # One material made black (Diffuse BSDF colour 0): what the rest gathers from it goes.
     node = next(n for n in bpy.data.materials[a[0][6:]].node_tree.nodes if n.type == "BSDF_DIFFUSE")

@@ -27,9 +27,6 @@ Poly square(double x0, double y0, double x1, double y1, double z, bool up) {
               : quad({x0, y0, z}, {x0, y1, z}, {x1, y1, z}, {x1, y0, z});
 }
 
-// A preset as shipped: its final gather on, at the budget measured for it.
-Settings gathered(const char* preset) { return Settings::preset(preset); }
-
 }  // namespace
 
 TEST(FinalGather, UnoccludedCornersMatchThePointToPolygonIrradiance) {
@@ -44,7 +41,7 @@ TEST(FinalGather, UnoccludedCornersMatchThePointToPolygonIrradiance) {
                      1, 1, Rgb{}, Rgb::all(Le), false);
     const Poly lamp = square(1.3, 1.1, 2.9, 2.7, 1.5, false);
     for (const char* preset : {"DRAFT", "MEDIUM"}) {
-        Solver s(sc, gathered(preset));
+        Solver s(sc, Settings::preset(preset));
         s.solve();
         const std::vector<float> c = s.corner_radiance(floor);
         const std::vector<Vec3> pts = corner_points(sc, floor);
@@ -71,7 +68,7 @@ TEST(FinalGather, CeilingAboveATwoSidedLampMatchesTheClosedForm) {
     scenes::add_grid(sc, "lamp", -1, {Vec3{1.1, 0.95, zl}, Vec3{1.9, 0.95, zl}, Vec3{1.9, 2.05, zl}, Vec3{1.1, 2.05, zl}},
                      1, 1, Rgb{}, Rgb::all(Le), true);
     const Poly lamp_up = square(1.1, 0.95, 1.9, 2.05, zl, true);
-    Solver s(sc, gathered("MEDIUM"));
+    Solver s(sc, Settings::preset("MEDIUM"));
     s.solve();
     const std::vector<float> c = s.corner_radiance(ceiling);
     const std::vector<Vec3> pts = corner_points(sc, ceiling);
@@ -94,7 +91,7 @@ TEST(FinalGather, FurnaceStaysExact) {
     // gather's couplings at an enclosed point must close to 1 as the leaves' do.
     for (const char* preset : {"DRAFT", "MEDIUM"}) {
         const double rho = 0.5, e = 1.0, exact = e / (1 - rho);
-        Solver s(scenes::furnace_room_with_box(rho, e, 4), gathered(preset));
+        Solver s(scenes::furnace_room_with_box(rho, e, 4), Settings::preset(preset));
         s.solve();
         double worst = 0;
         for (size_t o = 0; o < s.scene().objects().size(); ++o)
@@ -114,7 +111,7 @@ TEST(FinalGather, CornersUnderABoxOnAGriddedFloorAreUnlit) {
     const int box = scenes::add_box(sc, "box", -1, {1.5, 1.5, 0}, {2.5, 2.5, 1}, 2, Rgb::all(0.5), Rgb{});
     scenes::add_grid(sc, "lamp", -1, {Vec3{1, 1, 3}, Vec3{1, 3, 3}, Vec3{3, 3, 3}, Vec3{3, 1, 3}}, 1, 1, Rgb{},
                      Rgb::all(10), false);
-    Solver s(sc, gathered("MEDIUM"));
+    Solver s(sc, Settings::preset("MEDIUM"));
     s.solve();
     const ObjectDesc& fo = sc.objects()[size_t(floor)];
     const std::vector<float> c = s.corner_radiance(floor);
@@ -166,7 +163,7 @@ TEST(FinalGather, DimmingTheLampScalesEveryCorner) {
                                        6, 6, Rgb::all(0.5), Rgb{}, false);
     const int lamp = scenes::add_grid(sc, "lamp", -1, {Vec3{1, 1, 2}, Vec3{1, 3, 2}, Vec3{3, 3, 2}, Vec3{3, 1, 2}}, 1, 1,
                                       Rgb{}, Rgb::all(10), false);
-    Solver s(sc, gathered("MEDIUM"));
+    Solver s(sc, Settings::preset("MEDIUM"));
     s.solve();
     const std::vector<float> before = s.corner_radiance(floor);
     s.set_emission(lamp, {Rgb::all(3)});
@@ -240,7 +237,7 @@ TEST(FinalGather, FloorInsideABottomlessBlockIsUnlit) {
         scenes::add_grid(sc, "lamp", -1, {Vec3{0.5, 0.5, 3}, Vec3{0.5, 3.5, 3}, Vec3{3.5, 3.5, 3}, Vec3{3.5, 0.5, 3}}, 1, 1,
                          Rgb{}, Rgb::all(10), false);
         for (bool rule : {true, false}) {
-            Settings st = gathered("MEDIUM");
+            Settings st = Settings::preset("MEDIUM");
             st.gather_sealed_solids = rule;
             Solver s(sc, st);
             s.solve();
@@ -277,7 +274,7 @@ TEST(FinalGather, ALampInsideAClosedBoxKeepsTheBoxLitInside) {
     scenes::add_grid(sc, "lamp", -1, {Vec3{1.4, 1.4, 2.999}, Vec3{1.4, 2.6, 2.999}, Vec3{2.6, 2.6, 2.999}, Vec3{2.6, 1.4, 2.999}},
                      1, 1, Rgb{}, Rgb::all(10), false);
     {
-        Solver s(sc, gathered("DRAFT"));
+        Solver s(sc, Settings::preset("DRAFT"));
         s.solve();
         std::printf("[ figure ] lamp outside the box: sealed points %lld\n", (long long)s.stats().gather_sealed);
         // Only the floor under the box is sealed (its corners covered by the box's bottom).
@@ -291,7 +288,7 @@ TEST(FinalGather, ALampInsideAClosedBoxKeepsTheBoxLitInside) {
     l.intensity = Rgb::all(50);
     l.radius = 0.05;
     sc.add_light(l);
-    Solver s(sc, gathered("DRAFT"));
+    Solver s(sc, Settings::preset("DRAFT"));
     s.solve();
     std::printf("[ figure ] a lamp inside the box too: sealed points %lld\n", (long long)s.stats().gather_sealed);
     EXPECT_EQ(s.stats().gather_sealed, 0);
@@ -312,11 +309,11 @@ TEST(FinalGather, MovingABottomlessBlockSealsTheFloorItComesToCover) {
         return sc;
     };
     const SceneDesc before = scene({}), after = scene(to);
-    Solver inc(before, gathered("MEDIUM"));
+    Solver inc(before, Settings::preset("MEDIUM"));
     inc.solve();
     for (int o = 1; o <= 5; ++o) inc.move_object(o, translation(to).data());
     inc.update();
-    Solver full(after, gathered("MEDIUM"));
+    Solver full(after, Settings::preset("MEDIUM"));
     full.solve();
     const Split now = split_floor(after, 0, inc.corner_radiance(0), lo + to, hi + to);
     const Split was = split_floor(after, 0, inc.corner_radiance(0), lo, hi);

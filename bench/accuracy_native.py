@@ -4,7 +4,9 @@ A quick check for solver changes: each scene, exported as the add-on gathers it
 (bench/export_scene.py, in Blender, into a temporary .npz unless a .npz is given), is built with
 the add-on's own core (core.scene_data.build_native_scene: objects, area lights, lights, world)
 and solved through the native module at each preset, then judged against
-bench/tradeoff/refs/SCENE_cycles.npz with bench/corner_metric.py, the one definition of the
+bench/tradeoff/refs/SCENE_cycles5.npz (Blender 5.x; --reference binary: SCENE_cycles.npz, made
+in Blender 3.4, whose Cycles reads mesh lamps at grazing angles too dark) with
+bench/corner_metric.py, the one definition of the
 error: every corner but emitters', covered corners (the reference reads 0: under a box, on a
 contact) included, rRMSE = sqrt(mean(((x-r)/max(r, 0.05 mean r))^2)) the headline, NRMSE, the
 covered corners' share of the squared error, rRMSE over uncovered corners only, and, when the
@@ -13,11 +15,12 @@ removed in quadrature.
 
     python3 bench/accuracy_native.py [--native-dir DIR] [--presets DRAFT,MEDIUM] [--seeds 1,2,3]
                                      [--set rays_per_link=64 ...] [--md OUT.md] [--save DIR]
+                                     [--reference bpy|binary]
                                      [SCENE ...]
 
 SCENE: a scene name (default: all of bench/tradeoff/scenes.py: cornell_box, box_room,
 chair_room, full_room, lights_room) or an exported SCENE.npz (its reference is
-refs/SCENE_cycles.npz). Objects are matched to the reference's by name (the references store
+refs/SCENE_cycles5.npz). Objects are matched to the reference's by name (the references store
 them sorted by name). --native-dir picks another build (e.g. a worktree at the commit before a
 change) to compare two builds on the same scenes. --md writes the table, with the command, the
 commit and the references' samples and noise, to a markdown file.
@@ -97,6 +100,10 @@ def main():
     ap.add_argument("--md", help="also write the table to this markdown file")
     ap.add_argument("--save", metavar="DIR", help="also save each solve's corners (float32, the "
                     "reference's order) as DIR/SCENE_PRESET.npz, to judge them again later")
+    ap.add_argument("--phases", action="store_true",
+                    help="also print each solve's wall time and rays per phase")
+    ap.add_argument("--reference", choices=("bpy", "binary"), default="bpy",
+                    help="judge against the references made in bpy 5.x (default) or Blender 3.4")
     ap.add_argument("scenes", nargs="*")
     a = ap.parse_args()
     sys.path.insert(0, a.native_dir)
@@ -111,7 +118,7 @@ def main():
         else:
             name, path = arg, export(arg, tmp)
         z = np.load(path)
-        ref, ref_var, meta = cm.load_reference(bt_scenes.ref(name))
+        ref, ref_var, meta = cm.load_reference(bt_scenes.ref(name, a.reference))
         si, written = scene_input(z)
         ids = [i for i, o in enumerate(si.objects) if written[i]]
         order = sorted(ids, key=lambda i: si.objects[i].name)
@@ -160,6 +167,10 @@ def main():
                   f"rRMSE uncovered-only {e['rrmse_uncovered']:.4f}, mean ratio {e['mean_ratio']:.4f}; "
                   f"links {stats['links']} elements {stats['elements']} rays {row['rays']} "
                   f"solve {stats['seconds_total']:.2f} s", flush=True)
+            if a.phases:
+                rays = dict(stats.get("phase_rays", {}))
+                print("   phases: " + ", ".join(f"{k} {v:.2f} s ({rays.get(k, 0):,} rays)"
+                                               for k, v in stats.get("phases", {}).items()), flush=True)
     if a.md:
         write_md(a.md, rows, refs, rn)
 
@@ -195,8 +206,9 @@ def write_md(path, rows, refs, rn):
                   f"{100 * r['covered_share']:.1f} % ({100 * r['covered_share_abs']:.1f} %) | "
                   f"{f3(r['rrmse_uncovered'])} | {f3(r['rrmse_covered'])} | {r['mean_ratio']:.3f} | "
                   f"{r['elements']:,} | {r['links']:,} | {r['seconds']:.1f} |")
-    md += ["", "References (`bench/tradeoff/refs/SCENE_cycles.npz`, Cycles COMBINED bakes in "
-           "Blender 3.4, made by `python3 bench/tradeoff/run_refs.py`):", "",
+    md += ["", f"References (`{os.path.basename(bt_scenes.ref('SCENE', a.reference))}`, Cycles "
+           f"COMBINED bakes in Blender {'5.x (bpy)' if a.reference == 'bpy' else '3.4'}, made by "
+           f"`python3 bench/tradeoff/run_refs.py --blender {a.reference}`):", "",
            "| scene | samples | parts (spp × seeds) | Cycles wall s (all parts) | reference noise: "
            "rRMSE | NRMSE | rRMSE uncovered-only |", "|---|---|---|---|---|---|---|"]
     for name, (meta, e) in refs.items():

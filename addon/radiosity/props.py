@@ -6,14 +6,14 @@ from .core import presets
 from .bake import STATS_KEY
 
 # What each preset gives and costs, as measured on the example rooms, the Cornell box and a room
-# with point, spot, area and sun lights against converged Cycles bakes (bench/results/
-# corner_gather_default.md, tradeoff.md; HIGH against Blender 5.0's Cycles, reference_bias.md):
-# per-corner error (rRMSE) and time.
+# with point, spot, area and sun lights against converged Blender 5.x Cycles bakes (bench/results/
+# presets_sweep.md, tradeoff.md): per-corner error (rRMSE) and time.
 _PRESET_ITEMS = [
     ("DRAFT", "Draft", "Quick: about 3-7 % error per corner against a converged Cycles bake, "
-                       "a quarter of Medium's time"),
-    ("MEDIUM", "Medium", "Balanced: about 1.5-3.5 % error per corner, a few seconds on a furnished room"),
-    ("HIGH", "High", "Fine: about 1-2 % error per corner, 5-8 times Medium's time"),
+                       "a fifth of Medium's time"),
+    ("MEDIUM", "Medium", "Balanced: about 1-2 % error per corner, a few seconds on a furnished room"),
+    ("HIGH", "High", "Fine: about 1-1.6 % error per corner, sharper at contacts and on textures, "
+                     "2-3 times Medium's time"),
     ("CUSTOM", "Custom", "Medium with your own error threshold"),
 ]
 

@@ -9,6 +9,9 @@ import numpy as np
 class Settings:
     # Relative error threshold of the refinement oracle (smaller = finer, slower).
     error_threshold: float          # default 0.05
+    # Once a solve knows the light, a link's threshold follows its receiver's radiance, down to
+    # this fraction of the scene-wide one (1 = scene-wide everywhere; presets: 1 / 0.1 / 0.1).
+    threshold_floor: float          # default 1.0
     # Smallest element area as a fraction of the squared scene-bbox diagonal (scale invariant).
     min_area_fraction: float        # default 1e-5
     # Hard caps: refinement stops there and stats()["capped"] says so.

@@ -204,6 +204,14 @@ def _load_parts(path, names, counts, blend_sha):
             f"{blend_sha[:8]}, or its objects/corners): made anew")
         return None
     if "parts" in z.files:
+        # Never mix Blender generations in one reference: 3.4's Cycles reads mesh lamps at
+        # grazing angles too dark, 5.x does not (bench/results/reference_bias.md).
+        ours = bpy.app.version[0]
+        theirs = {str(p.get("blender", "?")).split(".")[0] for p in meta["parts"]}
+        if theirs != {str(ours)}:
+            raise SystemExit(f"reference {path} was made in Blender {sorted(theirs)}.x; this is "
+                             f"{bpy.app.version_string}: use the reference made in this "
+                             f"generation (bench/tradeoff/scenes.py ref()) or make one")
         return [p for p in z["parts"]], meta["parts"], meta
     one = {k: meta[k] for k in ("samples", "seed", "seconds") if k in meta}
     one.update(made=meta.get("made"), blender=meta.get("blender"))

@@ -1,8 +1,13 @@
-"""Launch a bench/tradeoff script in Debian's Blender, headless (used by the run_*.py drivers).
+"""Launch a bench/tradeoff script in Blender, headless (used by the run_*.py drivers).
 
-Like tests/blender/conftest.py: private Blender user dirs (installing the add-on never touches
-the developer's Blender config), and PATH without pyenv (a system-Python Blender would otherwise
-pick pyenv's stdlib and lose the system numpy).
+Two flavours, as in tests/blender/conftest.py:
+  binary - Debian's Blender 3.4 (`blender -b FILE --python S -- ARGS`), PATH without pyenv (a
+           system-Python Blender would otherwise pick pyenv's stdlib and lose the system numpy);
+  bpy    - PyPI's bpy module (Blender 5.x) in $RADIOSITY_BPY_PYTHON (default: python3), through
+           run_in_bpy.py, which opens FILE and runs S with ARGS. Blender 3.4's Cycles reads mesh
+           lamps seen at grazing angles too dark (bench/results/reference_bias.md); 5.x does not,
+           so the references and the competitor are made there.
+Both get private Blender user dirs (installing the add-on never touches the developer's config).
 """
 import json
 import os
@@ -30,19 +35,34 @@ def blender_exe():
     return exe
 
 
-def run(blend, script, args, log_path=None, timeout=None):
-    """Run SCRIPT in Blender on BLEND; returns the dict of its last `RESULT {json}` line."""
+FLAVOURS = ("binary", "bpy")
+
+
+def bpy_python():
+    return os.environ.get("RADIOSITY_BPY_PYTHON", "python3")
+
+
+def run(blend, script, args, log_path=None, timeout=None, flavour="binary"):
+    """Run SCRIPT in Blender (FLAVOUR) on BLEND; returns the dict of its last `RESULT {json}`
+    line."""
     user = tempfile.mkdtemp(prefix="radiosity-bench-user-")
     env = dict(os.environ)
     for var, sub in (("BLENDER_USER_CONFIG", "config"), ("BLENDER_USER_SCRIPTS", "scripts"),
                      ("BLENDER_USER_DATAFILES", "datafiles"),
                      ("BLENDER_USER_EXTENSIONS", "extensions")):
         env[var] = os.path.join(user, sub)
-    env["PATH"] = path_without_pyenv(env.get("PATH", ""))
+    if flavour == "binary":
+        env["PATH"] = path_without_pyenv(env.get("PATH", ""))
     env["PYTHONPATH"] = HERE + os.pathsep + env.get("PYTHONPATH", "")
     env["PYTHONDONTWRITEBYTECODE"] = "1"
-    cmd = [blender_exe(), "-b", "--factory-startup", blend, "--python-exit-code", "1",
-           "--python", os.path.join(HERE, script), "--", *map(str, args)]
+    if flavour == "binary":
+        cmd = [blender_exe(), "-b", "--factory-startup", blend, "--python-exit-code", "1",
+               "--python", os.path.join(HERE, script), "--", *map(str, args)]
+    elif flavour == "bpy":
+        cmd = [bpy_python(), os.path.join(HERE, "run_in_bpy.py"), "--", blend,
+               os.path.join(HERE, script), *map(str, args)]
+    else:
+        raise ValueError(flavour)
     print("$ " + " ".join(cmd), flush=True)
     t = time.perf_counter()
     out_lines = []

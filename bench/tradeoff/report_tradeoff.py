@@ -5,7 +5,10 @@
 
 Speed-up at equal error: Cycles' time at our error, read off Cycles' curve by linear
 interpolation in log(error)-log(time) between its two neighbouring points (beyond its ends, the
-nearest segment's line is extended: marked "extrap."), divided by our time.
+nearest segment's line is extended: marked "extrap."), divided by our time. The errors compared
+are rRMSE with the reference's own noise removed in quadrature (both sides) when the reference
+has parts to measure it: raw errors flatten toward that noise as Cycles converges, so a segment
+extended on raw errors would under-count the samples Cycles needs.
 """
 import argparse
 import json
@@ -42,6 +45,26 @@ def cycles_time_at(cyc, err, key, tkey="seconds"):
     i = 0 if x > le[0] else len(pts) - 2
     slope = (lt[i + 1] - lt[i]) / (le[i + 1] - le[i])
     return math.exp(lt[i] + slope * (x - le[i])), True
+
+
+def speed_key(d):
+    """The error the speed-ups compare: rRMSE with the reference's noise removed when every point
+    has it (the reference's parts measured its noise), else raw rRMSE."""
+    return ("rrmse_denoised" if all(p.get("rrmse_denoised") is not None for p in d["points"])
+            else "rrmse")
+
+
+def time_at(d, cyc, p, tkey="seconds"):
+    """Cycles' tkey at point p's error (speed_key); (value, extrapolated). NaN when p's error is
+    below what the reference resolves (noise removed to 0)."""
+    key = speed_key(d)
+    if not p[key] > 0 or any(not c[key] > 0 for c in cyc):
+        return float("nan"), True
+    return cycles_time_at(cyc, p[key], key, tkey)
+
+
+def ref_file(d):
+    return f"{d['scene']}_cycles{'5' if int(str(d['blender']).split('.')[0]) >= 5 else ''}.npz"
 
 
 def ref_noise(d, cyc, key):
@@ -129,15 +152,16 @@ def scene_table(d):
     cyc = [p for p in d["points"] if p["kind"] == "cycles"]
     lines = ["| config | runs | seconds (median) | CPU s | elements | links | rays | rRMSE (all) | "
              "rRMSE, ref. noise removed | covered share | rRMSE uncovered-only | NRMSE | "
-             "mean ours/ref | rel. err p50 / p90 | Cycles s at our rRMSE | speed-up (rRMSE) | speed-up (NRMSE) | "
-             "speed-up in CPU s (rRMSE) |",
+             "mean ours/ref | rel. err p50 / p90 | Cycles s at our rRMSE (noise removed) | "
+             "speed-up (rRMSE, noise removed) | speed-up (raw NRMSE) | "
+             "speed-up in CPU s (rRMSE, noise removed) |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for p in d["points"]:
         if p["kind"] == "ours":
             st = p["stats"]
-            tc, ext = cycles_time_at(cyc, p["rrmse"], "rrmse")
+            tc, ext = time_at(d, cyc, p)
             tn, extn = cycles_time_at(cyc, p["nrmse"], "nrmse")
-            tcpu, extc = cycles_time_at(cyc, p["rrmse"], "rrmse", "cpu_seconds")
+            tcpu, extc = time_at(d, cyc, p, "cpu_seconds")
             our_cpu = p.get("cpu_seconds") or float("nan")
             lines.append(
                 f"| {label(p)} | {p['runs']} | {p['seconds']:.2f} | {cpu(p)} | {st['elements']:,} | "
@@ -188,13 +212,17 @@ def main():
     order = {s: i for i, s in enumerate(a.scenes or [])}
     data = [json.load(open(os.path.join(a.data, f))) for f in files]
     data.sort(key=lambda d: order.get(d["scene"], 99))
+    blenders = sorted({str(d["blender"]) for d in data})
     md = ["# Speed vs accuracy: our bake against Cycles on the example scenes (issue 5)", "",
-          "Command (from the repository root, after the build; one headless run, Debian's "
-          "Blender 3.4):", "", f"    {a.command.strip()}", "",
+          "Command (from the repository root, after the build; one headless run, Blender "
+          f"{', '.join(blenders)}: ours and Cycles in the same process):", "",
+          f"    {a.command.strip()}", "",
           "What it does: per scene, a converged Cycles COMBINED bake to corner colours is the "
           "reference (non-adaptive, denoising off, 64 diffuse/max bounces, clamping 0; the "
           "spp-weighted mean of independent bakes with seeds 1, 2, …, whose spread gives the "
-          "reference's own noise; cached in `bench/tradeoff/refs/SCENE_cycles.npz` with its "
+          "reference's own noise; cached in `bench/tradeoff/refs/SCENE_cycles5.npz` (made in "
+          "Blender 5.x; `SCENE_cycles.npz`: 3.4, whose Cycles reads mesh lamps seen at grazing "
+          "angles too dark, bench/results/reference_bias.md) with its "
           "settings, its parts and the .blend's sha256, so reruns reuse it; "
           "`bench/tradeoff/run_refs.py` makes them). Then, round-robin over the repetitions so the shared "
           "machine's slow phases hit everything alike: our `bpy.ops.radiosity.bake(full=True)` "
@@ -211,14 +239,16 @@ def main():
           "(what tables before issue 16 called rRMSE, up to the floor); *ref. noise removed* = "
           "√max(0, rRMSE² − n²), n the reference's own noise measured from its independent parts. "
           "Cycles' errors are medians over its seeds. \"Speed-up\" is Cycles' time at our error (log–log interpolation "
-          "on its curve) over ours; \"extrap.\" means our error lies outside Cycles' measured range "
+          "on its curve) over ours, both errors with the reference's noise removed (raw errors "
+          "flatten toward that noise as Cycles converges; NRMSE's column compares raw NRMSE); \"extrap.\" means our error lies outside Cycles' measured range "
           "and the nearest segment was extended (Cycles error ∝ spp^-½, so this is a fair guess). "
           "The reference is itself noisy: its own noise (per-corner variance of the mean of its "
           "independent parts; for a reference of one bake, Cycles' error at its largest N × "
           "√(N/(N+N_ref))) is given per scene; errors near it cannot be resolved.", ""]
     summary = ["| scene | preset | seconds (wall) | CPU s | elements | rRMSE (all) | rRMSE, ref. noise "
                "removed | covered share | rRMSE uncovered-only | NRMSE | Cycles spp at "
-               "that rRMSE | speed-up vs Cycles at equal rRMSE (wall; CPU) |",
+               "that rRMSE (noise removed) | speed-up vs Cycles at equal rRMSE, noise removed "
+               "(wall; CPU) |",
                "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     by_preset = {}  # preset -> per scene (rRMSE, NRMSE, CPU s, CPU speed-up, CPU s / MEDIUM's)
     for d in data:
@@ -235,7 +265,7 @@ def main():
                f"{d['judged_corners']:,} judged (covered included). Reference: {ref['samples']} spp "
                f"({' + '.join(str(q['samples']) for q in parts)}, seeds "
                f"{', '.join(str(q.get('seed')) for q in parts)}), {ref['seconds']:.0f} s of Cycles "
-               f"when made ({ref.get('made', '?')}), cached `{d['scene']}_cycles.npz`. Its own noise "
+               f"when made ({ref.get('made', '?')}), cached `{ref_file(d)}`. Its own noise "
                f"({'from its parts' if noise_measured(d) else 'estimated from Cycles' + chr(39) + ' curve'}): rRMSE "
                f"{ref_noise(d, cyc, 'rrmse'):.4f}, NRMSE {ref_noise(d, cyc, 'nrmse'):.4f}.", "",
                f"![{d['scene']}]({png})", "", scene_table(d), "",
@@ -248,10 +278,10 @@ def main():
                worst_table(finest), ""]
         for p in d["points"]:
             if p["kind"] == "ours" and p["preset"] != "CUSTOM":
-                tc, ext = cycles_time_at(cyc, p["rrmse"], "rrmse")
-                tcpu, _ = cycles_time_at(cyc, p["rrmse"], "rrmse", "cpu_seconds")
+                tc, ext = time_at(d, cyc, p)
+                tcpu, _ = time_at(d, cyc, p, "cpu_seconds")
                 our_cpu = p.get("cpu_seconds") or float("nan")
-                spp, exts = cycles_time_at(cyc, p["rrmse"], "rrmse", "spp")
+                spp, exts = time_at(d, cyc, p, "spp")
                 summary.append(f"| {d['scene']} | {p['preset']} | {p['seconds']:.2f} | {cpu(p)} | "
                                f"{p['stats']['elements']:,} | {p['rrmse']:.3f} | "
                                f"{g(p, 'rrmse_denoised'):.3f} | {pct(g(p, 'covered_share'))} | "
@@ -273,7 +303,8 @@ def main():
 
     overall = ["| preset | scenes | rRMSE to expect (all corners) | rRMSE uncovered-only | covered share | "
                "NRMSE to expect | CPU s | CPU s ÷ MEDIUM's | "
-               "Cycles spp at that rRMSE | speed-up vs Cycles at equal rRMSE (CPU) |",
+               "Cycles spp at that rRMSE (noise removed) | speed-up vs Cycles at equal rRMSE, noise "
+               "removed (CPU) |",
                "|---|---|---|---|---|---|---|---|---|---|"]
     for preset in ("DRAFT", "MEDIUM", "HIGH"):
         r = by_preset.get(preset)

@@ -2,12 +2,17 @@
 
     python3 bench/tradeoff/run_tradeoff.py [--quick] [--scenes cornell_box box_room ...]
         [--runs 3] [--once-above 40] [--ref-spp 16384] [--part-spp 4096] [--presets ...]
-        [--eps ...] [--spp ...] [--zip build/radiosity.zip] [--report-only]
+        [--eps ...] [--spp ...] [--zip build/radiosity.zip] [--blender binary|bpy] [--report-only]
 
 Scenes (scenes.py): the four example scenes and the lights room (point, spot, area and sun
-lights; bench/tradeoff/scenes/lights_room.blend). For each scene: Debian's Blender runs
-tradeoff_scene.py (the cached Cycles reference, extended to --ref-spp samples in independent
-parts when it has fewer: bench/tradeoff/run_refs.py makes them ahead, resumably; our bake at each preset and CUSTOM epsilon, Cycles at 16..1024 spp, interleaved); the JSON
+lights; bench/tradeoff/scenes/lights_room.blend). For each scene, Blender runs
+tradeoff_scene.py: --blender bpy (the default) PyPI's bpy 5.x, with its Cycles as the competitor
+and refs/SCENE_cycles5.npz as the reference; --blender binary Debian's Blender 3.4 and
+refs/SCENE_cycles.npz (3.4's Cycles reads mesh lamps seen at grazing angles too dark, and its
+bakes converge to that: bench/results/reference_bias.md). tradeoff_scene.py does (the cached
+Cycles reference, extended to --ref-spp samples in independent parts when it has fewer:
+bench/tradeoff/run_refs.py makes them ahead, resumably; our bake at each preset and CUSTOM
+epsilon, Cycles at 16..1024 spp, interleaved); the JSON
 lands in bench/results/tradeoff_data/SCENE.json. Then report_tradeoff.py (plain python3 with
 numpy + matplotlib) writes bench/results/tradeoff.md and bench/results/tradeoff_SCENE.png.
 --report-only redoes the tables and plots from the saved JSON.
@@ -31,10 +36,11 @@ import bt_run  # noqa: E402
 import scenes as bt_scenes  # noqa: E402
 
 SCENES = bt_scenes.SCENES
-# The finest CUSTOM epsilons cost minutes on the bigger rooms (2 cores); HIGH is eps 0.01 already.
-EPS = {"cornell_box": [0.2, 0.1, 0.02, 0.01], "box_room": [0.2, 0.1, 0.02],
-       "chair_room": [0.2, 0.1, 0.02], "full_room": [0.2, 0.1, 0.02],
-       "lights_room": [0.2, 0.1, 0.02]}
+# CUSTOM is MEDIUM (epsilon 0.1, threshold floor 0.1) with another epsilon: the curve around it.
+# The finest cost minutes on the bigger rooms (2 cores).
+EPS = {"cornell_box": [0.2, 0.05, 0.02], "box_room": [0.2, 0.05, 0.03],
+       "chair_room": [0.2, 0.05, 0.03], "full_room": [0.2, 0.05, 0.03],
+       "lights_room": [0.2, 0.05, 0.02]}
 
 
 def main():
@@ -52,6 +58,7 @@ def main():
     p.add_argument("--presets", nargs="*", help="override: our presets")
     p.add_argument("--eps", nargs="*", type=float, help="override: CUSTOM epsilons")
     p.add_argument("--spp", nargs="*", type=int, help="override: Cycles sample counts")
+    p.add_argument("--blender", choices=bt_run.FLAVOURS, default="bpy")
     a = p.parse_args()
     scenes = a.scenes or (["cornell_box"] if a.quick else list(SCENES))
     out_dir = a.out_dir or (tempfile.mkdtemp(prefix="tradeoff-quick-") if a.quick
@@ -65,7 +72,7 @@ def main():
         t0 = time.perf_counter()
         commit = bt_run.git_commit()
         for s in scenes:
-            ref = os.path.join(a.ref_dir, f"{s}_cycles.npz")
+            ref = bt_scenes.ref(s, a.blender, a.ref_dir)
             args = ["--zip", a.zip, "--out", os.path.join(data_dir, f"{s}.json"),
                     "--runs", 1 if a.quick else a.runs, "--once-above", a.once_above]
             if a.quick:
@@ -76,7 +83,7 @@ def main():
                          ["--ref-spp", 256, "--part-spp", 128])
                 args += ["--presets", "DRAFT", "--eps", "--spp", 16, 64]
             else:
-                eps = a.eps if a.eps is not None else EPS.get(s, [0.2, 0.1, 0.02])
+                eps = a.eps if a.eps is not None else EPS.get(s, [0.2, 0.05, 0.03])
                 args += ["--ref-spp", a.ref_spp, "--part-spp", a.part_spp, "--eps", *eps]
                 if a.presets is not None:
                     args += ["--presets", *a.presets]
@@ -86,7 +93,7 @@ def main():
             blend = bt_scenes.blend(s)
             print(f"== {s} ({bt_run.machine()})", flush=True)
             bt_run.run(blend, "tradeoff_scene.py", args,
-                       log_path=os.path.join(data_dir, f"{s}.log"))
+                       log_path=os.path.join(data_dir, f"{s}.log"), flavour=a.blender)
             bt_run.stamp(os.path.join(data_dir, f"{s}.json"), commit=commit,
                          machine_after=bt_run.machine())
         print(f"all scenes: {time.perf_counter() - t0:.0f} s", flush=True)

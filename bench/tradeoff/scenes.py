@@ -16,5 +16,9 @@ def blend(name):
     return own if os.path.exists(own) else os.path.join(REPO, "example_blends", f"{name}.blend")
 
 
-def ref(name):
-    return os.path.join(HERE, "refs", f"{name}_cycles.npz")
+def ref(name, flavour="bpy", ref_dir=None):
+    """The cached Cycles reference of scene NAME made in FLAVOUR's Blender: bpy (PyPI's bpy 5.x,
+    refs/NAME_cycles5.npz, the ground truth) or binary (Debian's 3.4, refs/NAME_cycles.npz, whose
+    Cycles reads mesh lamps seen at grazing angles too dark: bench/results/reference_bias.md)."""
+    return os.path.join(ref_dir or os.path.join(HERE, "refs"),
+                        f"{name}_cycles{'5' if flavour == 'bpy' else ''}.npz")

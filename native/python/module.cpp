@@ -183,6 +183,7 @@ PYBIND11_MODULE(radiosity_native, m) {
         .def_readwrite("gather_sealed_solids", &Settings::gather_sealed_solids)
         .def_readwrite("closure_rays", &Settings::closure_rays)
         .def_readwrite("closure_refine_tolerance", &Settings::closure_refine_tolerance)
+        .def_readwrite("threshold_floor", &Settings::threshold_floor)
         .def_readwrite("closure_refine_passes", &Settings::closure_refine_passes)
         .def_readwrite("seed", &Settings::seed)
         .def("validate", &Settings::validate);

@@ -477,7 +477,10 @@ void Solver::adjust_links(Change& ch, std::vector<int>& recheck_history) {
     // radiance solved when it was open: see update(), before its first compute_closure. (In a
     // lit scene the lamps' direct terms are still the ones before the move here: light_update
     // comes later.)
-    at_first_bounce_where_buried(ch.now, ch.moved, [&] { link_from(std::move(wave)); });
+    {
+        const SceneWideThreshold first_linking(light_known_);
+        at_first_bounce_where_buried(ch.now, ch.moved, [&] { link_from(std::move(wave)); });
+    }
     lap("relink");
     // A move can open or close a pocket (the floor a box stood on now sees the sky).
     // Every decider of an enclosure answer asks again, but casts again only the escape

@@ -80,9 +80,16 @@ void Solver::deactivate(int id) {
 // The oracle. Errors are in radiance units at the receiver and compared with
 // threshold_ = error_threshold * L_ref (a scene-wide reference radiance), so the
 // threshold is relative and independent of scene scale and light intensity.
+double Solver::link_threshold(const Node& Q) const {
+    const double f = settings_.threshold_floor;
+    if (!light_known_ || f >= 1.0 || L_ref_ <= 0) return threshold_;
+    return threshold_ * std::min(1.0, std::max(Q.L.max() / L_ref_, f));
+}
+
 Solver::Judgement Solver::judge(const Link& l) const {
     const Node& P = h_.nodes[l.src];
     const Node& Q = h_.nodes[l.rcv];
+    const double threshold = link_threshold(Q);
     Judgement j;
     const double rho = Q.is_cluster() ? Q.rho_max : Q.rho.max();
     const double Lp = sender_radiance(h_, l).max();
@@ -124,7 +131,7 @@ Solver::Judgement Solver::judge(const Link& l) const {
         if (l.blocked) err_rcv = rho * Lp * l.K_unoccluded * std::max(1.0, geo) * 3.0 / settings_.rays_per_link;
         err_src = rho * l.K * dLp;
     }
-    if (std::max(err_rcv, err_src) <= threshold_) return j;
+    if (std::max(err_rcv, err_src) <= threshold) return j;
     const bool ps = can_split(l.src), qs = can_split(l.rcv);
     if (!ps && !qs) return j;  // at the resolution limit
     // A partly occluded link into a cluster cannot tell which of its surfaces are hidden
@@ -152,8 +159,8 @@ Solver::Judgement Solver::judge(const Link& l) const {
     } else {
         // Between elements each error term names its own cure: splitting the sender does not
         // reduce the kernel's spread over the receiver, and vice versa.
-        if (prefer == Side::Rcv && !qs) prefer = err_src > threshold_ && ps ? Side::Src : Side::Keep;
-        if (prefer == Side::Src && !ps) prefer = err_rcv > threshold_ && qs ? Side::Rcv : Side::Keep;
+        if (prefer == Side::Rcv && !qs) prefer = err_src > threshold && ps ? Side::Src : Side::Keep;
+        if (prefer == Side::Src && !ps) prefer = err_rcv > threshold && qs ? Side::Rcv : Side::Keep;
         if (prefer == Side::Keep) return j;
     }
     j.side = prefer;
@@ -174,7 +181,7 @@ Solver::Judgement Solver::judge(const Link& l) const {
         }
         khat /= Q.area;
         if (khat > 0 && std::fabs(khat - l.K_unoccluded) / khat <= settings_.error_threshold &&
-            rho * Lp * (kmax - kmin) <= threshold_ && err_src <= threshold_) {
+            rho * Lp * (kmax - kmin) <= threshold && err_src <= threshold) {
             j.side = Side::Settle;
             j.settled_K = khat;
         }

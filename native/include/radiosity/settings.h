@@ -7,6 +7,12 @@ namespace radiosity {
 
 struct Settings {
     double error_threshold = 0.05;      // relative error threshold of the oracle
+    // Once a solve has estimated the light, a link's threshold follows its receiver's
+    // radiance: error_threshold x L_ref x min(1, max(L_rcv / L_ref, this)). A dim receiver
+    // (the back of a cabinet 2 cm from a wall) is judged by what a viewer sees there, a
+    // relative error, down to this fraction of the scene-wide threshold; 1 = the scene-wide
+    // threshold everywhere (bench/results/presets_sweep.md).
+    double threshold_floor = 1.0;
     double min_area_fraction = 1e-5;    // smallest element area / scene-diagonal^2
     int64_t max_elements = 2000000;     // refinement stops at these caps (stats say so)
     int64_t max_links = 10000000;

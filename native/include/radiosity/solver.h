@@ -273,6 +273,19 @@ private:
     Stats stats_;
     Control* control_ = nullptr;
     double L_ref_ = 0, threshold_ = 0, min_area_ = 0;
+    // Whether the nodes' radiance L estimates the light (false from a solve's start until
+    // its first gathering): only then may a link's threshold follow its receiver's light.
+    bool light_known_ = false;
+    double link_threshold(const Node& receiver) const;  // refine.cpp
+    // Judgements that stand for a full solve's first linking (an update's relink, anything
+    // judged at the first bounce) use the scene-wide threshold as that linking does, so an
+    // update refines as a full solve of the new scene would.
+    struct SceneWideThreshold {
+        bool& known;
+        bool was;
+        explicit SceneWideThreshold(bool& k) : known(k), was(k) { known = false; }
+        ~SceneWideThreshold() { known = was; }
+    };
     bool solved_ = false;
     std::map<int, Pose> pending_moves_;
     std::vector<int> pending_adds_, pending_removes_;

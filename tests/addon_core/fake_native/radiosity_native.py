@@ -14,6 +14,7 @@ FAKE = True
 class Settings:
     def __init__(self):
         self.error_threshold = 0.05
+        self.threshold_floor = 1.0
         self.min_area_fraction = 1e-5
         self.max_elements = 2_000_000
         self.max_links = 10_000_000
@@ -33,7 +34,7 @@ class Settings:
             raise ValueError(f"unknown preset '{name}'")
         s = Settings()
         s.rays_per_link = rays[name]
-        s.error_threshold = {"DRAFT": 0.2, "MEDIUM": 0.07, "HIGH": 0.01}[name]
+        s.error_threshold = {"DRAFT": 0.2, "MEDIUM": 0.1, "HIGH": 0.05}[name]
         return s
 
 

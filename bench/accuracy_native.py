@@ -172,10 +172,10 @@ def main():
                 print("   phases: " + ", ".join(f"{k} {v:.2f} s ({rays.get(k, 0):,} rays)"
                                                for k, v in stats.get("phases", {}).items()), flush=True)
     if a.md:
-        write_md(a.md, rows, refs, rn)
+        write_md(a.md, rows, refs, rn, a.reference)
 
 
-def write_md(path, rows, refs, rn):
+def write_md(path, rows, refs, rn, reference):
     f3 = lambda v: "–" if v is None or v != v else f"{v:.4f}"  # noqa: E731
     cmd = "python3 bench/accuracy_native.py " + " ".join(sys.argv[1:])
     md = ["# Accuracy of native full solves against Cycles, every corner judged", "",
@@ -206,9 +206,9 @@ def write_md(path, rows, refs, rn):
                   f"{100 * r['covered_share']:.1f} % ({100 * r['covered_share_abs']:.1f} %) | "
                   f"{f3(r['rrmse_uncovered'])} | {f3(r['rrmse_covered'])} | {r['mean_ratio']:.3f} | "
                   f"{r['elements']:,} | {r['links']:,} | {r['seconds']:.1f} |")
-    md += ["", f"References (`{os.path.basename(bt_scenes.ref('SCENE', a.reference))}`, Cycles "
-           f"COMBINED bakes in Blender {'5.x (bpy)' if a.reference == 'bpy' else '3.4'}, made by "
-           f"`python3 bench/tradeoff/run_refs.py --blender {a.reference}`):", "",
+    md += ["", f"References (`{os.path.basename(bt_scenes.ref('SCENE', reference))}`, Cycles "
+           f"COMBINED bakes in Blender {'5.x (bpy)' if reference == 'bpy' else '3.4'}, made by "
+           f"`python3 bench/tradeoff/run_refs.py --blender {reference}`):", "",
            "| scene | samples | parts (spp × seeds) | Cycles wall s (all parts) | reference noise: "
            "rRMSE | NRMSE | rRMSE uncovered-only |", "|---|---|---|---|---|---|---|"]
     for name, (meta, e) in refs.items():

@@ -21,6 +21,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
 
+import scenes as bt_scenes  # noqa: E402  (this directory: the references' file names)
+
 
 def label(p):
     if p["kind"] == "cycles":
@@ -64,7 +66,9 @@ def time_at(d, cyc, p, tkey="seconds"):
 
 
 def ref_file(d):
-    return f"{d['scene']}_cycles{'5' if int(str(d['blender']).split('.')[0]) >= 5 else ''}.npz"
+    """The cached reference's file name: the one made in the Blender generation that ran."""
+    flavour = "bpy" if int(str(d["blender"]).split(".")[0]) >= 5 else "binary"
+    return os.path.basename(bt_scenes.ref(d["scene"], flavour))
 
 
 def ref_noise(d, cyc, key):

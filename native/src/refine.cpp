@@ -77,15 +77,17 @@ void Solver::deactivate(int id) {
     drop(h_.nodes[l.src].out_links);
 }
 
-// The oracle. Errors are in radiance units at the receiver and compared with
-// threshold_ = error_threshold * L_ref (a scene-wide reference radiance), so the
-// threshold is relative and independent of scene scale and light intensity.
+// The threshold a link's errors are compared with: threshold_ = error_threshold * L_ref (a
+// scene-wide reference radiance), independent of scene scale and light intensity; once the
+// light is known, scaled by the receiver's radiance relative to L_ref, down to threshold_floor
+// (a dim receiver is judged by a relative error, as a viewer sees it).
 double Solver::link_threshold(const Node& Q) const {
     const double f = settings_.threshold_floor;
     if (!light_known_ || f >= 1.0 || L_ref_ <= 0) return threshold_;
     return threshold_ * std::min(1.0, std::max(Q.L.max() / L_ref_, f));
 }
 
+// The oracle. Errors are in radiance units at the receiver, compared with link_threshold.
 Solver::Judgement Solver::judge(const Link& l) const {
     const Node& P = h_.nodes[l.src];
     const Node& Q = h_.nodes[l.rcv];

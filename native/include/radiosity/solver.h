@@ -277,9 +277,11 @@ private:
     // its first gathering): only then may a link's threshold follow its receiver's light.
     bool light_known_ = false;
     double link_threshold(const Node& receiver) const;  // refine.cpp
-    // Judgements that stand for a full solve's first linking (an update's relink, anything
-    // judged at the first bounce) use the scene-wide threshold as that linking does, so an
-    // update refines as a full solve of the new scene would.
+    // Judgements that stand for a full solve's first linking (an update's relink of moved and
+    // added objects) use the scene-wide threshold as that linking does, so an update links as
+    // a full solve of the new scene would. (Judgements at the first bounce, at_first_bounce,
+    // keep the receiver-relative one: on the scene-wide one the light-move test kept 11 % fewer
+    // elements than a full solve, on the relative one 2-7 % more.)
     struct SceneWideThreshold {
         bool& known;
         bool was;

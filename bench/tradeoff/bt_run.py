@@ -3,7 +3,8 @@
 Two flavours, as in tests/blender/conftest.py:
   binary - Debian's Blender 3.4 (`blender -b FILE --python S -- ARGS`), PATH without pyenv (a
            system-Python Blender would otherwise pick pyenv's stdlib and lose the system numpy);
-  bpy    - PyPI's bpy module (Blender 5.x) in $RADIOSITY_BPY_PYTHON (default: python3), through
+  bpy    - PyPI's bpy module (Blender 5.x) in $RADIOSITY_BPY_PYTHON (default: the interpreter
+           running the driver, which scripts/install_deps.sh gave bpy), through
            run_in_bpy.py, which opens FILE and runs S with ARGS. Blender 3.4's Cycles reads mesh
            lamps seen at grazing angles too dark (bench/results/reference_bias.md); 5.x does not,
            so the references and the competitor are made there.
@@ -39,7 +40,7 @@ FLAVOURS = ("binary", "bpy")
 
 
 def bpy_python():
-    return os.environ.get("RADIOSITY_BPY_PYTHON", "python3")
+    return os.environ.get("RADIOSITY_BPY_PYTHON") or sys.executable
 
 
 def run(blend, script, args, log_path=None, timeout=None, flavour="binary"):

@@ -328,3 +328,54 @@ TEST(FinalGather, MovingABottomlessBlockSealsTheFloorItComesToCover) {
     EXPECT_EQ(inc.stats().gather_sealed, full.stats().gather_sealed);
     EXPECT_LE(e, 0.005);
 }
+
+TEST(FinalGather, ClusterSenderWeightsStayBoundedForAFaceEdgeOnToTheCentre) {
+    // A cluster of a gridded floor plate (normal +z) and a gridded wall behind it (normal +x),
+    // seen from a point 6 m away along +x, 2 cm above the cluster's centre: the plate is nearly
+    // edge-on to the direction from the centre (cos 0.004) yet faces the point (cos 0.07). Drawn
+    // by the projected area toward the centre alone, a ray on the plate weighed ~20 times a ray
+    // on the wall, and an 8-ray estimate that drew one read 3x the whole coupling (the full
+    // room's cabinet vertex, transfer.cpp FacingSampler). Every 8-ray estimate must stay
+    // within 1.6x the exact coupling, and their mean within 2 % of it.
+    SceneDesc sc;
+    const int cl = sc.add_cluster("corner");
+    const int plate = scenes::add_grid(sc, "plate", cl, {Vec3{-0.5, -0.5, 0}, Vec3{0.5, -0.5, 0}, Vec3{0.5, 0.5, 0}, Vec3{-0.5, 0.5, 0}},
+                                       4, 4, Rgb::all(0.5), Rgb{}, false);
+    const int wall = scenes::add_grid(sc, "wall", cl, {Vec3{-0.5, -0.5, 0}, Vec3{-0.5, 0.5, 0}, Vec3{-0.5, 0.5, 1}, Vec3{-0.5, -0.5, 1}},
+                                      4, 4, Rgb::all(0.5), Rgb{}, false);
+    const int probe = scenes::add_grid(sc, "probe", -1, {Vec3{6, 0.1, 0.3}, Vec3{6, -0.1, 0.3}, Vec3{6, -0.1, 0.6}, Vec3{6, 0.1, 0.6}},
+                                       1, 1, Rgb::all(0.5), Rgb{}, false);
+    Solver s(sc, Settings::preset("DRAFT"));
+    s.solve();
+    const Hierarchy& h = s.hierarchy();
+    int src = -1;
+    for (size_t i = 0; i < h.nodes.size(); ++i)
+        if (h.nodes[i].is_cluster() && !h.nodes[i].dead && h.nodes[i].surf_end - h.nodes[i].surf_begin == 32) src = int(i);
+    ASSERT_GE(src, 0) << "no cluster of the plate's and the wall's 32 faces";
+    const Node& P = h.nodes[size_t(src)];
+    const std::vector<const Node*> probe_leaves = front_leaves(s, probe);
+    ASSERT_FALSE(probe_leaves.empty());
+    const int rcv = int(probe_leaves[0] - h.nodes.data());
+    // The point (internal frame), 2 cm (world) above the cluster's centre, facing the cluster.
+    const Vec3 c = P.center * h.unit + h.origin;  // world
+    const Vec3 x = h.to_internal(Vec3{6.0, c.y, c.z + 0.02});
+    ASSERT_GT(length(x - P.center), 2.0 * P.radius);
+    const Vec3 n{-1, 0, 0};
+    double exact = 0;
+    for (const int o : {plate, wall})
+        for (const Node* leaf : front_leaves(s, o)) exact += point_polygon_form_factor(x, n, leaf->poly, leaf->normal);
+    double worst = 0, sum = 0;
+    const int trials = 400;
+    std::vector<std::pair<int, float>> samples;
+    for (int k = 0; k < trials; ++k) {
+        PointRayStream rays(s.visibility());
+        samples.clear();
+        const PointTransfer t = point_transfer(h, rays, src, x, n, rcv, 8, uint64_t(1000 + k), samples);
+        worst = std::max(worst, t.F_unoccluded / exact);
+        sum += t.F_unoccluded;
+    }
+    std::printf("[ figure ] 8-ray estimates of the cluster's coupling: worst %.3f x exact, mean %.4f x exact\n", worst,
+                sum / trials / exact);
+    EXPECT_LE(worst, 1.6);
+    EXPECT_NEAR(sum / trials / exact, 1.0, 0.02);
+}

@@ -1,8 +1,9 @@
 """Converged Cycles references of tex_world_scenes (test_textures_world.py).
 
     blender -b --factory-startup --python tests/blender/scripts/make_tex_world_references.py -- \
-        --kind checker --samples 4096 --out tests/blender/data/tex_checker_v3.npy
-    (bpy 5.x: python3 .../make_tex_world_references.py -- ... --out ..._v4.npy)
+        --kind checker --samples 16384 --out tests/blender/data/tex_checker_v3.npy
+    (bpy 5.0 / 5.2: python3 / python3.13 .../make_tex_world_references.py -- ... --out
+    ..._v5_0.npy / ..._v5_2.npy, the tag blender_version.py gives; 16 s each here)
 
 Writes the corner colours (RGB float32) of the scene's objects in tex_world_scenes.ORDER,
 concatenated, and a .json beside it with the settings. Cycles as in shared/NOTES.md: COMBINED bake

@@ -379,3 +379,30 @@ TEST(FinalGather, ClusterSenderWeightsStayBoundedForAFaceEdgeOnToTheCentre) {
     EXPECT_LE(worst, 1.6);
     EXPECT_NEAR(sum / trials / exact, 1.0, 0.02);
 }
+
+TEST(FinalGather, AnExcessAtAPointIsTakenFromItsSampledCouplings) {
+    // A seat point in a closed room (full_room.blend, HIGH): own couplings 0.896, all sampled
+    // (cluster senders); inherited 0.138, of which the lamp's exact element links 0.035 and
+    // sampled 0.103. The couplings after the closure sum to 1 and the exact ones keep theirs.
+    const double own = 0.896, inherited = 0.138, s_own = 0.896, s_inh = 0.103;
+    const ClosureFactors c = point_closure_factors(own, inherited, s_own, s_inh);
+    EXPECT_NEAR(own * c.c_own + inherited * c.c_inherited, 1.0, 1e-12);
+    EXPECT_EQ(c.fill, 0.0);
+    const double exact_inh = inherited - s_inh;
+    const double k = (s_own * c.c_own) / s_own;  // the sampled own part's scale
+    EXPECT_NEAR(inherited * c.c_inherited, exact_inh + s_inh * k, 1e-12) << "sampled parts scaled alike";
+    EXPECT_GT(inherited * c.c_inherited, exact_inh) << "the exact lamp links keep their coupling";
+    // The leaf's rule would have cut every inherited coupling, the lamp's with them, by 25 %.
+    EXPECT_NEAR(closure_factors(own, inherited).c_inherited, 0.104 / 0.138, 1e-9);
+    // Sampled couplings too small to hold the excess: every coupling scaled alike to sum 1.
+    const ClosureFactors d = point_closure_factors(0.7, 0.5, 0.05, 0.05);
+    EXPECT_NEAR(0.7 * d.c_own + 0.5 * d.c_inherited, 1.0, 1e-12);
+    EXPECT_DOUBLE_EQ(d.c_own, d.c_inherited);
+    // A shortfall, and sums far off 1, as at a leaf.
+    const ClosureFactors e = point_closure_factors(0.6, 0.3, 0.6, 0.3), el = closure_factors(0.6, 0.3);
+    EXPECT_EQ(e.fill, el.fill);
+    EXPECT_EQ(e.c_own, 1.0);
+    const ClosureFactors g = point_closure_factors(3.0, 2.0, 3.0, 2.0);
+    EXPECT_EQ(g.c_own, 1.0);
+    EXPECT_EQ(g.c_inherited, 1.0);
+}

@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "radiosity/gather_plan.h"
 #include "radiosity/hierarchy.h"
 #include "radiosity/link.h"
 #include "radiosity/scene.h"
@@ -25,6 +26,10 @@
 #include "radiosity/visibility.h"
 
 namespace radiosity {
+
+// The closure factors of an enclosed output point whose couplings sum to own + inherited, of
+// which s_own and s_inherited come from cluster senders (sampled): final_gather.cpp.
+ClosureFactors point_closure_factors(double own, double inherited, double s_own, double s_inherited);
 
 class FinalGather {
 public:

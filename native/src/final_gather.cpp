@@ -120,6 +120,21 @@ ClosureFactors point_closure_factors(double own, double inherited, double s_own,
     return c;
 }
 
+namespace {
+
+// A point's couplings as its links are traced (own or inherited, and the sampled part of each),
+// and the closure factors they call for: one tally for the output points and the near field's.
+struct PointCouplings {
+    double own = 0, inherited = 0, s_own = 0, s_inherited = 0;
+    void add(double F, bool is_own, bool sampled) {
+        (is_own ? own : inherited) += F;
+        if (sampled) (is_own ? s_own : s_inherited) += F;
+    }
+    ClosureFactors closure() const { return point_closure_factors(own, inherited, s_own, s_inherited); }
+};
+
+}  // namespace
+
 // One output point to trace: a corner, or the corners of one vertex sharing a normal and a
 // contact state (when kShareVertexPoints).
 struct FinalGather::Job {
@@ -246,8 +261,7 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
         for (const Aabb& b : moves->clips)
             if (b.overlaps(around)) unchanged = false;
     }
-    double f_own = 0, f_inherited = 0;
-    double s_own = 0, s_inherited = 0;  // ... of which sampled (cluster senders)
+    PointCouplings couplings;
     for (const Use& u : use) {
         // A dark sender brings nothing, but in a closed pocket its coupling still counts
         // toward the closure (below).
@@ -333,8 +347,7 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
         }
         ++counts.links;
         rec.end = uint32_t(pt.samples.size());
-        (u.own ? f_own : f_inherited) += rec.F;
-        if (h.nodes[size_t(l.src)].is_cluster()) (u.own ? s_own : s_inherited) += rec.F;
+        couplings.add(rec.F, u.own, h.nodes[size_t(l.src)].is_cluster());
         pt.records.push_back(rec);
     }
     // Closure at the point, as the solver's at the leaf: where no escape ray of the leaf found
@@ -344,7 +357,7 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
     // that with the leaf's own radiance read them 3 % too bright.
     if (enclosed) pt.escapes = unchanged && old->escapes >= 0 ? old->escapes : int8_t(point_escapes(s, x, n, pt.seed, counts));
     if (enclosed && pt.escapes == 0) {
-        const ClosureFactors cf = point_closure_factors(f_own, f_inherited, s_own, s_inherited);
+        const ClosureFactors cf = couplings.closure();
         pt.c_own = cf.c_own;
         pt.c_inherited = cf.c_inherited;
         pt.fill = cf.fill;
@@ -403,7 +416,7 @@ Rgb FinalGather::radiance_at(const Solution& s, const Config& c, int m_id, const
     thread_local std::vector<std::pair<int, bool>> reaching;
     thread_local std::vector<std::pair<int, float>> nested;
     links_reaching(s, m_id, reaching);
-    double f_own = 0, f_inh = 0, s_own = 0, s_inh = 0;  // couplings; of which sampled (cluster senders)
+    PointCouplings couplings;
     Rgb own, all;
     for (const auto& [li, is_own] : reaching) {
         const Link& l = s.links[size_t(li)];
@@ -420,11 +433,10 @@ Rgb FinalGather::radiance_at(const Solution& s, const Config& c, int m_id, const
         }
         all += e;
         if (is_own) own += e;
-        (is_own ? f_own : f_inh) += tr.F;
-        if (h.nodes[size_t(l.src)].is_cluster()) (is_own ? s_own : s_inh) += tr.F;
+        couplings.add(tr.F, is_own, h.nodes[size_t(l.src)].is_cluster());
     }
     ClosureFactors cf;
-    if (m.enclosed == 1) cf = point_closure_factors(f_own, f_inh, s_own, s_inh);
+    if (m.enclosed == 1) cf = couplings.closure();
     g += closure_gathered(own, all, cf.c_own, cf.c_inherited, cf.fill, m.L);
     if (wall) wall->couple(h, sp, m.normal);
     return m.emission + h.rho_at(m_id, sp) * g;  // a texture's value at sp, not the leaf's mean

@@ -389,7 +389,7 @@ TEST(FinalGather, AnExcessAtAPointIsTakenFromItsSampledCouplings) {
     EXPECT_NEAR(own * c.c_own + inherited * c.c_inherited, 1.0, 1e-12);
     EXPECT_EQ(c.fill, 0.0);
     const double exact_inh = inherited - s_inh;
-    const double k = (s_own * c.c_own) / s_own;  // the sampled own part's scale
+    const double k = c.c_own;  // the own couplings are all sampled here: their scale is the sampled parts
     EXPECT_NEAR(inherited * c.c_inherited, exact_inh + s_inh * k, 1e-12) << "sampled parts scaled alike";
     EXPECT_GT(inherited * c.c_inherited, exact_inh) << "the exact lamp links keep their coupling";
     // The leaf's rule would have cut every inherited coupling, the lamp's with them, by 25 %.

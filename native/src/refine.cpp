@@ -330,12 +330,16 @@ bool Solver::closure_refine(const std::vector<double>& fsum) {
     for (int leaf : leaves_) {
         const Node& n = h_.nodes[leaf];
         if (n.enclosed != 1 || std::fabs(fsum[leaf] - 1.0) <= tol) continue;
+        // During an update, a leaf away from the moved boxes has only the new links split.
+        bool far = closure_links_before_ >= 0;
+        for (const Aabb& b : closure_focus_)
+            if (b.overlaps(n.box)) { far = false; break; }
         // Element ancestors only: splitting a cluster link on the receiver side re-links a
         // whole object (overlapping sub-clusters go down to element pairs), millions of links
         // in a furnished room for what one leaf's sum says.
         for (int a = n.parent; a >= 0 && !h_.nodes[a].is_cluster(); a = h_.nodes[a].parent)
             for (int li : h_.nodes[a].in_links)
-                if (!queued[li] && can_split(links_[li].rcv) && may_differ_below(links_[li])) {
+                if (!queued[li] && (!far || li >= closure_links_before_) && can_split(links_[li].rcv) && may_differ_below(links_[li])) {
                     queued[li] = 1;
                     ids.push_back(li);
                 }

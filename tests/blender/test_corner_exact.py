@@ -147,6 +147,18 @@ def test_contact_under_box_and_on_contact_line(run_blender, request):
     # the same for every seed (HIGH, seeds 1/2/3, worst against the 5.x reference: 0.192 /
     # 0.194 / 0.146; 3.4: 0.145 / 0.148 / 0.100). Before the near field solved both sides of a contact together it
     # read 4 random points there and passed in 5.x by luck of the seed (0.095 / 0.232 / 0.049).
+    # Session 15 (natively, the scene exported; notes in bench/results/presets_sweep.md): the
+    # vertex reads 0.0023-0.0026 for seeds 1-4 against 0.0031 / 0.0033 (3.4 / 5.x), and stays
+    # there with 4x the gather's rays, 64 rays a link, a finer solution (eps 0.01) or 8x the
+    # near field's points past the box's end: a bias, not noise. Nearly all its light comes
+    # from the box's -x face within 1 mm (F 0.41 of 0.43), read at 25 points s* as 0.0114
+    # where 0.0155 would match Cycles. Against a one-bounce estimate at each s* (1500 rays,
+    # the floor read where they land, by radiance_at, which has no near field of its own)
+    # the s* next to the face's end agree on average and those farther in read ~25 % low;
+    # as radiance_at reads a shadowed floor at the box's foot too bright, that estimate is
+    # an upper bound, not the truth. Not fixed: limiting the part of the floor the point stands
+    # for to its distance from the face's end (0.0017-0.0029, noisier), drawing the points
+    # past the end by s*'s kernel instead of uniformly (no gain).
     request.node.add_marker(pytest.mark.xfail(strict=True, reason="near field at a box's corner vertex (issue 16)"))
     assert line_worst <= CONTACT_TOL
 

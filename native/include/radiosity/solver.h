@@ -299,6 +299,10 @@ private:
     // boxes of the moved objects, outside which every ray's outcome is as recorded.
     bool replaying_ = false;
     std::vector<Aabb> replay_clips_;
+    // During an update of moves (adjust.cpp): away from these boxes (the moved objects' old
+    // and new places) a closure pass splits only links made since closure_links_before_.
+    std::vector<Aabb> closure_focus_;
+    int64_t closure_links_before_ = -1;
     int64_t lap_rays_ = 0;  // rays cast when lap_t_ was taken
     int main_pocket_ = 0;  // the pocket of the largest space (open space, or a closed room)
     std::vector<std::vector<PocketRay>> pocket_hits_;  // per surface: its escape rays at the last compute_pockets

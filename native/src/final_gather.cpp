@@ -133,6 +133,18 @@ struct PointCouplings {
     ClosureFactors closure() const { return point_closure_factors(own, inherited, s_own, s_inherited); }
 };
 
+// The part of a link's coupling F to a point that counts toward its closure: none from an
+// object that hides nothing (an area light: the ceiling behind it is seen too, so a wall
+// beside one summed 1 + its form factor, and the closure dimmed the wall's light 5 %), and from
+// a cluster above objects all but the samples that landed on such objects.
+double closing_coupling(const Hierarchy& h, int src, double F, const std::pair<int, float>* samples, size_t n) {
+    if (!h.closes(src)) return 0.0;
+    if (h.nodes[size_t(src)].object >= 0) return F;
+    for (size_t i = 0; i < n; ++i)
+        if (!h.closes(samples[i].first)) F -= double(samples[i].second);
+    return std::max(F, 0.0);
+}
+
 }  // namespace
 
 // One output point to trace: a corner, or the corners of one vertex sharing a normal and a
@@ -347,7 +359,8 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
         }
         ++counts.links;
         rec.end = uint32_t(pt.samples.size());
-        couplings.add(rec.F, u.own, h.nodes[size_t(l.src)].is_cluster());
+        couplings.add(closing_coupling(h, l.src, rec.F, pt.samples.data() + rec.begin, rec.end - rec.begin), u.own,
+                      h.nodes[size_t(l.src)].is_cluster());
         pt.records.push_back(rec);
     }
     // Closure at the point, as the solver's at the leaf: where no escape ray of the leaf found
@@ -433,7 +446,7 @@ Rgb FinalGather::radiance_at(const Solution& s, const Config& c, int m_id, const
         }
         all += e;
         if (is_own) own += e;
-        couplings.add(tr.F, is_own, h.nodes[size_t(l.src)].is_cluster());
+        couplings.add(closing_coupling(h, l.src, tr.F, nested.data(), nested.size()), is_own, h.nodes[size_t(l.src)].is_cluster());
     }
     ClosureFactors cf;
     if (m.enclosed == 1) cf = couplings.closure();

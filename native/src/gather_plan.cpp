@@ -22,15 +22,16 @@ constexpr size_t kAhead = 16;
 constexpr size_t kParallelFrom = 65536;
 
 // Irradiance / pi (all colours alike) that the links into a node bring from unit senders.
-Rgb unit_gather(const Node& n, const std::vector<Link>& links) {
+Rgb unit_gather(const Hierarchy& h, const Node& n, const std::vector<Link>& links) {
     Rgb g;
-    for (int li : n.in_links) g += Rgb::all(1.0) * links[size_t(li)].K;
+    for (int li : n.in_links)
+        if (h.closes(links[size_t(li)].src)) g += Rgb::all(1.0) * links[size_t(li)].K;
     return g;
 }
 
 void unit_push_down(const Hierarchy& h, const std::vector<Link>& links, int id, Rgb acc, CouplingSums& sums) {
     const Node& n = h.nodes[size_t(id)];
-    const Rgb own = n.in_links.empty() ? Rgb{} : unit_gather(n, links);
+    const Rgb own = n.in_links.empty() ? Rgb{} : unit_gather(h, n, links);
     acc += own;
     if (n.children.empty()) {
         sums.total[size_t(id)] = acc.mean();
@@ -51,7 +52,7 @@ void coupling_sums(const Hierarchy& h, const std::vector<Link>& links, CouplingS
             for (int li : h.nodes[size_t(a)].in_links) {
                 const Link& l = links[size_t(li)];
                 const double c = -dot(nrm, l.dir);
-                if (c > 0 && h.holds_pocket(l.src, root.pocket)) acc += (Rgb::all(1.0) * l.K) * c;
+                if (c > 0 && h.holds_pocket(l.src, root.pocket) && h.closes(l.src)) acc += (Rgb::all(1.0) * l.K) * c;
             }
         unit_push_down(h, links, h.surfaces[s].root, acc, sums);
     }, 64);
@@ -157,7 +158,7 @@ void GatherPlan::build(const Hierarchy& h, const std::vector<Link>& links, int t
         const Link& l = links[size_t(plink_id_[k])];
         const int32_t src = slot_[size_t(l.src)];
         const int32_t send = src < 0 ? -3 : ((src >= cl_lo && src < cl_hi) || !l.samples.empty() ? -2 : -1);
-        plinks_[k] = PlanLink{src, send, l.K};
+        plinks_[k] = PlanLink{src, send, l.K, h.closes(l.src) ? l.K : 0.0};
     }, 4096);
     send_at_.clear();
     for (size_t k = 0; k < plinks_.size(); ++k) {
@@ -427,13 +428,13 @@ double GatherPlan::sweep(bool unit, CouplingSums* sums, int threads) {
     parallel_for(ner + cvalue_.size(), workers(threads), [&](size_t i) {
         if (i >= ner) {
             const PlanLink& p = plinks_[size_t(cluster_links_from_) + (i - ner)];
-            cvalue_[i - ner] = (unit ? Rgb::all(1.0) : sender_radiance(p)) * p.K;
+            cvalue_[i - ner] = unit ? Rgb::all(p.unit_K) : sender_radiance(p) * p.K;
             return;
         }
         Rgb g;
         for (int32_t k = r_begin_[i]; k < r_begin_[i + 1]; ++k) {
             const PlanLink& p = plinks_[size_t(k)];
-            g += (unit ? Rgb::all(1.0) : sender_radiance(p)) * p.K;
+            g += unit ? Rgb::all(p.unit_K) : sender_radiance(p) * p.K;
         }
         G_[size_t(r_entry_[i])] = g;
     }, 64);

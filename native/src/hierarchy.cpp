@@ -410,7 +410,9 @@ void Hierarchy::build(const SceneDesc& scene, bool use_clustering) {
     scene_diag = scene_box.empty() ? 1.0 : std::max(scene_box.diagonal(), 1e-300);
     object_node.assign(objs.size(), -1);
     object_of_env.assign(objs.size(), 0);
+    object_occludes.assign(objs.size(), 1);
     for (size_t oi = 0; oi < objs.size(); ++oi) object_of_env[oi] = objs[oi].cluster < 0;
+    for (size_t oi = 0; oi < objs.size(); ++oi) object_occludes[oi] = objs[oi].occluder;
     cluster_node.assign(scene.clusters().size(), -1);
 
     root = new_node(NodeKind::Cluster, -1);
@@ -803,6 +805,8 @@ int Hierarchy::add_object(const SceneDesc& scene, int oi, bool use_clustering) {
     object_node.resize(no, -1);
     object_of_env.resize(no, 0);
     object_of_env[oi] = o.cluster < 0;
+    object_occludes.resize(no, 1);
+    object_occludes[size_t(oi)] = o.occluder;
     cluster_node.resize(scene.clusters().size(), -1);
     object_keys_.resize(no, 0);
     object_keys_[oi] = object_key(scene, oi);

@@ -101,6 +101,40 @@ TEST(FinalGather, FurnaceStaysExact) {
     }
 }
 
+TEST(FinalGather, FurnaceStaysExactWithAPolygonThatCastsNoShadow) {
+    // The furnace room with a dark area light (a polygon that casts no shadow, as a Blender
+    // area light in Cycles) hung 10 cm under its ceiling: rays pass through it, so whatever
+    // sees it also sees the ceiling behind it and its coupling comes on top of a full 1. The
+    // closure must not count it: taking that excess from the room's own couplings read the
+    // walls beside a bright area light 5 % dark (bench/tradeoff's lights room). Here it
+    // sends nothing, so every corner keeps B = E / (1 - rho).
+    for (const char* preset : {"DRAFT", "MEDIUM"}) {
+        const double rho = 0.5, e = 1.0, exact = e / (1 - rho);
+        SceneDesc sc = scenes::furnace_room_with_box(rho, e, 4);
+        ObjectDesc lamp;
+        lamp.name = "area";
+        lamp.vertices = {{1.1, 1.1, 2.4}, {1.1, 1.9, 2.4}, {1.9, 1.9, 2.4}, {1.9, 1.1, 2.4}};  // facing down
+        lamp.loop_starts = {0};
+        lamp.loop_totals = {4};
+        lamp.corner_verts = {0, 1, 2, 3};
+        lamp.reflectance = {Rgb{}};
+        lamp.emission = {Rgb{}};
+        lamp.two_sided = {0};
+        lamp.occluder = false;
+        const int area = sc.add_object(lamp);
+        Solver s(sc, Settings::preset(preset));
+        s.solve();
+        double worst = 0;
+        for (size_t o = 0; o < s.scene().objects().size(); ++o) {
+            if (int(o) == area) continue;
+            for (float v : s.corner_radiance(int(o))) worst = std::max(worst, std::fabs(v - exact) / exact);
+        }
+        std::printf("[ figure ] furnace room with a box and a dark area light, %s: worst corner %.4f %%\n", preset,
+                    100 * worst);
+        EXPECT_LE(worst, 0.001) << preset;
+    }
+}
+
 TEST(FinalGather, CornersUnderABoxOnAGriddedFloorAreUnlit) {
     // A box standing on a gridded floor whose vertices lie under it and on its footprint's
     // edge: corners of floor faces under the box read 0 (Cycles: unlit), corners of faces

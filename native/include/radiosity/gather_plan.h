@@ -103,6 +103,7 @@ private:
         int32_t src;
         int32_t send;
         double K;
+        double unit_K;  // K in a unit sweep: 0 from a sender that hides nothing (Hierarchy::closes)
     };
     // A cluster sender (or an element sender with samples) as its link sees it (transfer.cpp
     // sender_radiance): the weighted mean of its visible samples, or (none) a projected-area

@@ -214,6 +214,15 @@ public:
     std::vector<int> object_node;     // per object: its cluster node (-1 if it has no surface)
     std::vector<int> cluster_node;    // per ClusterDesc: its node (-1 if empty)
     std::vector<int> object_of_env;   // per object: 1 if directly in the scene (environment)
+    // Per object: 0 when it casts no shadow (an area light, lights.h): it hides nothing behind
+    // it, so its coupling comes on top of the rest of what a receiver sees.
+    std::vector<char> object_occludes;
+    // Whether a sender's coupling counts toward a receiver's closure (gather.cpp): everything
+    // but an object that hides nothing, and clusters above objects (most of what they hold does).
+    bool closes(int node) const {
+        const int o = nodes[size_t(node)].object;
+        return o < 0 || size_t(o) >= object_occludes.size() || object_occludes[size_t(o)];
+    }
     int root = -1;
     // All geometry is stored in a normalised frame: p_internal = (p_world - origin) / unit,
     // with unit the scene's bounding-box diagonal. Every tolerance, ray offset and area

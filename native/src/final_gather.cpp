@@ -279,9 +279,14 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
         // toward the closure (below).
         if (!(u.weight > 0) && !enclosed) continue;
         const Link& l = s.links[size_t(u.link)];
-        const uint64_t lseed = Hierarchy::mix(pt.seed, Hierarchy::mix(h.nodes[size_t(l.src)].key, h.nodes[size_t(l.rcv)].key));
+        // Seeded by the point and the sender alone: what the point's rays find of a sender does
+        // not depend on which receiver node holds the link, so when an update splits a link on
+        // the receiver side (a closure split), the link that now reaches the point from the
+        // same sender is the same transfer, and its record is kept or replayed (below).
+        const uint64_t lseed = Hierarchy::mix(pt.seed, Hierarchy::mix(h.nodes[size_t(l.src)].key, 0x5e4d3ull));
         Record rec;
         rec.link = u.link;
+        rec.src = l.src;
         rec.own = u.own;
         rec.begin = uint32_t(pt.samples.size());
         const Record* was = nullptr;
@@ -298,6 +303,11 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
         if (old)
             for (const Record& r : old->records)
                 if (r.link == u.link) { was = &r; break; }
+        // A link new since (split on the receiver side, or made again) from a sender the point
+        // read before: the same transfer.
+        if (old && !was)
+            for (const Record& r : old->records)
+                if (r.src == l.src) { was = &r; break; }
         // Replayed only with the budget a fresh trace would give it now.
         if (was && int(was->rays) != (was->refined ? refined_rays : rays)) was = nullptr;
         // Its samples name leaves that are still leaves: the same rays would land on them again.

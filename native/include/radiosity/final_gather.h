@@ -103,6 +103,7 @@ private:
     // One link's transfer to a point, as traced: its samples, coupling and ray outcomes.
     struct Record {
         int link = -1;
+        int src = -1;                 // the link's sender (a split on the receiver side keeps it)
         uint32_t begin = 0, end = 0;  // its samples in Point::samples
         float F = 0;                  // coupling, visibility included (for the closure)
         uint16_t rays = 0;            // ray budget it was traced with

@@ -285,7 +285,6 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
         // same sender is the same transfer, and its record is kept or replayed (below).
         const uint64_t lseed = Hierarchy::mix(pt.seed, Hierarchy::mix(h.nodes[size_t(l.src)].key, 0x5e4d3ull));
         Record rec;
-        rec.link = u.link;
         rec.src = l.src;
         rec.own = u.own;
         rec.begin = uint32_t(pt.samples.size());
@@ -300,12 +299,9 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
         }
         rays = std::min(std::max(rays, c.min_rays), std::max(c.rays, c.min_rays));
         const int refined_rays = std::min(c.rays, 4 * rays);
+        // The same link, or one new since (split on the receiver side, or made again) from a
+        // sender the point read before: the same transfer.
         if (old)
-            for (const Record& r : old->records)
-                if (r.link == u.link) { was = &r; break; }
-        // A link new since (split on the receiver side, or made again) from a sender the point
-        // read before: the same transfer.
-        if (old && !was)
             for (const Record& r : old->records)
                 if (r.src == l.src) { was = &r; break; }
         // Replayed only with the budget a fresh trace would give it now.

@@ -411,8 +411,10 @@ void Hierarchy::build(const SceneDesc& scene, bool use_clustering) {
     object_node.assign(objs.size(), -1);
     object_of_env.assign(objs.size(), 0);
     object_occludes.assign(objs.size(), 1);
-    for (size_t oi = 0; oi < objs.size(); ++oi) object_of_env[oi] = objs[oi].cluster < 0;
-    for (size_t oi = 0; oi < objs.size(); ++oi) object_occludes[oi] = objs[oi].occluder;
+    for (size_t oi = 0; oi < objs.size(); ++oi) {
+        object_of_env[oi] = objs[oi].cluster < 0;
+        object_occludes[oi] = objs[oi].occluder;
+    }
     cluster_node.assign(scene.clusters().size(), -1);
 
     root = new_node(NodeKind::Cluster, -1);

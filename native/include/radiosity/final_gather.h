@@ -102,8 +102,10 @@ public:
 private:
     // One link's transfer to a point, as traced: its samples, coupling and ray outcomes.
     struct Record {
-        int link = -1;
-        int src = -1;                 // the link's sender (a split on the receiver side keeps it)
+        // The link's sender: a point reads each sender through one link, and what it finds
+        // does not depend on the receiver node that holds the link (its seed is the point's
+        // and the sender's), so after a split on the receiver side the record still serves.
+        int src = -1;
         uint32_t begin = 0, end = 0;  // its samples in Point::samples
         float F = 0;                  // coupling, visibility included (for the closure)
         uint16_t rays = 0;            // ray budget it was traced with

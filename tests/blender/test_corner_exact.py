@@ -92,7 +92,7 @@ def inside_polygon_xy(p, poly):
 
 # --- 1. a box standing on a gridded floor ------------------------------------------------------
 
-def test_contact_under_box_and_on_contact_line(run_blender, request):
+def test_contact_under_box_and_on_contact_line(run_blender):
     """Floor corners under the box read 0 (< 1e-3 of the floor's mean reference); floor corners
     on the footprint's edge match Cycles, each corner and channel within
     |x - r| <= 0.10 max(r, 0.05 mean(r over the floor)). HIGH.
@@ -140,26 +140,13 @@ def test_contact_under_box_and_on_contact_line(run_blender, request):
     # Corners beside the box that Cycles reads lit match it (their values come from the lamp).
     lit = outer & (ref.max(axis=1) > 0.05 * mean_floor)
     assert rel[lit].max() <= CONTACT_TOL, rel[lit].max()
-    # Strict xfail in every flavour (it must go once this passes): 1 corner of 64 is over, at
-    # the box's corner vertex (-0.3, 0.3), 0.05 mm from one wall and 0.1 mm from the other's
-    # end, where a sliver of the lamp shows past the box's edge and the lit floor starts
-    # 0.1 mm away. The near field (final_gather.cpp near_field) reads it 25-30 % dark, about
-    # the same for every seed (HIGH, seeds 1/2/3, worst against the 5.x reference: 0.192 /
-    # 0.194 / 0.146; 3.4: 0.145 / 0.148 / 0.100). Before the near field solved both sides of a contact together it
-    # read 4 random points there and passed in 5.x by luck of the seed (0.095 / 0.232 / 0.049).
-    # Session 15 (natively, the scene exported; notes in bench/results/presets_sweep.md): the
-    # vertex reads 0.0023-0.0026 for seeds 1-4 against 0.0031 / 0.0033 (3.4 / 5.x), and stays
-    # there with 4x the gather's rays, 64 rays a link, a finer solution (eps 0.01) or 8x the
-    # near field's points past the box's end: a bias, not noise. Nearly all its light comes
-    # from the box's -x face within 1 mm (F 0.41 of 0.43), read at 25 points s* as 0.0114
-    # where 0.0155 would match Cycles. Against a one-bounce estimate at each s* (1500 rays,
-    # the floor read where they land, by radiance_at, which has no near field of its own)
-    # the s* next to the face's end agree on average and those farther in read ~25 % low;
-    # as radiance_at reads a shadowed floor at the box's foot too bright, that estimate is
-    # an upper bound, not the truth. Not fixed: limiting the part of the floor the point stands
-    # for to its distance from the face's end (0.0017-0.0029, noisier), drawing the points
-    # past the end by s*'s kernel instead of uniformly (no gain).
-    request.node.add_marker(pytest.mark.xfail(strict=True, reason="near field at a box's corner vertex (issue 16)"))
+    # The box's corner vertex (-0.3, 0.3) is the hard one: 0.05 mm from the -x face and 0.1 mm
+    # from its end, in the box's shadow, with the lamp's penumbra on the floor in front of the
+    # same face a tenth of a millimetre away. The near field (final_gather.cpp near_field)
+    # reads the face's first millimetre, which sees that penumbra: read as the point's own
+    # (dark) floor it left the vertex 25-30 % dark (a strict xfail until the near field took
+    # the floor's direct light at the spots the face sees, direct_variation). Natively, HIGH,
+    # seeds 1-8: 0.00282-0.00314 against 0.0031 / 0.0033 (3.4 / 5.x references).
     assert line_worst <= CONTACT_TOL
 
 

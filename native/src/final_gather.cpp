@@ -4,6 +4,7 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <optional>
 #include <unordered_map>
 
 #include "radiosity/gather_plan.h"
@@ -556,256 +557,11 @@ void FinalGather::near_field(const Solution& s, const Config& c, Point& pt, Coun
             if (r.own) S_own += e;
         }
     const Rgb S = pt.direct + closure_gathered(S_own, S_all, pt.c_own, pt.c_inherited, pt.fill, own.L);
-    // The point's own plane near s* is taken as the point's radiance (solved together, below),
-    // but its direct light is not the point's: a box's corner vertex in the box's shadow has
-    // the lamp's penumbra a tenth of a millimetre away on the floor in front of the same face,
-    // and the face's first millimetre sees it (the vertex read 25 % dark). So where a ray from
-    // s* meets the plane, the plane's radiance there is the point's plus rho x the difference
-    // in direct light D (lamps and emitting senders), evaluated at that spot.
-    // D(x) from the point's records whose sender emits (by the sender, not by what x's
-    // samples read of it: in a shadow x reads none); D elsewhere from those senders, an
-    // element sender's whole surface (or its object's cluster, when all of it emits) traced
-    // once: a lamp of 16 faces refined into elements linked to the point is one lamp to
-    // trace, not 30; and whether x's transfer from one of them was traced again for a
-    // shadow's edge.
-    thread_local std::vector<int> emitting;  // node ids: emitting surface roots and clusters
-    emitting.clear();
-    Rgb D_x = pt.direct;
-    bool shadow_at_x = false;
-    for (const Record& r : pt.records) {
-        const Node& src = h.nodes[size_t(r.src)];
-        bool emits = !src.is_cluster() && src.emission.max() > 0;
-        for (int k = src.surf_begin; src.is_cluster() && k < src.surf_end && !emits; ++k)
-            emits = h.nodes[size_t(h.surfaces[size_t(h.surface_order[size_t(k)])].root)].emission.max() > 0;
-        if (!emits) continue;
-        int id = src.is_cluster() ? r.src : h.surfaces[size_t(src.surface)].root;
-        if (!src.is_cluster()) {
-            // A lamp object of 16 faces is one sender to trace: its cluster, when all it holds emits.
-            const std::vector<int>& above = h.ancestors_of_surface(src.surface);
-            if (!above.empty()) {
-                const Node& cl = h.nodes[size_t(above.back())];
-                bool all = true;
-                for (int k = cl.surf_begin; k < cl.surf_end && all; ++k)
-                    all = h.nodes[size_t(h.surfaces[size_t(h.surface_order[size_t(k)])].root)].emission.max() > 0;
-                if (all) id = above.back();
-            }
-        }
-        if (std::find(emitting.begin(), emitting.end(), id) == emitting.end()) emitting.push_back(id);
-        shadow_at_x = shadow_at_x || r.refined;
-        for (uint32_t i = r.begin; i < r.end; ++i)
-            D_x += h.nodes[size_t(h.live_element(pt.samples[i].first))].emission * double(pt.samples[i].second);
-    }
-    const bool any_direct = !emitting.empty() || !s.scene.lights().empty();
-    auto direct_at = [&](int q_leaf, const Vec3& q, uint64_t seed) {
-        const PointLight lamp = direct_light_at(s.scene, h, s.vis, q, n, false, std::max(4, c.light_samples / 4), seed);
-        counts.rays += lamp.rays;
-        Rgb D = lamp.E;
-        thread_local std::vector<std::pair<int, float>> nested;
-        for (int src : emitting) {
-            nested.clear();
-            PointRayStream rs(s.vis);
-            point_transfer(h, rs, src, q, n, q_leaf, std::max(4, c.min_rays), Hierarchy::mix(seed, h.nodes[size_t(src)].key), nested);
-            counts.rays += rs.cast;
-            for (const auto& [k, wk] : nested) D += h.nodes[size_t(h.live_element(k))].emission * double(wk);
-        }
-        return D;
-    };
     thread_local NearPlane wall;
-    // The point's radiance stands for its plane near the s*, but the plane's direct light
-    // there is not the point's: a box's corner vertex in the box's shadow has the lamp's
-    // penumbra a tenth of a millimetre away on the floor in front of the same face, and the
-    // face's first millimetre sees it (the vertex read 25 % dark). So the plane's radiance at
-    // a spot q is the point's plus rho (D(q) - D(x)), D the direct light of lamps and
-    // emitting senders, and each s* adds rho_s times the mean of that over cosine directions
-    // to the plane. D is evaluated once per cell of a grid around x, cells even in angle
-    // (a penumbra's wedge from a box's corner is a range of angles) and in log distance (a
-    // contact looks the same at every scale), and the directions read their spot's cell:
-    // the wedge is a few per cent of the directions, so they must be many and cheap.
-    struct Star { Vec3 p; Rgb rho; double R; };
-    thread_local std::vector<Star> stars;
-    // D on two grids around x, even in angle and in log distance: a coarse one everywhere
-    // (kAngles0 x kRadii0 cells), and a fine one (kSub x kSub cells per coarse cell) only
-    // where neighbouring coarse values differ (a shadow's edge); elsewhere the fine cells take
-    // the coarse values bilinearly. The directions spend their weight on the fine cells.
-    const int kAngles0 = 8, kRadii0 = std::max(2, kNearPoints / 8);
-    const int kSub = std::clamp(kNearPoints / 8, 2, 4);
-    const int kAngles = kAngles0 * kSub, kRadii = kRadii0 * kSub;
-    constexpr int kDirs = 8;  // per s*, kDirs^2 stratified directions (no rays: they read cells)
-    struct Coarse { bool valid = false, edge = false; Rgb rho, dD; };
-    thread_local std::vector<Coarse> coarse;
-    thread_local std::vector<Rgb> cell_w;  // fine cells: rho_s x the share of directions read
-    Vec3 pu, pv;
-    frame(n, pu, pv);
-    auto direct_variation = [&](const Node& sender, double d, uint64_t seed) {
-        Rgb sum;
-        if (stars.empty()) return sum;
-        const double r_min = 0.05 * d, r_max = 2.0 * kReach * d, log_span = std::log(r_max / r_min);
-        auto in_region = [&](const Vec3& q) {
-            return dot(q - sender.poly.v[0], sender.normal) > 0 && q.x >= wall.region.lo.x && q.x <= wall.region.hi.x &&
-                   q.y >= wall.region.lo.y && q.y <= wall.region.hi.y && q.z >= wall.region.lo.z && q.z <= wall.region.hi.z;
-        };
-        // (angle, log distance) of a spot in units of cells of a grid with na x nr cells,
-        // measured from the first cell's centre.
-        auto grid_coords = [&](const Vec3& q, int na, int nr, double& fa, double& fi) {
-            const Vec3 e = q - x;
-            fi = std::clamp(std::log(std::max(length(e), r_min) / r_min) / log_span * nr - 0.5, 0.0, double(nr - 1));
-            fa = std::atan2(dot(e, pv), dot(e, pu)) / (2.0 * kPi) * na - 0.5;
-        };
-        auto centre = [&](double a, double i, int na, int nr) {
-            const double phi = 2.0 * kPi * (a + 0.5) / na, r = r_min * std::exp(log_span * (i + 0.5) / nr);
-            return x + (pu * std::cos(phi) + pv * std::sin(phi)) * r;
-        };
-        // The directions first (no rays): each spends its weight bilinearly on the four fine
-        // cells' centres around its spot.
-        cell_w.assign(size_t(kAngles * kRadii), Rgb{});
-        Rng rng(Hierarchy::mix(seed, 0xd1ec7u));
-        Vec3 su, sv;
-        frame(sender.normal, su, sv);
-        bool any = false;
-        for (const Star& st : stars) {
-            const double ds = dot(st.p, n) - wall.offset;
-            if (!(ds > 0)) continue;
-            const Rgb w_dir = st.rho / double(kDirs * kDirs);
-            for (int j = 0; j < kDirs * kDirs; ++j) {
-                const Vec3 w2 = cosine_direction(su, sv, sender.normal, (j % kDirs + rng.next()) / kDirs,
-                                                 (j / kDirs + rng.next()) / kDirs);
-                const double dn2 = -dot(w2, n);
-                if (!(dn2 > 1e-6)) continue;
-                const Vec3 q = st.p + w2 * (ds / dn2);
-                if (std::abs(q.x - st.p.x) > st.R || std::abs(q.y - st.p.y) > st.R || std::abs(q.z - st.p.z) > st.R) continue;
-                if (!in_region(q)) continue;
-                double fa, fi;
-                grid_coords(q, kAngles, kRadii, fa, fi);
-                const int i0 = std::min(kRadii - 2, int(fi)), a0 = int(std::floor(fa));
-                const double ti = fi - i0, ta = fa - a0;
-                for (int k = 0; k < 4; ++k) {
-                    const int a = ((a0 + (k & 1)) % kAngles + kAngles) % kAngles, i = i0 + (k >> 1);
-                    cell_w[size_t(a * kRadii + i)] += w_dir * (((k & 1) ? ta : 1.0 - ta) * ((k >> 1) ? ti : 1.0 - ti));
-                }
-                any = true;
-            }
-        }
-        if (!any) return sum;
-        // D at a spot of the point's plane (false: off its polygons or outside the region).
-        const Node& own_root = h.nodes[size_t(h.surfaces[size_t(own_surface)].root)];
-        const double tol = 1e-9 * h.scene_diag;
-        auto eval = [&](const Vec3& q, uint64_t key, Rgb& rho, Rgb& dD) {
-            if (!in_region(q)) return false;
-            int q_surface = distance_outside(own_root.poly, own_root.normal, q) <= tol ? own_surface : -1;
-            for (size_t k = 0; q_surface < 0 && k < wall.surfaces.size(); ++k) {
-                const Node& g = h.nodes[size_t(h.surfaces[size_t(wall.surfaces[k])].root)];
-                if (distance_outside(g.poly, g.normal, q) <= tol) q_surface = wall.surfaces[k];
-            }
-            if (q_surface < 0) return false;
-            const int leaf = h.leaf_at(h.surfaces[size_t(q_surface)].root, q);
-            if (leaf < 0) return false;
-            rho = h.rho_at(leaf, q);
-            dD = direct_at(leaf, q, Hierarchy::mix(seed, key)) - D_x;
-            return true;
-        };
-        coarse.assign(size_t(kAngles0 * kRadii0), Coarse{});
-        // Coarse cells whose block or a neighbouring one is read (the others are never used).
-        thread_local std::vector<char> read;
-        read.assign(size_t(kAngles0 * kRadii0), 0);
-        for (int a = 0; a < kAngles; ++a)
-            for (int i = 0; i < kRadii; ++i)
-                if (cell_w[size_t(a * kRadii + i)].max() > 0)
-                    for (int da = -1; da <= 1; ++da)
-                        for (int di = -1; di <= 1; ++di) {
-                            const int b = ((a / kSub + da) % kAngles0 + kAngles0) % kAngles0, j = i / kSub + di;
-                            if (j >= 0 && j < kRadii0) read[size_t(b * kRadii0 + j)] = 1;
-                        }
-        double scale_D = D_x.max();
-        for (int a = 0; a < kAngles0; ++a)
-            for (int i = 0; i < kRadii0; ++i) {
-                if (!read[size_t(a * kRadii0 + i)]) continue;
-                Coarse& cl = coarse[size_t(a * kRadii0 + i)];
-                cl.valid = eval(centre(a, i, kAngles0, kRadii0), uint64_t(3000 + a * kRadii0 + i), cl.rho, cl.dD);
-                if (cl.valid) scale_D = std::max(scale_D, (cl.dD + D_x).max());
-            }
-        // A coarse cell is on an edge when a valid neighbour's D differs from its own.
-        const double thr = 0.02 * scale_D;
-        auto differs = [&](const Rgb& u, const Rgb& v) {
-            return std::abs(u.r - v.r) > thr || std::abs(u.g - v.g) > thr || std::abs(u.b - v.b) > thr;
-        };
-        for (int a = 0; a < kAngles0; ++a)
-            for (int i = 0; i < kRadii0; ++i) {
-                Coarse& cl = coarse[size_t(a * kRadii0 + i)];
-                if (!cl.valid) continue;
-                for (int da = -1; da <= 1 && !cl.edge; ++da)
-                    for (int di = -1; di <= 1 && !cl.edge; ++di) {
-                        const int b = ((a + da) % kAngles0 + kAngles0) % kAngles0, j = i + di;
-                        if (j < 0 || j >= kRadii0) continue;
-                        const Coarse& nb = coarse[size_t(b * kRadii0 + j)];
-                        cl.edge = nb.valid && differs(cl.dD, nb.dD);
-                    }
-            }
-        for (int a = 0; a < kAngles; ++a)
-            for (int i = 0; i < kRadii; ++i) {
-                const Rgb& w = cell_w[size_t(a * kRadii + i)];
-                if (!(w.max() > 0)) continue;
-                const Coarse& home = coarse[size_t((a / kSub) * kRadii0 + i / kSub)];
-                Rgb rho, dD;
-                if (home.edge) {
-                    if (!eval(centre(a, i, kAngles, kRadii), uint64_t(9000 + a * kRadii + i), rho, dD)) continue;
-                } else {
-                    // Bilinear between the valid coarse centres around the fine centre.
-                    const double fa = (a + 0.5) / kSub - 0.5, fi = std::clamp((i + 0.5) / kSub - 0.5, 0.0, double(kRadii0 - 1));
-                    const int a0 = int(std::floor(fa)), i0 = std::min(kRadii0 - 2, int(fi));
-                    const double ta = fa - a0, ti = fi - i0;
-                    double wsum = 0;
-                    for (int k = 0; k < 4; ++k) {
-                        const int b = ((a0 + (k & 1)) % kAngles0 + kAngles0) % kAngles0, j = i0 + (k >> 1);
-                        const Coarse& cl = coarse[size_t(b * kRadii0 + j)];
-                        const double wc = ((k & 1) ? ta : 1.0 - ta) * ((k >> 1) ? ti : 1.0 - ti);
-                        if (cl.valid && wc > 0) rho += cl.rho * wc, dD += cl.dD * wc, wsum += wc;
-                    }
-                    if (!(wsum > 0)) continue;
-                    rho = rho / wsum, dD = dD / wsum;
-                }
-                sum += w * rho * dD;
-            }
-        return sum;
-    };
+    std::optional<DirectVariation> direct;  // made for the first near sender
+    thread_local std::vector<int> coplanar;
     wall.n = n;
     wall.tol = 1e-9 * h.scene_diag;
-    // Whether the sender's plane, as far as x's samples saw its polygons, ends within R of x
-    // (an edge of one of them, not on x's own plane, with no coplanar polygon past it).
-    thread_local std::vector<int> coplanar;
-    auto sender_ends_near = [&](const Node& sender, double R) {
-        coplanar.clear();
-        const double offset = dot(sender.normal, sender.poly.v[0]);
-        for (const Seen& other : seen) {
-            const int root_id = h.surfaces[size_t(other.surface)].root;
-            const Node& g = h.nodes[size_t(root_id)];
-            if (dot(g.normal, sender.normal) >= 1.0 - 1e-9 && std::abs(dot(g.poly.v[0], sender.normal) - offset) <= wall.tol)
-                coplanar.push_back(root_id);
-        }
-        const double x_offset = dot(n, x), step = std::max(1e-3 * R, 1e-8 * h.scene_diag);
-        for (int id : coplanar) {
-            const Node& g = h.nodes[size_t(id)];
-            for (int k = 0; k < g.poly.n; ++k) {
-                const Vec3& a = g.poly.v[size_t(k)];
-                const Vec3& b = g.poly.v[size_t((k + 1) % g.poly.n)];
-                if (std::abs(dot(n, a) - x_offset) <= 1e-6 * h.scene_diag && std::abs(dot(n, b) - x_offset) <= 1e-6 * h.scene_diag)
-                    continue;  // the contact line
-                const Vec3 ab = b - a;
-                const double t = std::clamp(dot(x - a, ab) / std::max(dot(ab, ab), 1e-300), 0.0, 1.0);
-                const Vec3 c = a + ab * t;
-                if (length(c - x) > R) continue;
-                Vec3 out = normalize(cross(ab, g.normal));
-                if (dot(out, g.center - c) > 0) out = out * -1.0;
-                const Vec3 past = c + out * step;
-                bool covered = false;
-                for (int id2 : coplanar) {
-                    const Node& g2 = h.nodes[size_t(id2)];
-                    covered = covered || distance_outside(g2.poly, g2.normal, past) <= wall.tol;
-                }
-                if (!covered) return true;
-            }
-        }
-        return false;
-    };
     for (const Seen& sn : seen) {
         if (sn.surface == own_surface || !(sn.W > 0)) continue;
         const Node& root = h.nodes[size_t(h.surfaces[size_t(sn.surface)].root)];
@@ -846,10 +602,12 @@ void FinalGather::near_field(const Solution& s, const Config& c, Point& pt, Coun
         wall.region.lo = root.poly.v[0];
         wall.region.hi = root.poly.v[0];
         const double sender_offset = dot(root.normal, root.poly.v[0]);
+        coplanar.clear();
         for (const Seen& other : seen) {
             const Node& g = h.nodes[size_t(h.surfaces[size_t(other.surface)].root)];
             if (dot(g.normal, root.normal) < 1.0 - 1e-9 || std::abs(dot(g.poly.v[0], root.normal) - sender_offset) > wall.tol)
                 continue;
+            coplanar.push_back(h.surfaces[size_t(other.surface)].root);
             for (int k = 0; k < g.poly.n; ++k) {
                 wall.region.lo = cmin3(wall.region.lo, g.poly.v[size_t(k)]);
                 wall.region.hi = cmax3(wall.region.hi, g.poly.v[size_t(k)]);
@@ -858,14 +616,11 @@ void FinalGather::near_field(const Solution& s, const Config& c, Point& pt, Coun
         const Vec3 reach{R * std::abs(root.normal.x), R * std::abs(root.normal.y), R * std::abs(root.normal.z)};
         wall.region.lo = wall.region.lo - reach;
         wall.region.hi = wall.region.hi + reach;
-        // The plane's direct light near x differs from x's (direct_variation) where a shadow's
-        // edge crosses the neighbourhood: one at x itself (an emitter's transfer there was
-        // traced again for a partial shadow), or the sender's own end within reach (a box's
-        // corner: past it the lamp shows). Along a wall's foot, far from its ends, there is
-        // none, and near points are mostly there.
-        const bool vary = any_direct && (shadow_at_x || sender_ends_near(root, R));
+        // The plane's own direct light near x (near_direct.cpp), where a shadow's edge is near.
+        if (!direct) direct.emplace(s, c, pt, kNearPoints, counts);
+        const bool vary = direct->applies(coplanar, R);
+        direct->clear_stars();
         int got = 0;
-        stars.clear();
         // Stratified over the whole hemisphere (the near part takes a share of it, half for a
         // sender at right angles); every direction that meets the near part is a point.
         for (int tries = 0; tries < side * side; ++tries) {
@@ -883,14 +638,14 @@ void FinalGather::near_field(const Solution& s, const Config& c, Point& pt, Coun
             const Rgb Ls = radiance_at(s, c, m_id, sp, Hierarchy::mix(seed, uint64_t(tries)), counts, &wall);
             const Rgb rho_s = h.rho_at(m_id, sp);
             B0 += Ls - rho_s * wall.WL_all;
-            if (vary) stars.push_back({sp, rho_s, kReach * (dot(sp, n) - wall.offset)});
+            if (vary) direct->add_star(sp, rho_s, kReach * (dot(sp, n) - wall.offset));
             Cout += rho_s * (wall.F_all - wall.F);
             Bout += rho_s * (wall.WL_all - wall.WL);
             C += rho_s * wall.F;
             ++got;
         }
         if (got == 0) continue;
-        if (vary) B0 += direct_variation(root, d, seed);
+        if (vary) B0 += direct->sum(root, sn.WL / sn.W, d, wall, seed);
         // The plane near s* but outside the point's neighbourhood: its radiance at a few
         // points of its own (a lit floor past a box's corner), not its leaves' average.
         if (Cout.max() > 0) {

@@ -171,6 +171,48 @@ private:
     // `wall`, also what it gathers of that plane near sp.
     Rgb radiance_at(const Solution& s, const Config& c, int m_id, const Vec3& sp, uint64_t seed, Counts& counts,
                     NearPlane* wall = nullptr) const;
+    // The near field's direct-light term (near_direct.cpp): the point's plane near a sender
+    // a hair away is the point's radiance plus rho (D(q) - D(x)) there, D the direct light of
+    // lamps and emitting senders, as the sender's points s* see it.
+    class DirectVariation {
+    public:
+        DirectVariation(const Solution& s, const Config& c, const Point& pt, int near_points, Counts& counts);
+        // Whether the term can matter for a sender whose plane the point sees as the surface
+        // roots `coplanar`, within reach R: a shadow's edge near x.
+        bool applies(const std::vector<int>& coplanar, double R) const;
+        void clear_stars() { stars_.clear(); }
+        void add_star(const Vec3& p, const Rgb& rho, double R) { stars_.push_back({p, rho, R}); }
+        // Over the s* added: sum of rho_s x the mean over cosine directions from s* of
+        // rho (D(q) - D(x)) at the spot q where each meets the point's plane in `wall`'s region.
+        // L_sender: the sender's radiance as the point reads it (what hides an emitter).
+        Rgb sum(const Node& sender, const Rgb& L_sender, double d, const NearPlane& wall, uint64_t seed);
+
+    private:
+        struct Star { Vec3 p; Rgb rho; double R; };
+        struct Coarse { bool valid = false, edge = false; Rgb rho, dD; };
+        bool cluster_emits(const Node& cl, bool all = false) const;  // any (or all) of its surfaces
+        Rgb direct_at(int leaf, const Vec3& q, uint64_t seed);
+        bool eval(const Node& sender, const NearPlane& wall, const Vec3& q, uint64_t seed, Coarse& out);
+        static bool in_region(const Node& sender, const NearPlane& wall, const Vec3& q);
+        Vec3 centre(double a, double i, int na, int nr) const;
+        static constexpr int kAngles0 = 8;
+        const Solution& s_;
+        const Config& c_;
+        Vec3 x_, n_, pu_, pv_;
+        int own_surface_, leaf_;
+        Counts& counts_;
+        int radii0_, sub_;  // coarse cells in log distance; fine cells per coarse one, each way
+        std::vector<int> emitting_;  // node ids: emitting surface roots and clusters
+        std::vector<int> active_;    // ... but the sender's own, for one sum()
+        Rgb L_hidden_, D_x_;
+        bool shadow_at_x_ = false;
+        std::vector<Star> stars_;
+        double r_min_ = 0, log_span_ = 0;
+        std::vector<Rgb> cell_w_;  // fine cells: rho_s x the share of the directions read
+        std::vector<char> read_;
+        std::vector<Coarse> coarse_;
+        std::vector<std::pair<int, float>> nested_;
+    };
     // Whether an escape ray from x finds open space (the point is not enclosed).
     static bool point_escapes(const Solution& s, const Vec3& x, const Vec3& n, uint64_t seed, Counts& counts);
     // Whether every one of 64 stratified rays from o (already off its surface) over the

@@ -473,6 +473,14 @@ void FinalGather::NearPlane::read(const Hierarchy& h, const Node& k, double w) {
     else it->second.first += w, it->second.second += k.L * w;
 }
 
+int FinalGather::NearPlane::surface_at(const Hierarchy& h, const Vec3& q) const {
+    for (int sf : surfaces) {
+        const Node& g = h.nodes[size_t(h.surfaces[size_t(sf)].root)];
+        if (distance_outside(g.poly, g.normal, q) <= 1e-9 * h.scene_diag) return sf;
+    }
+    return -1;
+}
+
 void FinalGather::NearPlane::couple(const Hierarchy& h, const Vec3& sp, const Vec3& sn) {
     const double d = dot(sp, n) - offset;
     F = F_all = 0;
@@ -656,14 +664,8 @@ void FinalGather::near_field(const Solution& s, const Config& c, Point& pt, Coun
                 Vec3 p{box.lo.x + rng.next() * (box.hi.x - box.lo.x), box.lo.y + rng.next() * (box.hi.y - box.lo.y),
                        box.lo.z + rng.next() * (box.hi.z - box.lo.z)};
                 p = p - n * (dot(p, n) - wall.offset);
-                if (p.x >= wall.region.lo.x && p.x <= wall.region.hi.x && p.y >= wall.region.lo.y &&
-                    p.y <= wall.region.hi.y && p.z >= wall.region.lo.z && p.z <= wall.region.hi.z)
-                    continue;
-                int q_surface = -1;
-                for (int sf : wall.surfaces) {
-                    const Node& g = h.nodes[size_t(h.surfaces[size_t(sf)].root)];
-                    if (distance_outside(g.poly, g.normal, p) <= 1e-9 * h.scene_diag) { q_surface = sf; break; }
-                }
+                if (wall.region.contains(p)) continue;
+                const int q_surface = wall.surface_at(h, p);
                 if (q_surface < 0) continue;
                 const int q_id = h.leaf_at(h.surfaces[size_t(q_surface)].root, p);
                 aq += radiance_at(s, c, q_id, p, Hierarchy::mix(seed, uint64_t(1000 + t)), counts);

@@ -23,6 +23,22 @@
 
 namespace radiosity {
 
+namespace {
+
+// The four cells around (fa, fi), in cell units measured from the first cell's centre, on a
+// grid of na angles (wrapping) by nr distances (fi within [0, nr - 1]): f(cell, weight).
+template <class F>
+void bilinear_cells(double fa, double fi, int na, int nr, F&& f) {
+    const int a0 = int(std::floor(fa)), i0 = std::min(nr - 2, int(fi));
+    const double ta = fa - a0, ti = fi - i0;
+    for (int k = 0; k < 4; ++k) {
+        const int a = ((a0 + (k & 1)) % na + na) % na, i = i0 + (k >> 1);
+        f(a * nr + i, ((k & 1) ? ta : 1.0 - ta) * ((k >> 1) ? ti : 1.0 - ti));
+    }
+}
+
+}  // namespace
+
 FinalGather::DirectVariation::DirectVariation(const Solution& s, const Config& c, const Point& pt, int near_points,
                                               Counts& counts)
     : s_(s),
@@ -129,11 +145,7 @@ bool FinalGather::DirectVariation::eval(const Node& sender, const NearPlane& wal
     if (!in_region(sender, wall, q)) return false;
     const double tol = 1e-9 * h.scene_diag;
     const Node& own_root = h.nodes[size_t(h.surfaces[size_t(own_surface_)].root)];
-    int q_surface = distance_outside(own_root.poly, own_root.normal, q) <= tol ? own_surface_ : -1;
-    for (size_t k = 0; q_surface < 0 && k < wall.surfaces.size(); ++k) {
-        const Node& g = h.nodes[size_t(h.surfaces[size_t(wall.surfaces[k])].root)];
-        if (distance_outside(g.poly, g.normal, q) <= tol) q_surface = wall.surfaces[k];
-    }
+    const int q_surface = distance_outside(own_root.poly, own_root.normal, q) <= tol ? own_surface_ : wall.surface_at(h, q);
     if (q_surface < 0) return false;
     const int leaf = h.leaf_at(h.surfaces[size_t(q_surface)].root, q);
     if (leaf < 0) return false;
@@ -144,8 +156,7 @@ bool FinalGather::DirectVariation::eval(const Node& sender, const NearPlane& wal
 }
 
 bool FinalGather::DirectVariation::in_region(const Node& sender, const NearPlane& wall, const Vec3& q) {
-    return dot(q - sender.poly.v[0], sender.normal) > 0 && q.x >= wall.region.lo.x && q.x <= wall.region.hi.x &&
-           q.y >= wall.region.lo.y && q.y <= wall.region.hi.y && q.z >= wall.region.lo.z && q.z <= wall.region.hi.z;
+    return dot(q - sender.poly.v[0], sender.normal) > 0 && wall.region.contains(q);
 }
 
 Vec3 FinalGather::DirectVariation::centre(double a, double i, int na, int nr) const {
@@ -195,12 +206,7 @@ Rgb FinalGather::DirectVariation::sum(const Node& sender, const Rgb& L_sender, d
             const double fi =
                 std::clamp(std::log(std::max(length(e), r_min_) / r_min_) / log_span_ * radii - 0.5, 0.0, double(radii - 1));
             const double fa = std::atan2(dot(e, pv_), dot(e, pu_)) / (2.0 * kPi) * angles - 0.5;
-            const int i0 = std::min(radii - 2, int(fi)), a0 = int(std::floor(fa));
-            const double ti = fi - i0, ta = fa - a0;
-            for (int k = 0; k < 4; ++k) {
-                const int a = ((a0 + (k & 1)) % angles + angles) % angles, i = i0 + (k >> 1);
-                cell_w_[size_t(a * radii + i)] += w_dir * (((k & 1) ? ta : 1.0 - ta) * ((k >> 1) ? ti : 1.0 - ti));
-            }
+            bilinear_cells(fa, fi, angles, radii, [&](int cell, double wc) { cell_w_[size_t(cell)] += w_dir * wc; });
             any = true;
         }
     }
@@ -252,15 +258,11 @@ Rgb FinalGather::DirectVariation::sum(const Node& sender, const Rgb& L_sender, d
                     continue;
             } else {
                 const double fa = (a + 0.5) / sub_ - 0.5, fi = std::clamp((i + 0.5) / sub_ - 0.5, 0.0, double(radii0_ - 1));
-                const int a0 = int(std::floor(fa)), i0 = std::min(radii0_ - 2, int(fi));
-                const double ta = fa - a0, ti = fi - i0;
                 double wsum = 0;
-                for (int k = 0; k < 4; ++k) {
-                    const int b = ((a0 + (k & 1)) % angles0 + angles0) % angles0, j = i0 + (k >> 1);
-                    const Coarse& cl = coarse_[size_t(b * radii0_ + j)];
-                    const double wc = ((k & 1) ? ta : 1.0 - ta) * ((k >> 1) ? ti : 1.0 - ti);
+                bilinear_cells(fa, fi, angles0, radii0_, [&](int cell, double wc) {
+                    const Coarse& cl = coarse_[size_t(cell)];
                     if (cl.valid && wc > 0) v.rho += cl.rho * wc, v.dD += cl.dD * wc, wsum += wc;
-                }
+                });
                 if (!(wsum > 0)) continue;
                 v.rho = v.rho / wsum, v.dD = v.dD / wsum;
             }

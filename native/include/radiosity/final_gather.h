@@ -166,6 +166,8 @@ private:
         std::vector<int> surfaces;  // the plane's surfaces met near any s* of one sender
         void read(const Hierarchy& h, const Node& k, double w);
         void couple(const Hierarchy& h, const Vec3& sp, const Vec3& sn);
+        // The first of `surfaces` whose polygon holds q (a point of the plane), or -1.
+        int surface_at(const Hierarchy& h, const Vec3& q) const;
     };
     // Outgoing radiance at a point sp of leaf m_id, gathered there (lamps and m's links); with
     // `wall`, also what it gathers of that plane near sp.

@@ -67,6 +67,9 @@ struct Aabb {
     Vec3 center() const { return (lo + hi) * 0.5; }
     Vec3 extent() const { return hi - lo; }
     double diagonal() const { return empty() ? 0.0 : length(hi - lo); }
+    bool contains(const Vec3& p) const {
+        return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z;
+    }
     bool overlaps(const Aabb& b) const {
         for (int a = 0; a < 3; ++a)
             if (b.lo[a] > hi[a] || b.hi[a] < lo[a]) return false;

@@ -41,3 +41,9 @@ def pump(timeout=None):
     """Run pending live re-bakes synchronously (timers do not fire in `blender -b` scripts)."""
     from . import handlers
     return handlers.pump(timeout)
+
+
+def preview_now():
+    """Show a pending drag step's live preview synchronously (what the timer does)."""
+    from . import handlers
+    return handlers.preview_now()

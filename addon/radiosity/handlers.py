@@ -7,6 +7,11 @@ re-bakes. Timers never fire inside a blocking `blender -b --python` script, so `
 whatever is pending synchronously; tests and scripts call it (``import radiosity;
 radiosity.pump()``).
 
+While a drag goes on, each step is shown at once as a preview (core.preview: the kept solver
+re-traces the direct light at the new placement, tens of milliseconds): the colours follow the
+mouse, and the real update runs when the drag pauses. `preview_now()` shows a pending step
+synchronously (what the timer does; ``radiosity.preview_now()`` in scripts).
+
 Undo and redo keep the kept solution: it is native state, valid whatever Blender re-reads, and
 the next bake updates it incrementally to wherever undo put the objects. What they change is
 which colours the meshes hold (baked_state judges that): out of date colours are re-baked with
@@ -17,11 +22,13 @@ import time
 import traceback
 
 import bpy
+import numpy as np
 from bpy.app.handlers import persistent
 
-from . import bake, baked_state, eval_cache
+from . import bake, baked_state, eval_cache, writer
 from .core import job as core_job
 from .core import live as core_live
+from .core import preview as core_preview
 from .core import stats as core_stats
 
 TIMER_STEP = 0.1
@@ -119,8 +126,83 @@ def on_depsgraph_update(scene, depsgraph=None):
         rebake = rebake or st.needs_rebake(obj.name_full, obj.matrix_world)
     if rebake and props.live:
         _queue(st)
+        _queue_preview(st)
     if st.stale != was:
         redraw()
+
+
+# -- the drag's preview ------------------------------------------------------------------------
+PREVIEW_STATUS = "Radiosity: live preview (direct light); full update when the drag pauses"
+
+
+def _queue_preview(st):
+    st.preview_pending = True
+    if not bpy.app.timers.is_registered(_preview_timer):
+        bpy.app.timers.register(_preview_timer, first_interval=0.0)
+
+
+def _preview_timer():
+    preview_now()
+    return None
+
+
+def preview_now():
+    """Show every scene's pending drag step now; returns how many previews were written. A
+    scene whose live update is running keeps its step pending (the solver is busy; the update
+    that follows shows the place anyway)."""
+    shown = 0
+    for key, st in core_live.all_states().items():
+        if not st.preview_pending or st.job is not None:
+            continue
+        st.preview_pending = False
+        scene = _scene_by_key(key)
+        if scene is not None and scene.radiosity.live and _preview(key, st, scene):
+            shown += 1
+    return shown
+
+
+def _preview(key, st, scene):
+    entry = core_job.cache_get(key)
+    if not core_preview.available(entry):
+        return False
+    t0 = time.perf_counter()
+    matrices = {}
+    for name in entry.names:
+        obj = bpy.data.objects.get(name)
+        if obj is not None:
+            matrices[name] = np.array(obj.matrix_world, dtype=np.float64)
+    try:
+        changed, counts = core_preview.radiance(entry, matrices)
+    except (RuntimeError, ValueError) as exc:
+        # A matrix the solver refuses, or a solver that started a job meanwhile: the update
+        # after the drag says what is wrong; the preview just does not show this step.
+        last_errors.append(f"live preview: {exc}")
+        return False
+    # Objects an earlier step changed and this one does not: back to the bake's colours.
+    writes = dict(changed)
+    for name in st.previewed - set(changed):
+        base = core_preview.base_radiance(entry, name)
+        if base is not None:
+            writes[name] = base
+    attribute = scene.radiosity.attribute_name
+    written = set()
+    st.busy = True      # our writes echo back through depsgraph_update_post
+    try:
+        for name, rad in writes.items():
+            rgba = core_preview.rgba_for(entry, name, rad)
+            me = writer.resolve(entry.outputs[name]["target"]) if rgba is not None else None
+            if me is None or len(me.loops) * 4 != len(rgba):
+                continue    # no colours of its own, or deleted or re-shaped since the bake
+            writer.write_mesh(me, attribute, rgba)
+            written.add(name)
+    finally:
+        st.busy = False
+    st.previewed = set(changed) & written
+    st.previews += 1
+    st.last_preview = dict(counts, objects=len(written), seconds=time.perf_counter() - t0)
+    _status(PREVIEW_STATUS)
+    redraw()
+    return True
 
 
 def _finish_live(st, scene, run):
@@ -134,6 +216,7 @@ def _finish_live(st, scene, run):
         traceback.print_exc()
         last_errors.append(f"live re-bake failed: {exc!r}")
     st.runs += 1
+    st.previewed = set()    # the update wrote every mesh
 
 
 def _start_live(key, st, synchronous):
@@ -333,7 +416,7 @@ def unregister():
     for hook, fn in _HOOKS:
         while fn in hook:
             hook.remove(fn)
-    for timer in (_live_timer, _settle_all):
+    for timer in (_live_timer, _settle_all, _preview_timer):
         if bpy.app.timers.is_registered(timer):
             bpy.app.timers.unregister(timer)
     _status(None)

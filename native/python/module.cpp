@@ -326,6 +326,41 @@ PYBIND11_MODULE(radiosity_native, m) {
             std::copy(v.begin(), v.end(), out.mutable_data());
             return out;
         }, py::arg("object_id"))
+        // Live drag: with the objects of `moves` ({object_id: 4x4 matrix}, as move_object
+        // takes) placed there, direct light re-traced and the rest as solved, the corners that
+        // change ({object_id: (corner indices, (k,3) values)}; the others keep corner_radiance's
+        // value) and what it re-traced. Changes nothing.
+        .def("preview", [](PySolver& s, const py::dict& moves) {
+            s.solved();
+            std::map<int, std::array<double, 16>> mv;
+            for (const auto& item : moves) {
+                const int id = item.first.cast<int>();
+                const auto m = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(item.second);
+                if (!m || m.ndim() != 2 || m.shape(0) != 4 || m.shape(1) != 4) throw py::value_error("matrix must be 4x4");
+                std::copy(m.data(), m.data() + 16, mv[id].begin());
+            }
+            FinalGather::PreviewCounts k;
+            std::vector<CornerPatch> patches;
+            {
+                py::gil_scoped_release release;
+                patches = s.solver->preview(mv, &k);
+            }
+            py::dict out;
+            for (const CornerPatch& p : patches) {
+                py::array_t<float> vals({py::ssize_t(p.corners.size()), py::ssize_t(3)});
+                std::copy(p.values.begin(), p.values.end(), vals.mutable_data());
+                out[py::int_(p.object)] = py::make_tuple(
+                    py::array_t<int32_t>(py::ssize_t(p.corners.size()), p.corners.data()), vals);
+            }
+            py::dict d;
+            d["points"] = k.points;
+            d["lamps"] = k.lamps;
+            d["transfers"] = k.transfers;
+            d["rays"] = k.rays;
+            d["uncovered"] = k.uncovered;
+            d["covered"] = k.covered;
+            return py::make_tuple(out, d);
+        }, py::arg("moves"))
         .def("corner_irradiance", [](const PySolver& s, int object) {
             s.solved();
             std::vector<float> v = s.solver->corner_irradiance(object);

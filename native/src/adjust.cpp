@@ -60,6 +60,10 @@ void Solver::at_first_bounce_where_buried(const std::vector<Aabb>& now, const st
 void Solver::move_object(int object, const double m[16]) {
     if (!solved_) throw std::logic_error("move_object: solve the scene first");
     check_live(object, "move_object");  // topology.cpp
+    pending_moves_[object] = pose_of(object, m);
+}
+
+Solver::Pose Solver::pose_of(int object, const double m[16]) const {
     const std::string& name = scene_.objects()[object].name;
     for (int i = 0; i < 16; ++i)
         if (!std::isfinite(m[i])) throw InputError("object '" + name + "': the matrix has a NaN or inf entry");
@@ -87,7 +91,7 @@ void Solver::move_object(int object, const double m[16]) {
     for (int k = 0; k < 3; ++k)
         if (!(std::fabs(p.t[k]) <= 1e12))
             throw InputError("object '" + name + "': the move takes it more than 1e12 scene sizes away");
-    pending_moves_[object] = p;
+    return p;
 }
 
 void Solver::set_material(int object, const std::vector<Rgb>& values, bool emission) {

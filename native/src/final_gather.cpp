@@ -78,21 +78,6 @@ int corner_covered(const FinalGather::Solution& s, const Primitive& p, const Vec
     return s.h.leaf_at(s.h.surfaces[size_t(other)].root, inside);
 }
 
-// Whether any ray from x to `box` could meet one of `clips`: the box hull of the two meets
-// one of them (a shaft test on boxes).
-bool hull_meets(const Vec3& x, const Aabb& box, const std::vector<Aabb>& clips) {
-    // The rays' ends are lifted off their surfaces by 1e-6 of the scene (transfer.cpp).
-    const Vec3 m{1e-5, 1e-5, 1e-5};
-    Aabb px, bx = box;
-    px.grow(x - m);
-    px.grow(x + m);
-    bx.lo -= m;
-    bx.hi += m;
-    for (const Aabb& c : clips)
-        if (c.meets_shaft(px, bx)) return true;
-    return false;
-}
-
 }  // namespace
 
 // The closure at an output point: its couplings must sum to 1 where the point sees no open
@@ -983,30 +968,33 @@ std::vector<float> FinalGather::values(const Hierarchy& h, int object, bool irra
     std::vector<float> out(cp.size() * 3, 0.f);
     for (size_t ci = 0; ci < cp.size(); ++ci) {
         if (cp[ci] < 0) continue;  // no face of this vertex has an area: 0
-        const Point& p = points_[size_t(cp[ci])];
-        const Node& leaf = h.nodes[size_t(h.live_element(p.leaf))];
-        Rgb v;
-        if (!p.covered) {
-            Rgb own, all;
-            for (const Record& r : p.records) {
-                Rgb e;
-                for (uint32_t i = r.begin; i < r.end; ++i)
-                    e += h.nodes[size_t(h.live_element(p.samples[i].first))].L * double(p.samples[i].second);
-                all += e;
-                if (r.own) own += e;
-            }
-            all += p.near;
-            const Rgb e = p.direct + closure_gathered(own, all, p.c_own, p.c_inherited, p.fill, leaf.L);
-            v = irradiance ? e : leaf.emission + leaf.rho * e;
-        } else {
-            const Rgb e = p.beyond >= 0 ? h.nodes[size_t(h.live_element(p.beyond))].L : Rgb{};
-            v = irradiance ? e : leaf.emission + leaf.rho * e;
-        }
+        const Rgb v = point_value(h, points_[size_t(cp[ci])], irradiance);
         out[3 * ci] = float(v.r);
         out[3 * ci + 1] = float(v.g);
         out[3 * ci + 2] = float(v.b);
     }
     return out;
+}
+
+Rgb FinalGather::point_value(const Hierarchy& h, const Point& p, bool irradiance, const Rgb& change) const {
+    const Node& leaf = h.nodes[size_t(h.live_element(p.leaf))];
+    Rgb e;
+    if (!p.covered) {
+        Rgb own, all;
+        for (const Record& r : p.records) {
+            Rgb g;
+            for (uint32_t i = r.begin; i < r.end; ++i)
+                g += h.nodes[size_t(h.live_element(p.samples[i].first))].L * double(p.samples[i].second);
+            all += g;
+            if (r.own) own += g;
+        }
+        all += p.near;
+        e = p.direct + closure_gathered(own, all, p.c_own, p.c_inherited, p.fill, leaf.L);
+    } else {
+        e = p.beyond >= 0 ? h.nodes[size_t(h.live_element(p.beyond))].L : Rgb{};
+    }
+    e += change;
+    return irradiance ? e : leaf.emission + leaf.rho * e;
 }
 
 }  // namespace radiosity

@@ -688,4 +688,18 @@ Link reevaluate_link(const Hierarchy& h, const Visibility& vis, const Link& old,
     return l;
 }
 
+bool hull_meets(const Vec3& x, const Aabb& box, const std::vector<Aabb>& clips) {
+    // The rays' ends are lifted off their surfaces by 1e-6 of the scene (transfer.cpp).
+    const Vec3 m{1e-5, 1e-5, 1e-5};
+    Aabb px, bx = box;
+    px.grow(x - m);
+    px.grow(x + m);
+    bx.lo -= m;
+    bx.hi += m;
+    for (const Aabb& c : clips)
+        if (c.meets_shaft(px, bx)) return true;
+    return false;
+}
+
+
 }  // namespace radiosity

@@ -224,3 +224,34 @@ def test_dropping_a_running_solver_cancels_it():
     assert r.returncode == 0, r.stderr
     assert "dropped in" in r.stdout
     assert float(r.stdout.split()[-1]) < 1.0, r.stdout
+
+
+def test_preview_through_the_binding(rn):
+    """Solver.preview: {object: (int32 corners, float32 (k,3) values)} plus counts; refused
+    while a job runs, for a scale, and without a solution; changes nothing."""
+    scene, ids = lamp_floor_wall(rn, 8)
+    box = rs.box([0.3, -0.4, 0.0], [0.9, 0.2, 0.5], 2).add(scene, "box", rho=0.6)
+    solver = rn.Solver(scene, rn.Settings.preset("DRAFT"))
+    m = np.eye(4)
+    m[0, 3] = -0.8
+    with pytest.raises(RuntimeError):
+        solver.preview({box: m})          # no solution yet
+    solver.solve()
+    before = [solver.corner_radiance(i).copy() for i in ids + [box]]
+    patches, counts = solver.preview({box: m})
+    assert set(counts) >= {"points", "lamps", "transfers", "rays", "uncovered", "covered"}
+    assert counts["rays"] > 0 and ids[0] in patches and box in patches
+    for oid, (corners, values) in patches.items():
+        assert corners.dtype == np.int32 and values.dtype == np.float32
+        assert values.shape == (len(corners), 3) and np.isfinite(values).all()
+        assert not np.allclose(before[(ids + [box]).index(oid)][corners], values)
+    assert all(np.array_equal(b, solver.corner_radiance(i)) for b, i in zip(before, ids + [box]))
+    with pytest.raises(ValueError):
+        solver.preview({box: np.diag([2.0, 1, 1, 1])})
+    solver.move_object(box, m)
+    solver.start_update()
+    try:
+        with pytest.raises(RuntimeError, match="running"):
+            solver.preview({box: m})
+    finally:
+        solver.wait()

@@ -45,6 +45,8 @@ class CachedSolution:
     names: list = field(default_factory=list)            # object order of `radiance`
     lights: list = field(default_factory=list)           # LightInput.key() per native light, last solved
     leaf_meshes: list = None                             # per object: leaf_mesh dict or None
+    # name -> {"target", "corner_perm", "corner_map"}: where its colours go (core.preview)
+    outputs: dict = field(default_factory=dict)
     in_use: bool = False     # an incremental job owns the solver right now
     bake_stats: dict = None  # stats.summary of the bake that solved `radiance` (the panel)
 
@@ -451,6 +453,8 @@ class SolveJob:
         entry.clusters, entry.objects, entry.input_surfaces = \
             len(si.clusters), len(si.objects), si.polygon_count
         entry.names = [o.name for o in si.objects]
+        entry.outputs = {o.name: {"target": o.target, "corner_perm": o.corner_perm,
+                                  "corner_map": o.corner_map} for o in si.objects}
         entry.lights = [li.key() for li in si.lights]
         entry.matrices = {o.name: scene_data.object_matrix(o) for o in si.objects}
         entry.reflectance = {o.name: np.array(o.reflectance, copy=True) for o in si.objects}

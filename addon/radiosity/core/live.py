@@ -53,6 +53,12 @@ class LiveState:
         self.job_started = None      # monotonic time it started (the status text shows it)
         self.progress = 0.0          # its last polled progress, 0..1
         self.runs = 0                # how many live re-bakes ran (tests read it)
+        # The drag's preview (core.preview): a step waiting to be shown, how many were shown,
+        # which objects show preview colours now, and what the last one did.
+        self.preview_pending = False
+        self.previews = 0
+        self.previewed = set()
+        self.last_preview = None
         # "load" or "undo" until the bake shown has been judged again: world matrices are
         # right only once the depsgraph has been evaluated after either (Blender 4+ does not
         # store them: load_post and undo_post see identity matrices for re-read objects).

@@ -12,6 +12,7 @@
 // direct light and closure fill), so output after a change of radiance alone (emission,
 // reflectance, a light dimmed) costs no ray; geometry changes re-trace.
 #pragma once
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -89,6 +90,41 @@ public:
     // traced anew. The result is what trace() gives for the same links and ray budgets.
     void retrace(const Solution& s, const Config& c, const Moves& moves, const std::function<void(double)>& progress);
     bool traced() const { return traced_; }
+    // --- The live drag's preview (preview.cpp). While an object is dragged, each step shows
+    // this trace with its direct light re-traced at the new placements: lamps' shadow rays and
+    // the transfers from emitting senders, for the points whose rays may meet a moved object's
+    // old or new box (their rays replayed where the record allows) and for the moved objects'
+    // own points, carried rigidly. Light that bounced stays as solved: the update run when the
+    // drag pauses gives the real output. The trace itself does not change.
+    struct Preview {
+        std::vector<char> moved;                    // per object
+        std::vector<std::array<double, 12>> carry;  // per object: old placement -> new (R row-major, t)
+        std::vector<Aabb> clips;                    // old and new boxes of the moved objects
+        std::vector<Aabb> now;                      // new boxes alone
+        // Whether a point (on `surface`, normal n) lies under another polygon at the new
+        // placements (a floor point under the dragged box): covered, unlit as in Cycles.
+        std::function<bool(int surface, const Vec3& x, const Vec3& n)> covered;
+    };
+    struct PreviewCounts {
+        int64_t points = 0;     // points whose light changed
+        int64_t lamps = 0;      // points whose lamps were re-traced
+        int64_t transfers = 0;  // emitter transfers re-traced
+        int64_t uncovered = 0;  // points a moved object covered and covers no more (gathered afresh)
+        int64_t covered = 0;    // points it covers now
+        int64_t rays = 0;
+    };
+    // Per point, the change of its irradiance / pi.
+    std::vector<Rgb> preview(const Solution& s, const Preview& p, PreviewCounts& counts) const;
+    // One corner's value as corner_radiance (or with `irradiance`, corner_irradiance) gives
+    // it, with `change` (preview's) added to what arrives there; false when the object or
+    // corner was not traced (its value is 0).
+    bool corner_value(const Hierarchy& h, int object, size_t corner, bool irradiance, const Rgb& change, Rgb& out) const;
+    // The point a corner reads (-1: none; preview()'s index).
+    int corner_point(int object, size_t corner) const {
+        if (!traced_ || object < 0 || size_t(object) >= corner_point_.size()) return -1;
+        const auto& cp = corner_point_[size_t(object)];
+        return corner < cp.size() ? cp[corner] : -1;
+    }
     void clear();
     // Per corner (RGB interleaved) of one object, from the trace and the current leaf
     // radiances: outgoing radiance, or irradiance / pi (lighting only). Empty when the object
@@ -141,6 +177,10 @@ private:
     struct Job;
     std::vector<Job> make_jobs(const Solution& s);
     std::vector<float> values(const Hierarchy& h, int object, bool irradiance) const;
+    Rgb point_value(const Hierarchy& h, const Point& p, bool irradiance, const Rgb& change = Rgb{}) const;
+    // preview(): irradiance / pi at a point gathered afresh from the active links reaching its
+    // leaf and the lamps, without retraces, closure or near field (a footprint uncovered).
+    Rgb fresh_irradiance(const Solution& s, const Point& pt, int64_t& rays) const;
     // A point traced afresh, or (with `old` and `moves`) re-traced after moves.
     void trace_point(const Solution& s, const Config& c, Point& pt, const Point* old, const Moves* moves,
                      Counts& counts) const;

@@ -2,6 +2,7 @@
 // down (3.1.1), BF-style refinement with the 3.5 criterion, iterative gathering with
 // push-pull, and per-corner output.
 #pragma once
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <functional>
@@ -30,6 +31,13 @@ struct Cancelled : std::runtime_error {
 struct Control {
     std::atomic<double> fraction{0.0};
     std::atomic<bool> cancel{false};
+};
+
+// Some corners of one object and their new values (RGB interleaved).
+struct CornerPatch {
+    int object = -1;
+    std::vector<int32_t> corners;
+    std::vector<float> values;
 };
 
 class Solver {
@@ -74,6 +82,14 @@ public:
     // A new collection cluster (for objects added later); InputError for an unknown parent.
     int add_cluster(const std::string& name, int parent = -1);
     bool removed(int object) const { return object >= 0 && size_t(object) < removed_.size() && removed_[object]; }
+
+    // Live drag (preview.cpp): the corners whose colour changes, and their values, with the
+    // objects in `moves` placed there (move_object's matrices, validated alike): the direct
+    // light re-traced at the new places, the rest as solved (FinalGather::preview); every
+    // other corner keeps corner_radiance's value. The solution, Embree's placements and pending
+    // moves stay as they were. Without a final gather (gather_rays 0) or a solution: logic_error.
+    std::vector<CornerPatch> preview(const std::map<int, std::array<double, 16>>& moves,
+                               FinalGather::PreviewCounts* counts = nullptr);
 
     // Incremental update of the kept solution (a full solve if there is none).
     void update(Control* control = nullptr);
@@ -159,6 +175,8 @@ private:
     void collect_receivers();
     // adjust.cpp
     struct Pose { double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}; Vec3 t; };
+    // move_object's matrix as a placement in the internal frame (InputError when not rigid).
+    Pose pose_of(int object, const double m[16]) const;
     // What an update changed in the geometry (adjust.cpp for moves, topology.cpp for
     // additions and removals); the AdjustSystem then works from it alone.
     struct Change {

@@ -69,6 +69,11 @@ struct PointRayStream {
 PointTransfer point_transfer(const Hierarchy& h, PointRayStream& rays_out, int src, const Vec3& x, const Vec3& n,
                              int rcv_leaf, int rays, uint64_t seed, std::vector<std::pair<int, float>>& samples);
 
+// Whether any ray from x to `box` could meet one of `clips` (a move's old and new boxes):
+// the box hull of the two meets one of them (a shaft test on boxes, with the rays' lift off
+// their surfaces as margin).
+bool hull_meets(const Vec3& x, const Aabb& box, const std::vector<Aabb>& clips);
+
 // Unoccluded element-to-element coupling of a receiver polygon (not necessarily a node yet)
 // from an element sender: the cubature average of the point-to-polygon form factor.
 double unoccluded_coupling(const Poly& rcv, const Vec3& rcv_n, const Node& src);

@@ -1,0 +1,348 @@
+// The live drag's preview: while the user drags an object, each step must show something
+// within a tenth of a second, and a real update takes seconds. What the eye follows during a
+// drag is the direct light -- the shadow the object casts and the light on its own faces --
+// so a step re-traces only that, from the output's own trace: the lamps' shadow rays and the
+// transfers from emitting senders of the points a moved box can touch, and of the moved
+// objects' points carried with them. Bounced light stays as solved until the drag pauses and
+// the update runs. Nothing here changes the solution: Embree's placements are restored.
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <stdexcept>
+
+#include "radiosity/final_gather.h"
+#include "radiosity/lights.h"
+#include "radiosity/parallel.h"
+#include "radiosity/solver.h"
+#include "radiosity/transfer.h"
+
+namespace radiosity {
+
+namespace {
+
+Vec3 carry_point(const std::array<double, 12>& c, const Vec3& p) {
+    return {c[0] * p.x + c[1] * p.y + c[2] * p.z + c[9], c[3] * p.x + c[4] * p.y + c[5] * p.z + c[10],
+            c[6] * p.x + c[7] * p.y + c[8] * p.z + c[11]};
+}
+
+Vec3 carry_dir(const std::array<double, 12>& c, const Vec3& v) {
+    return {c[0] * v.x + c[1] * v.y + c[2] * v.z, c[3] * v.x + c[4] * v.y + c[5] * v.z, c[6] * v.x + c[7] * v.y + c[8] * v.z};
+}
+
+// Whether a shadow ray of some lamp from x (normal n) may meet one of `clips`: a point or spot
+// light's segment hull; the sun's rays toward the sun disk; the sky's, anywhere in front.
+bool lamps_meet(const SceneDesc& scene, const Hierarchy& h, const Vec3& x, const Vec3& n, const std::vector<Aabb>& clips) {
+    for (const LightDesc& d : scene.lights()) {
+        if (!(d.intensity.max() > 0)) continue;
+        Aabb lb;
+        if (d.type == LightDesc::Type::Point || d.type == LightDesc::Type::Spot) {
+            const Vec3 q = h.to_internal(d.position);
+            const double r = d.radius / h.unit;
+            lb.lo = q - Vec3{r, r, r};
+            lb.hi = q + Vec3{r, r, r};
+        } else if (d.type == LightDesc::Type::Sun) {
+            // Past the scene's far end toward the sun, as wide as the disk is there.
+            const double far = 4.0 * h.scene_diag;
+            const Vec3 q = x - d.direction * far;
+            const double r = far * std::tan(0.5 * std::min(d.angle, 3.0)) + 1e-9;
+            lb.lo = q - Vec3{r, r, r};
+            lb.hi = q + Vec3{r, r, r};
+        } else {
+            for (const Aabb& c : clips)
+                for (int k = 0; k < 8; ++k) {
+                    const Vec3 corner{(k & 1) ? c.hi.x : c.lo.x, (k & 2) ? c.hi.y : c.lo.y, (k & 4) ? c.hi.z : c.lo.z};
+                    if (dot(corner - x, n) > 0) return true;
+                }
+            continue;
+        }
+        if (hull_meets(x, lb, clips)) return true;
+    }
+    return false;
+}
+
+}  // namespace
+
+std::vector<Rgb> FinalGather::preview(const Solution& s, const Preview& p, PreviewCounts& counts) const {
+    std::vector<Rgb> d(points_.size());
+    if (!traced_) return d;
+    const Hierarchy& h = s.h;
+    // Senders that emit: emitting elements and every node above one. Only their transfers
+    // are re-traced (a dark sender's light is bounced light, left as solved).
+    std::vector<char> emits(h.nodes.size(), 0);
+    for (size_t i = 0; i < h.nodes.size(); ++i) {
+        const Node& m = h.nodes[i];
+        if (m.dead || m.is_cluster() || !(m.emission.max() > 0)) continue;
+        for (int a = int(i); a >= 0 && !emits[size_t(a)]; a = h.nodes[size_t(a)].parent) emits[size_t(a)] = 1;
+    }
+    auto inside_any = [](const std::vector<Aabb>& boxes, const Vec3& x) {
+        for (const Aabb& b : boxes)
+            if (b.contains(x)) return true;
+        return false;
+    };
+    std::atomic<int64_t> n_points{0}, n_lamps{0}, n_transfers{0}, n_rays{0}, n_uncovered{0}, n_covered{0};
+    parallel_for(points_.size(), config_.threads, [&](size_t i) {
+        const Point& pt = points_[i];
+        if (pt.object < 0 || size_t(pt.object) >= p.moved.size()) return;
+        const bool moved = p.moved[size_t(pt.object)] != 0;
+        const Vec3 x = moved ? carry_point(p.carry[size_t(pt.object)], pt.x) : pt.x;
+        const Vec3 n = moved ? carry_dir(p.carry[size_t(pt.object)], pt.n) : pt.n;
+        Rgb dE;
+        int64_t rays = 0;
+        bool changed = false;
+        // The footprint the dragged object leaves: a point it covered (unlit, no record of what
+        // it sees) is gathered afresh, roughly; and one it covers now goes unlit.
+        if (!moved && p.covered) {
+            const int surface = h.nodes[size_t(h.live_element(pt.leaf))].surface;
+            if (pt.covered && inside_any(p.clips, x) && !p.covered(surface, x, n)) {
+                d[i] = fresh_irradiance(s, pt, rays) - point_value(h, pt, true);
+                n_rays += rays;
+                ++n_uncovered;
+                ++n_points;
+                return;
+            }
+            if (!pt.covered && inside_any(p.now, x) && p.covered(surface, x, n)) {
+                d[i] = Rgb{} - point_value(h, pt, true);
+                ++n_covered;
+                ++n_points;
+                return;
+            }
+        }
+        // (A covered point is sealed too under a closed solid: the footprint's rule above
+        // comes first.)
+        if (pt.covered || pt.sealed) return;
+        if (moved || lamps_meet(s.scene, h, x, n, p.clips)) {
+            const PointLight lamp = direct_light_at(s.scene, h, s.vis, x, n, false, config_.light_samples, pt.seed);
+            dE += lamp.E - pt.direct;
+            rays += lamp.rays;
+            ++n_lamps;
+            changed = true;
+        }
+        thread_local std::vector<std::pair<int, float>> fresh;
+        for (const Record& r : pt.records) {
+            if (!emits[size_t(r.src)]) continue;
+            const Node& src = h.nodes[size_t(r.src)];
+            // A moved emitter's nodes are where the solution has them, not where it is now.
+            if (src.object >= 0 && size_t(src.object) < p.moved.size() && p.moved[size_t(src.object)]) continue;
+            if (!moved && !hull_meets(x, src.box, p.clips)) continue;
+            Rgb was;
+            for (uint32_t k = r.begin; k < r.end; ++k)
+                was += h.nodes[size_t(h.live_element(pt.samples[k].first))].L * double(pt.samples[k].second);
+            // trace_point's seed for this transfer (a shadow edge's retrace: +1, a deep
+            // penumbra's, with more rays than the budget: +2), so that the rays through no moved
+            // box are the ones recorded and replay their outcomes.
+            const uint64_t seed = Hierarchy::mix(pt.seed, Hierarchy::mix(src.key, 0x5e4d3ull)) +
+                                  (r.refined ? (int(r.rays) > config_.rays ? 2 : 1) : 0);
+            fresh.clear();
+            PointRayStream rs(s.vis, moved ? nullptr : &r.outcome, &p.clips);
+            point_transfer(h, rs, r.src, x, n, pt.leaf, int(r.rays), seed, fresh);
+            Rgb now;
+            for (const auto& [node, w] : fresh) now += h.nodes[size_t(h.live_element(node))].L * double(w);
+            // Through the point's closure factors, as values() weighs this record's samples.
+            dE += (now - was) * (r.own ? pt.c_own : pt.c_inherited);
+            rays += rs.cast;
+            ++n_transfers;
+            changed = true;
+        }
+        d[i] = dE;
+        n_points += changed;
+        n_rays += rays;
+    }, 8);
+    counts.points = n_points;
+    counts.lamps = n_lamps;
+    counts.transfers = n_transfers;
+    counts.rays = n_rays;
+    counts.uncovered = n_uncovered;
+    counts.covered = n_covered;
+    return d;
+}
+
+Rgb FinalGather::fresh_irradiance(const Solution& s, const Point& pt, int64_t& rays) const {
+    // The active links into the point's leaf, its element ancestors and the clusters above its
+    // surface, each from the point (as trace_point, without its shadow-edge retraces, closure
+    // and near field: a preview's approximation), budgets shared by the light they bring.
+    const Hierarchy& h = s.h;
+    const int leaf = h.live_element(pt.leaf);
+    thread_local std::vector<std::pair<int, double>> use;
+    use.clear();
+    double total = 0;
+    auto take = [&](int node) {
+        for (int li : h.nodes[size_t(node)].in_links) {
+            const Link& l = s.links[size_t(li)];
+            const Node& src = h.nodes[size_t(l.src)];
+            const double w = l.K_unoccluded * std::max(src.Lmax.max(), src.L.max());
+            if (!(w > 0)) continue;
+            use.emplace_back(li, w);
+            total += w;
+        }
+    };
+    for (int a = leaf; a >= 0 && !h.nodes[size_t(a)].is_cluster(); a = h.nodes[size_t(a)].parent) take(a);
+    for (int a : h.ancestors_of_surface(h.nodes[size_t(leaf)].surface)) take(a);
+    const PointLight lamp = direct_light_at(s.scene, h, s.vis, pt.x, pt.n, false, config_.light_samples, pt.seed);
+    rays += lamp.rays;
+    Rgb E = lamp.E;
+    thread_local std::vector<std::pair<int, float>> samples;
+    for (const auto& [li, w] : use) {
+        const Link& l = s.links[size_t(li)];
+        const double want = config_.rays * w / total;
+        int n = want >= 1 ? 1 << int(std::lround(std::log2(want))) : 1;
+        n = std::min(std::max(n, config_.min_rays), std::max(config_.rays, config_.min_rays));
+        samples.clear();
+        PointRayStream rs(s.vis);
+        point_transfer(h, rs, l.src, pt.x, pt.n, leaf, n,
+                       Hierarchy::mix(pt.seed, Hierarchy::mix(h.nodes[size_t(l.src)].key, 0x5e4d3ull)), samples);
+        for (const auto& [node, sw] : samples) E += h.nodes[size_t(h.live_element(node))].L * double(sw);
+        rays += rs.cast;
+    }
+    return E;
+}
+
+bool FinalGather::corner_value(const Hierarchy& h, int object, size_t corner, bool irradiance, const Rgb& change,
+                               Rgb& out) const {
+    const int p = corner_point(object, corner);
+    if (p < 0) return false;
+    out = point_value(h, points_[size_t(p)], irradiance, change);
+    return true;
+}
+
+std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 16>>& moves,
+                                   FinalGather::PreviewCounts* counts) {
+    if (!solved_) throw std::logic_error("preview: solve the scene first");
+    if (settings_.gather_rays <= 0 || !output_.traced())
+        throw std::logic_error("preview: needs the final gather's trace (gather_rays > 0)");
+    const size_t no = scene_.objects().size();
+    FinalGather::Preview p;
+    p.moved.assign(no, 0);
+    p.carry.assign(no, {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0});
+    std::vector<std::pair<int, Pose>> placed;
+    for (const auto& [object, m] : moves) {
+        check_live(object, "preview");  // topology.cpp
+        if (size_t(object) >= poses_.size() || h_.object_node[size_t(object)] < 0) continue;
+        const Pose to = pose_of(object, m.data());
+        const Pose& from = poses_[size_t(object)];
+        if (std::equal(to.R, to.R + 9, from.R) && to.t.x == from.t.x && to.t.y == from.t.y && to.t.z == from.t.z)
+            continue;  // where the solution has it
+        // carry = (R_to R_from^T, t_to - R_to R_from^T t_from): the solution's placement to the new one.
+        std::array<double, 12>& c = p.carry[size_t(object)];
+        for (int r = 0; r < 3; ++r)
+            for (int k = 0; k < 3; ++k)
+                c[size_t(3 * r + k)] = to.R[3 * r] * from.R[3 * k] + to.R[3 * r + 1] * from.R[3 * k + 1] +
+                                       to.R[3 * r + 2] * from.R[3 * k + 2];
+        const Vec3 t = to.t - carry_dir(c, from.t);
+        c[9] = t.x, c[10] = t.y, c[11] = t.z;
+        const Aabb was = h_.object_box(object);
+        Aabb now;
+        for (int k = 0; k < 8; ++k)
+            now.grow(carry_point(c, {(k & 1) ? was.hi.x : was.lo.x, (k & 2) ? was.hi.y : was.lo.y, (k & 4) ? was.hi.z : was.lo.z}));
+        p.clips.push_back(was);
+        p.clips.push_back(now);
+        p.moved[size_t(object)] = 1;
+        placed.emplace_back(object, to);
+    }
+    for (Aabb& c : p.clips) {  // ray ends are lifted off surfaces: a hair of margin (as update())
+        c.lo -= Vec3{1e-5, 1e-5, 1e-5};
+        c.hi += Vec3{1e-5, 1e-5, 1e-5};
+    }
+    for (size_t k = 1; k < p.clips.size(); k += 2) p.now.push_back(p.clips[k]);
+    // The moved objects' polygons at the new placements, for the cover test (as light_contacts:
+    // coplanar within 1e-7 of the scene, facing the other way, the point inside).
+    struct Placed { Poly poly; Vec3 normal; Aabb box; };
+    std::vector<Placed> polys;
+    const double tol = 1e-7 * h_.scene_diag;
+    for (const Primitive& pr : h_.prims) {
+        if (pr.object < 0 || size_t(pr.object) >= no || !p.moved[size_t(pr.object)]) continue;
+        for (int side : {pr.front, pr.back}) {
+            if (side < 0) continue;
+            const Node& root = h_.nodes[size_t(h_.surfaces[size_t(side)].root)];
+            if (root.dead) continue;
+            Placed q;
+            q.poly = root.poly;
+            for (int j = 0; j < q.poly.n; ++j) q.poly.v[size_t(j)] = carry_point(p.carry[size_t(pr.object)], root.poly.v[size_t(j)]);
+            q.normal = carry_dir(p.carry[size_t(pr.object)], root.normal);
+            for (int j = 0; j < q.poly.n; ++j) q.box.grow(q.poly.v[size_t(j)]);
+            q.box.lo -= Vec3{tol, tol, tol};
+            q.box.hi += Vec3{tol, tol, tol};
+            polys.push_back(q);
+        }
+    }
+    auto holds = [&](const Poly& poly, const Vec3& normal, const Vec3& x) {
+        for (int j = 0; j < poly.n; ++j) {
+            const Vec3 e = poly.v[size_t((j + 1) % poly.n)] - poly.v[size_t(j)];
+            if (dot(cross(e, x - poly.v[size_t(j)]), normal) < -1e-9 * h_.scene_diag * length(e)) return false;
+        }
+        return true;
+    };
+    p.covered = [&](int surface, const Vec3& x, const Vec3& n) {
+        if (surface >= 0 && size_t(surface) < lights_.contacts.size())
+            for (int t : lights_.contacts[size_t(surface)]) {
+                const Node& m = h_.nodes[size_t(h_.surfaces[size_t(t)].root)];
+                if (m.object >= 0 && p.moved[size_t(m.object)]) continue;  // where it was
+                if (holds(m.poly, m.normal, x)) return true;
+            }
+        for (const Placed& q : polys) {
+            if (!q.box.contains(x) || dot(q.normal, n) > -1 + 1e-6) continue;
+            if (std::fabs(dot(x - q.poly.v[0], q.normal)) > tol) continue;
+            if (holds(q.poly, q.normal, x)) return true;
+        }
+        return false;
+    };
+    auto place = [this](int object, const Pose& q) {
+        const double m[12] = {q.R[0], q.R[1], q.R[2], q.t.x, q.R[3], q.R[4], q.R[5], q.t.y, q.R[6], q.R[7], q.R[8], q.t.z};
+        vis_->set_object_transform(object, m);
+    };
+    // Embree goes back to the solution's placements however the preview ends.
+    struct Restore {
+        Solver* s;
+        const std::vector<std::pair<int, Pose>>& placed;
+        const decltype(place)& put;
+        ~Restore() {
+            if (placed.empty()) return;
+            for (const auto& op : placed) put(op.first, s->poses_[size_t(op.first)]);
+            s->vis_->commit();
+        }
+    } restore{this, placed, place};
+    for (const auto& [object, q] : placed) place(object, q);
+    if (!placed.empty()) vis_->commit();
+
+    FinalGather::PreviewCounts k;
+    std::vector<CornerPatch> out;
+    if (placed.empty()) {
+        if (counts) *counts = k;
+        return out;
+    }
+    const FinalGather::Solution s{scene_, h_, *vis_, links_,
+                                  [this](int surface, const Vec3& q) { return light_contact(surface, q); }, &tri_prim_};
+    const std::vector<Rgb> d = output_.preview(s, p, k);
+    // Only the corners whose light changed: the caller shows the last bake's colours elsewhere.
+    for (size_t o = 0; o < no; ++o) {
+        const ObjectDesc& od = scene_.objects()[o];
+        // A textured surface reflects with each corner's own reflectance (corner_radiance).
+        const bool textured = !od.corner_reflectance.empty() || !od.corner_emission.empty();
+        CornerPatch patch;
+        patch.object = int(o);
+        for (size_t f = 0; f < od.polygon_count(); ++f)
+            for (int j = 0; j < od.loop_totals[f]; ++j) {
+                const size_t c = size_t(od.loop_starts[f]) + size_t(j);
+                const int pi = output_.corner_point(int(o), c);
+                if (pi < 0) continue;
+                const Rgb& dE = d[size_t(pi)];
+                if (dE.r == 0 && dE.g == 0 && dE.b == 0) continue;
+                Rgb v;
+                if (!output_.corner_value(h_, int(o), c, textured, dE, v)) continue;
+                if (textured) {
+                    const Rgb rho = od.corner_reflectance.empty() ? od.reflectance[f] : od.corner_reflectance[c];
+                    const Rgb e = od.corner_emission.empty() ? od.emission[f] : od.corner_emission[c];
+                    v = e + rho * v;
+                }
+                // Stale bounced light plus fresh direct can undershoot where a shadow is cast.
+                patch.corners.push_back(int32_t(c));
+                patch.values.push_back(std::max(0.f, float(v.r)));
+                patch.values.push_back(std::max(0.f, float(v.g)));
+                patch.values.push_back(std::max(0.f, float(v.b)));
+            }
+        if (!patch.corners.empty()) out.push_back(std::move(patch));
+    }
+    if (counts) *counts = k;
+    return out;
+}
+
+}  // namespace radiosity

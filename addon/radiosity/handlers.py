@@ -152,7 +152,10 @@ def preview_now():
     that follows shows the place anyway)."""
     shown = 0
     for key, st in core_live.all_states().items():
-        if not st.preview_pending or st.job is not None:
+        if not st.preview_pending:
+            continue
+        if st.job is not None:
+            st.preview_skipped = "a live update is running"
             continue
         st.preview_pending = False
         scene = _scene_by_key(key)
@@ -163,7 +166,9 @@ def preview_now():
 
 def _preview(key, st, scene):
     entry = core_job.cache_get(key)
-    if not core_preview.available(entry):
+    why = core_preview.unavailable(entry)
+    if why:
+        st.preview_skipped = why
         return False
     t0 = time.perf_counter()
     matrices = {}
@@ -198,6 +203,7 @@ def _preview(key, st, scene):
     finally:
         st.busy = False
     st.previewed = set(changed) & written
+    st.preview_skipped = None
     st.previews += 1
     st.last_preview = dict(counts, objects=len(written), seconds=time.perf_counter() - t0)
     _status(PREVIEW_STATUS)
@@ -224,6 +230,11 @@ def _start_live(key, st, synchronous):
     scene = _scene_by_key(key)
     if scene is None or not scene.radiosity.live:
         return
+    if st.preview_pending and not synchronous:
+        # A step the preview timer has not shown yet (a busy main thread runs both timers at
+        # once, this one first): shown before the update takes the solver for seconds.
+        st.preview_pending = False
+        _preview(key, st, scene)
     st.take()
     view_layer, depsgraph = _context_for(scene)
     st.busy = True      # gathering evaluates the depsgraph: do not re-trigger ourselves

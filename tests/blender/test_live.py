@@ -39,6 +39,9 @@ def test_live_update_is_visible_and_explained(run_ui_window):
     # and the panel then describes the update the user watched.
     if not r.get("live_too_fast"):
         assert r["live_status_text"].startswith("Radiosity: live update after a move"), r
+        # The window's timer showed the move's preview before the update started (issue 19).
+        assert r["previews_at_job_start"] >= 1 and r["last_preview"]["rays"] > 0, \
+            {k: r.get(k) for k in ("previews_at_job_start", "last_preview", "preview_skipped")}
         assert r["running_statusbar_shown"] and r["running_panel_shown"], r
         assert r["done_statusbar_cleared"], r
     assert r["live_stats"] == {"mode": "incremental", "live": True, "cached": False,

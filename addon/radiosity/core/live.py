@@ -59,6 +59,7 @@ class LiveState:
         self.previews = 0
         self.previewed = set()
         self.last_preview = None
+        self.preview_skipped = None  # why the last step was not previewed (None: it was)
         # "load" or "undo" until the bake shown has been judged again: world matrices are
         # right only once the depsgraph has been evaluated after either (Blender 4+ does not
         # store them: load_post and undo_post see identity matrices for re-read objects).

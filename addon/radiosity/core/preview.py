@@ -15,15 +15,24 @@ from .corners import radiance_to_rgba
 MATRIX_TOLERANCE = 1e-7     # as core.job: a matrix this close is where the solution has it
 
 
-def available(entry):
-    """Whether the kept solution `entry` (core.job.CachedSolution) can preview: the solver is
-    idle, and its colours are plain radiance (not lighting-only, no adaptive meshes)."""
-    if entry is None or entry.in_use or entry.fingerprint is None:
-        return False
+def unavailable(entry):
+    """Why the kept solution `entry` (core.job.CachedSolution) cannot preview now, or None: it
+    must exist with an idle solver, and its colours be plain radiance (not lighting-only, no
+    adaptive meshes)."""
+    if entry is None:
+        return "no kept solution"
+    if entry.in_use or entry.fingerprint is None:
+        return "the kept solution is being updated"
     if not hasattr(entry.solver, "preview"):
-        return False
+        return "the native module has no preview"
     key = entry.settings_key or ()
-    return "lighting_only" not in key and "adaptive_mesh" not in key
+    if "lighting_only" in key or "adaptive_mesh" in key:
+        return "lighting-only and adaptive-mesh bakes have no preview"
+    return None
+
+
+def available(entry):
+    return unavailable(entry) is None
 
 
 def moves(entry, matrices):

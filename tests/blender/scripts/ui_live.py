@@ -119,6 +119,11 @@ def live_running():
         return ui.WAIT_STEP
     if "job_seen" not in S:
         S["job_seen"] = time.monotonic()
+        # The move was previewed before the debounced update began (by the preview timer, or by
+        # the live timer just before it starts the update when a busy main thread runs both).
+        out["previews_at_job_start"] = st.previews
+        out["last_preview"] = st.last_preview
+        out["preview_skipped"] = st.preview_skipped
     if time.monotonic() - S["job_seen"] < 1.2:
         return ui.WAIT_STEP
     S["running"] = ui.screenshot("3_live_running")

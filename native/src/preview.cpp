@@ -121,9 +121,10 @@ std::vector<Rgb> FinalGather::preview(const Solution& s, const Preview& p, Previ
         for (const Record& r : pt.records) {
             if (!emits[size_t(r.src)]) continue;
             const Node& src = h.nodes[size_t(r.src)];
-            // A moved emitter's nodes are where the solution has them, not where it is now.
-            if (src.object >= 0 && size_t(src.object) < p.moved.size() && p.moved[size_t(src.object)]) continue;
-            if (!moved && !hull_meets(x, src.box, p.clips)) continue;
+            // (The hierarchy has the moved objects at their new places: a sender in one is
+            // where it is now, its rays all new.)
+            const bool src_moved = src.object >= 0 && size_t(src.object) < p.moved.size() && p.moved[size_t(src.object)];
+            if (!moved && !src_moved && !hull_meets(x, src.box, p.clips)) continue;
             Rgb was;
             for (uint32_t k = r.begin; k < r.end; ++k)
                 was += h.nodes[size_t(h.live_element(pt.samples[k].first))].L * double(pt.samples[k].second);
@@ -133,7 +134,7 @@ std::vector<Rgb> FinalGather::preview(const Solution& s, const Preview& p, Previ
             const uint64_t seed = Hierarchy::mix(pt.seed, Hierarchy::mix(src.key, 0x5e4d3ull)) +
                                   (r.refined ? (int(r.rays) > config_.rays ? 2 : 1) : 0);
             fresh.clear();
-            PointRayStream rs(s.vis, moved ? nullptr : &r.outcome, &p.clips);
+            PointRayStream rs(s.vis, moved || src_moved ? nullptr : &r.outcome, &p.clips);
             point_transfer(h, rs, r.src, x, n, pt.leaf, int(r.rays), seed, fresh);
             Rgb now;
             for (const auto& [node, w] : fresh) now += h.nodes[size_t(h.live_element(node))].L * double(w);
@@ -183,9 +184,11 @@ Rgb FinalGather::fresh_irradiance(const Solution& s, const Point& pt, int64_t& r
     thread_local std::vector<std::pair<int, float>> samples;
     for (const auto& [li, w] : use) {
         const Link& l = s.links[size_t(li)];
-        const double want = config_.rays * w / total;
+        // A quarter of the trace's budget: a preview of a footprint, seen while it moves.
+        const int budget = std::max(config_.rays / 4, config_.min_rays);
+        const double want = budget * w / total;
         int n = want >= 1 ? 1 << int(std::lround(std::log2(want))) : 1;
-        n = std::min(std::max(n, config_.min_rays), std::max(config_.rays, config_.min_rays));
+        n = std::min(std::max(n, 1), budget);  // (one ray for the faint: a preview's noise)
         samples.clear();
         PointRayStream rs(s.vis);
         point_transfer(h, rs, l.src, pt.x, pt.n, leaf, n,
@@ -205,7 +208,7 @@ bool FinalGather::corner_value(const Hierarchy& h, int object, size_t corner, bo
 }
 
 std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 16>>& moves,
-                                   FinalGather::PreviewCounts* counts) {
+                                         FinalGather::PreviewCounts* counts) {
     if (!solved_) throw std::logic_error("preview: solve the scene first");
     if (settings_.gather_rays <= 0 || !output_.traced())
         throw std::logic_error("preview: needs the final gather's trace (gather_rays > 0)");
@@ -296,11 +299,18 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
         const decltype(place)& put;
         ~Restore() {
             if (placed.empty()) return;
-            for (const auto& op : placed) put(op.first, s->poses_[size_t(op.first)]);
+            for (const auto& op : placed) {
+                const Pose& was = s->poses_[size_t(op.first)];
+                put(op.first, was);
+                s->h_.place_object(op.first, was.R, was.t);  // from the rest geometry: bit for bit
+            }
             s->vis_->commit();
         }
     } restore{this, placed, place};
-    for (const auto& [object, q] : placed) place(object, q);
+    for (const auto& [object, q] : placed) {
+        place(object, q);
+        h_.place_object(object, q.R, q.t);
+    }
     if (!placed.empty()) vis_->commit();
 
     FinalGather::PreviewCounts k;

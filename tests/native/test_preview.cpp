@@ -133,3 +133,13 @@ TEST(Preview, FootprintAndShadowOfABoxOnAFloorFollow) {
         EXPECT_EQ(shown[3 * c], truth[3 * c]) << "corner " << c << " is under the box now";
     }
 }
+
+// The ceiling panel itself dragged (an emitting mesh: its nodes go with it for the preview):
+// the light follows.
+TEST(Preview, FollowsADraggedEmitter) {
+    const Drag d = drag(scenes::box_room(4), 1, translation({-60, -40, 0}));
+    std::printf("[ figure ] ceiling panel dragged: old colours %.4f, preview %.4f NRMSE from the update\n", d.stale(),
+                d.preview());
+    EXPECT_GT(d.k.transfers, 0);
+    EXPECT_LT(d.preview(), 0.5 * d.stale());
+}

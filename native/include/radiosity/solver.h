@@ -89,7 +89,7 @@ public:
     // other corner keeps corner_radiance's value. The solution, Embree's placements and pending
     // moves stay as they were. Without a final gather (gather_rays 0) or a solution: logic_error.
     std::vector<CornerPatch> preview(const std::map<int, std::array<double, 16>>& moves,
-                               FinalGather::PreviewCounts* counts = nullptr);
+                                     FinalGather::PreviewCounts* counts = nullptr);
 
     // Incremental update of the kept solution (a full solve if there is none).
     void update(Control* control = nullptr);

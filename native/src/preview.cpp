@@ -110,7 +110,7 @@ std::vector<Rgb> FinalGather::preview(const Solution& s, const Preview& p, Previ
         // (A covered point is sealed too under a closed solid: the footprint's rule above
         // comes first.)
         if (pt.covered || pt.sealed) return;
-        if (moved || lamps_meet(s.scene, h, x, n, p.clips)) {
+        if (!s.scene.lights().empty() && (moved || lamps_meet(s.scene, h, x, n, p.clips))) {
             const PointLight lamp = direct_light_at(s.scene, h, s.vis, x, n, false, config_.light_samples, pt.seed);
             dE += lamp.E - pt.direct;
             rays += lamp.rays;

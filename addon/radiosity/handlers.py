@@ -149,13 +149,15 @@ def _preview_timer():
 def preview_now():
     """Show every scene's pending drag step now; returns how many previews were written. A
     scene whose live update is running keeps its step pending (the solver is busy; the update
-    that follows shows the place anyway)."""
+    that follows shows the place anyway); so does one whose matrices are not judged yet after
+    an undo or a load (re-read objects read identity until the depsgraph evaluates them)."""
     shown = 0
     for key, st in core_live.all_states().items():
         if not st.preview_pending:
             continue
-        if st.job is not None:
-            st.preview_skipped = "a live update is running"
+        if st.job is not None or st.unjudged:
+            st.preview_skipped = ("a live update is running" if st.job is not None
+                                  else "the scene is being judged again after an undo or a load")
             continue
         st.preview_pending = False
         scene = _scene_by_key(key)
@@ -165,43 +167,37 @@ def preview_now():
 
 
 def _preview(key, st, scene):
+    """One preview of `scene` where its objects stand now; never raises (a step it cannot
+    show is left to the update after the drag, and LiveState.preview_skipped says why)."""
     entry = core_job.cache_get(key)
     why = core_preview.unavailable(entry)
     if why:
         st.preview_skipped = why
         return False
     t0 = time.perf_counter()
-    matrices = {}
-    for name in entry.names:
-        obj = bpy.data.objects.get(name)
-        if obj is not None:
-            matrices[name] = np.array(obj.matrix_world, dtype=np.float64)
     try:
+        matrices = {}
+        for name in entry.names:
+            obj = bpy.data.objects.get(name)
+            if obj is not None:
+                matrices[name] = np.array(obj.matrix_world, dtype=np.float64)
         changed, counts = core_preview.radiance(entry, matrices)
+        # Objects an earlier step changed and this one does not: back to the bake's colours.
+        writes = dict(changed)
+        for name in st.previewed - set(changed):
+            base = core_preview.base_radiance(entry, name)
+            if base is not None:
+                writes[name] = base
+        written = _write_preview(scene, entry, st, writes)
     except (RuntimeError, ValueError) as exc:
-        # A matrix the solver refuses, or a solver that started a job meanwhile: the update
-        # after the drag says what is wrong; the preview just does not show this step.
-        last_errors.append(f"live preview: {exc}")
+        # A matrix the solver refuses (the update after the drag says why), a solver that
+        # started a job meanwhile, colours it could not convert.
+        st.preview_skipped = f"preview failed: {exc}"
         return False
-    # Objects an earlier step changed and this one does not: back to the bake's colours.
-    writes = dict(changed)
-    for name in st.previewed - set(changed):
-        base = core_preview.base_radiance(entry, name)
-        if base is not None:
-            writes[name] = base
-    attribute = scene.radiosity.attribute_name
-    written = set()
-    st.busy = True      # our writes echo back through depsgraph_update_post
-    try:
-        for name, rad in writes.items():
-            rgba = core_preview.rgba_for(entry, name, rad)
-            me = writer.resolve(entry.outputs[name]["target"]) if rgba is not None else None
-            if me is None or len(me.loops) * 4 != len(rgba):
-                continue    # no colours of its own, or deleted or re-shaped since the bake
-            writer.write_mesh(me, attribute, rgba)
-            written.add(name)
-    finally:
-        st.busy = False
+    except Exception as exc:        # a timer must not raise (Blender would drop it)
+        traceback.print_exc()
+        st.preview_skipped = f"preview failed: {exc!r}"
+        return False
     st.previewed = set(changed) & written
     st.preview_skipped = None
     st.previews += 1
@@ -211,9 +207,48 @@ def _preview(key, st, scene):
     return True
 
 
+def _write_preview(scene, entry, st, writes):
+    """{name: radiance} into the meshes' colour attribute (only that); returns the names
+    written. Everything is converted before the first mesh is touched."""
+    attribute = scene.radiosity.attribute_name
+    items = []
+    for name, rad in writes.items():
+        rgba = core_preview.rgba_for(entry, name, rad)
+        me = writer.resolve(entry.outputs[name]["target"]) if rgba is not None else None
+        if me is None or len(me.loops) * 4 != len(rgba):
+            continue    # no colours of its own, or deleted or re-shaped since the bake
+        items.append((name, me, rgba))
+    st.busy = True      # our writes echo back through depsgraph_update_post
+    try:
+        for _name, me, rgba in items:
+            writer.write_mesh(me, attribute, rgba)
+    finally:
+        st.busy = False
+    return {name for name, _me, _rgba in items}
+
+
+def _drop_preview(key, st):
+    """No update follows the preview shown (Live turned off, a failed update): the meshes go
+    back to the kept solution's colours and the status bar clears."""
+    st.preview_pending = False
+    if st.previewed:
+        entry = core_job.cache_get(key)
+        scene = _scene_by_key(key)
+        if entry is not None and scene is not None:
+            writes = {n: core_preview.base_radiance(entry, n) for n in st.previewed}
+            try:
+                _write_preview(scene, entry, st, {n: r for n, r in writes.items() if r is not None})
+            except Exception:
+                traceback.print_exc()
+        st.previewed = set()
+    _status(None)
+
+
 def _finish_live(st, scene, run):
+    ok = False
     try:
         run.finish()
+        ok = True
     except bake.BakeError as exc:
         last_errors.append(str(exc))
     except Exception as exc:
@@ -222,7 +257,10 @@ def _finish_live(st, scene, run):
         traceback.print_exc()
         last_errors.append(f"live re-bake failed: {exc!r}")
     st.runs += 1
-    st.previewed = set()    # the update wrote every mesh
+    if ok:
+        st.previewed = set()    # the update wrote every mesh
+    else:
+        _drop_preview(bake.scene_key(scene), st)
 
 
 def _start_live(key, st, synchronous):
@@ -242,6 +280,7 @@ def _start_live(key, st, synchronous):
         run = bake.BakeRun(scene, view_layer, depsgraph, live=True).prepare()
     except bake.BakeError as exc:
         last_errors.append(str(exc))
+        _drop_preview(key, st)
         return
     finally:
         st.busy = False
@@ -250,6 +289,7 @@ def _start_live(key, st, synchronous):
             run.run_sync()
         except bake.BakeError as exc:
             last_errors.append(str(exc))
+            _drop_preview(key, st)
             return
         _finish_live(st, scene, run)
     else:
@@ -284,6 +324,7 @@ def _step(synchronous):
                 _finish_live(st, scene, run)
             elif run.job.state == core_job.FAILED:
                 last_errors.append(f"solver failed: {run.job.error}")
+                _drop_preview(key, st)
             if not synchronous:
                 _status(None)
                 redraw()
@@ -318,6 +359,7 @@ def live_toggled(props, context):
     st = settle(context.scene)
     if not props.live:
         st.take()
+        _drop_preview(bake.scene_key(context.scene), st)
     elif st.shown.baked and st.stale:
         _queue(st)
 
@@ -393,6 +435,10 @@ def on_undo_post(*_args):
     solution; a live job still running solves what the scene was before the undo, so it is
     followed by another."""
     _rekey()
+    for st in core_live.all_states().values():
+        # Undo put back the meshes' colours of its step: no preview of ours is shown any more.
+        st.preview_pending = False
+        st.previewed = set()
     _unjudge("undo")
 
 

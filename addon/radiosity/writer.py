@@ -40,6 +40,20 @@ def write_mesh(me, name, rgba):
     me.update()
 
 
+def read_colours(scene, name):
+    """{object name: float32 (C,3) RGB} of every mesh object of `scene` that holds the colour
+    attribute `name` (what a bake wrote: scripts, the demo, the benchmarks)."""
+    import numpy as np
+    out = {}
+    for obj in scene.objects:
+        if obj.type != "MESH" or name not in obj.data.color_attributes:
+            continue
+        buf = np.empty(len(obj.data.loops) * 4, dtype=np.float32)
+        obj.data.color_attributes[name].data.foreach_get("color", buf)
+        out[obj.name] = buf.reshape(-1, 4)[:, :3].copy()
+    return out
+
+
 def resolve(target: WriteTarget):
     """Look the mesh up again by name (the bpy references taken at gather time may be stale
     after a modal job ran for a while)."""

@@ -110,14 +110,7 @@ def apply_move(scene):
 
 
 def colours(scene, attr):
-    out = {}
-    for o in scene.objects:
-        if o.type == "MESH" and attr in o.data.color_attributes:
-            a = o.data.color_attributes[attr]
-            buf = np.empty(len(o.data.loops) * 4, dtype=np.float32)
-            a.data.foreach_get("color", buf)
-            out[o.name] = buf.reshape(-1, 4)[:, :3].copy()
-    return out
+    return sys.modules["radiosity"].writer.read_colours(scene, attr)
 
 
 def nrmse(a, b):

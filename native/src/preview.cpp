@@ -4,7 +4,8 @@
 // so a step re-traces only that, from the output's own trace: the lamps' shadow rays and the
 // transfers from emitting senders of the points a moved box can touch, and of the moved
 // objects' points carried with them. Bounced light stays as solved until the drag pauses and
-// the update runs. Nothing here changes the solution: Embree's placements are restored.
+// the update runs. Nothing here changes the solution: the dragged objects' Embree placements
+// and hierarchy geometry are put back as they were, bit for bit (only the ray counter grows).
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -59,6 +60,77 @@ bool lamps_meet(const SceneDesc& scene, const Hierarchy& h, const Vec3& x, const
     }
     return false;
 }
+
+// The hierarchy's geometry that placing objects rewrites (Hierarchy::place_object): their
+// nodes, the clusters above them, their primitives and the surface tables. Saved before a
+// preview places them, put back after: placing them again from the rest geometry would not
+// give the same bits (children's normals are their parents' when built, recomputed when placed).
+class SavedGeometry {
+public:
+    SavedGeometry(const Hierarchy& h, const std::vector<int>& objects) {
+        std::vector<char> seen(h.nodes.size(), 0);
+        auto keep = [&](int id) {
+            if (id < 0 || seen[size_t(id)]) return;
+            seen[size_t(id)] = 1;
+            const Node& n = h.nodes[size_t(id)];
+            nodes_.push_back({id, n.poly, n.normal, n.center, n.box, n.radius, n.area, n.rho_max, n.W});
+        };
+        for (int o : objects) {
+            for (int id : h.object_nodes(o)) keep(id);
+            for (int a = h.object_node[size_t(o)] >= 0 ? h.nodes[size_t(h.object_node[size_t(o)])].parent : h.root; a >= 0;
+                 a = h.nodes[size_t(a)].parent)
+                keep(a);
+            for (size_t i = 0; i < h.prims.size(); ++i)
+                if (h.prims[i].object == o) {
+                    prims_.emplace_back(i, h.prims[i].poly);
+                    for (int side : {h.prims[i].front, h.prims[i].back})
+                        if (side >= 0)
+                            for (int id : subtree(h, h.surfaces[size_t(side)].root)) keep(id);
+                }
+        }
+        surface_geom_ = h.surface_geom;
+        area_prefix_ = h.area_prefix;
+        facing_summary_ = h.facing_summary;
+    }
+    void restore(Hierarchy& h) {
+        for (const Saved& v : nodes_) {
+            Node& n = h.nodes[size_t(v.id)];
+            n.poly = v.poly;
+            n.normal = v.normal;
+            n.center = v.center;
+            n.box = v.box;
+            n.radius = v.radius;
+            n.area = v.area;
+            n.rho_max = v.rho_max;
+            n.W = v.W;
+        }
+        for (const auto& [i, poly] : prims_) h.prims[i].poly = poly;
+        h.surface_geom.swap(surface_geom_);
+        h.area_prefix.swap(area_prefix_);
+        h.facing_summary.swap(facing_summary_);
+    }
+
+private:
+    static std::vector<int> subtree(const Hierarchy& h, int root) {
+        std::vector<int> out{root};
+        for (size_t k = 0; k < out.size(); ++k)
+            for (int c : h.nodes[size_t(out[k])].children) out.push_back(c);
+        return out;
+    }
+    struct Saved {
+        int id;
+        Poly poly;
+        Vec3 normal, center;
+        Aabb box;
+        double radius, area, rho_max;
+        decltype(Node::W) W;
+    };
+    std::vector<Saved> nodes_;
+    std::vector<std::pair<size_t, Poly>> prims_;
+    std::vector<SurfaceGeom> surface_geom_;
+    std::vector<double> area_prefix_;
+    std::vector<Hierarchy::FacingSummary> facing_summary_;
+};
 
 }  // namespace
 
@@ -121,9 +193,10 @@ std::vector<Rgb> FinalGather::preview(const Solution& s, const Preview& p, Previ
         for (const Record& r : pt.records) {
             if (!emits[size_t(r.src)]) continue;
             const Node& src = h.nodes[size_t(r.src)];
-            // (The hierarchy has the moved objects at their new places: a sender in one is
-            // where it is now, its rays all new.)
-            const bool src_moved = src.object >= 0 && size_t(src.object) < p.moved.size() && p.moved[size_t(src.object)];
+            // (The hierarchy has the moved objects at their new places: a sender in one, or a
+            // cluster holding one, draws other rays now; none replays a recorded outcome.)
+            const bool src_moved = (src.object >= 0 && size_t(src.object) < p.moved.size() && p.moved[size_t(src.object)]) ||
+                                   (size_t(r.src) < p.moved_nodes.size() && p.moved_nodes[size_t(r.src)]);
             if (!moved && !src_moved && !hull_meets(x, src.box, p.clips)) continue;
             Rgb was;
             for (uint32_t k = r.begin; k < r.end; ++k)
@@ -288,25 +361,39 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
         }
         return false;
     };
+    // Clusters holding a dragged object (their sampling of surfaces changes with it).
+    p.moved_nodes.assign(h_.nodes.size(), 0);
+    for (const auto& op : placed) {
+        const int top = h_.object_node[size_t(op.first)];
+        for (int a = top >= 0 ? h_.nodes[size_t(top)].parent : h_.root; a >= 0; a = h_.nodes[size_t(a)].parent)
+            p.moved_nodes[size_t(a)] = 1;
+    }
     auto place = [this](int object, const Pose& q) {
         const double m[12] = {q.R[0], q.R[1], q.R[2], q.t.x, q.R[3], q.R[4], q.R[5], q.t.y, q.R[6], q.R[7], q.R[8], q.t.z};
         vis_->set_object_transform(object, m);
     };
-    // Embree goes back to the solution's placements however the preview ends.
+    std::vector<int> objects;
+    for (const auto& op : placed) objects.push_back(op.first);
+    // The solution's placements back however the preview ends (Embree's from the same poses:
+    // the same floats; the hierarchy's from the saved copy).
     struct Restore {
         Solver* s;
         const std::vector<std::pair<int, Pose>>& placed;
         const decltype(place)& put;
+        SavedGeometry saved;
         ~Restore() {
             if (placed.empty()) return;
-            for (const auto& op : placed) {
-                const Pose& was = s->poses_[size_t(op.first)];
-                put(op.first, was);
-                s->h_.place_object(op.first, was.R, was.t);  // from the rest geometry: bit for bit
+            saved.restore(s->h_);
+            try {
+                for (const auto& op : placed) put(op.first, s->poses_[size_t(op.first)]);
+                s->vis_->commit();
+            } catch (...) {
+                // An Embree error here leaves rays as the preview placed them: the solution
+                // must not be trusted. (Never seen: the same calls succeeded a moment ago.)
+                s->solved_ = false;
             }
-            s->vis_->commit();
         }
-    } restore{this, placed, place};
+    } restore{this, placed, place, SavedGeometry(h_, objects)};
     for (const auto& [object, q] : placed) {
         place(object, q);
         h_.place_object(object, q.R, q.t);

@@ -689,7 +689,7 @@ Link reevaluate_link(const Hierarchy& h, const Visibility& vis, const Link& old,
 }
 
 bool hull_meets(const Vec3& x, const Aabb& box, const std::vector<Aabb>& clips) {
-    // The rays' ends are lifted off their surfaces by 1e-6 of the scene (transfer.cpp).
+    // The rays' ends are lifted off their surfaces by 1e-6 of the scene (point_transfer).
     const Vec3 m{1e-5, 1e-5, 1e-5};
     Aabb px, bx = box;
     px.grow(x - m);
@@ -700,6 +700,5 @@ bool hull_meets(const Vec3& x, const Aabb& box, const std::vector<Aabb>& clips) 
         if (c.meets_shaft(px, bx)) return true;
     return false;
 }
-
 
 }  // namespace radiosity

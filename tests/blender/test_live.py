@@ -80,3 +80,6 @@ def test_drag_steps_show_a_preview_and_the_pause_equals_a_full_bake(run_blender)
     assert r["nrmse_preview_full"] < 0.4 * r["nrmse_first_full"], r
     assert r["live_stats"]["mode"] == "incremental"
     assert r["nrmse_update_full"] < 0.005, r["nrmse_update_full"]
+    # Live off after a previewed step: the bake's colours are back.
+    assert r["shown_before_off"] == 1 and r["preview_differs"] > 1e-3, r
+    assert r["after_live_off"] == 0.0 and r["previewed_after_off"] == [], r

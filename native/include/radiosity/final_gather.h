@@ -101,12 +101,13 @@ public:
         std::vector<std::array<double, 12>> carry;  // per object: old placement -> new (R row-major, t)
         std::vector<Aabb> clips;                    // old and new boxes of the moved objects
         std::vector<Aabb> now;                      // new boxes alone
+        std::vector<char> moved_nodes;              // per node: a cluster holding a moved object
         // Whether a point (on `surface`, normal n) lies under another polygon at the new
         // placements (a floor point under the dragged box): covered, unlit as in Cycles.
         std::function<bool(int surface, const Vec3& x, const Vec3& n)> covered;
     };
     struct PreviewCounts {
-        int64_t points = 0;     // points whose light changed
+        int64_t points = 0;     // points re-traced (their light may have changed)
         int64_t lamps = 0;      // points whose lamps were re-traced
         int64_t transfers = 0;  // emitter transfers re-traced
         int64_t uncovered = 0;  // points a moved object covered and covers no more (gathered afresh)

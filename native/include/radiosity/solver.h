@@ -86,8 +86,9 @@ public:
     // Live drag (preview.cpp): the corners whose colour changes, and their values, with the
     // objects in `moves` placed there (move_object's matrices, validated alike): the direct
     // light re-traced at the new places, the rest as solved (FinalGather::preview); every
-    // other corner keeps corner_radiance's value. The solution, Embree's placements and pending
-    // moves stay as they were. Without a final gather (gather_rays 0) or a solution: logic_error.
+    // other corner keeps corner_radiance's value. The solution, pending moves and the dragged
+    // objects' placements (Embree's and the hierarchy's, which the call uses for a moment) stay
+    // as they were, bit for bit. Without a final gather (gather_rays 0) or a solution: logic_error.
     std::vector<CornerPatch> preview(const std::map<int, std::array<double, 16>>& moves,
                                      FinalGather::PreviewCounts* counts = nullptr);
 

@@ -62,4 +62,15 @@ out["nrmse_update_full"] = nrmse(live_final, full)
 out["nrmse_first_full"] = nrmse(first, full)
 out["nrmse_preview_full"] = nrmse(preview_last, full)
 out["live_errors"] = list(mod.handlers.last_errors)
+# Live turned off right after a step was previewed: no update follows, so the bake's colours
+# come back (never a preview left behind under the bake's name).
+m = box.matrix_world.copy()
+m.translation.x += 0.3
+box.matrix_world = m
+bpy.context.view_layer.update()
+out["shown_before_off"] = mod.preview_now()
+out["preview_differs"] = float(np.abs(colours(objs) - full).max())
+scene.radiosity.live = False
+out["after_live_off"] = float(np.abs(colours(objs) - full).max())
+out["previewed_after_off"] = sorted(states()[0].previewed)
 rt.result(ok=ok and ok2, **out)

@@ -170,7 +170,8 @@ void FinalGather::links_reaching(const Solution& s, int leaf, std::vector<std::p
         // Links the solver found fully occluded from the receiver's cubature points are still
         // part of what the receiver covers (they are kept for a move to reopen): a point of
         // it may see the sender all the same, e.g. a corner on the rim of a shadow that covers
-        // the rest of a large leaf.
+        // the rest of a large leaf. (Known during a trace only: a preview goes without.)
+        if (occluded_.begin.empty()) return;
         for (int32_t k = occluded_.begin[size_t(node)]; k < occluded_.begin[size_t(node) + 1]; ++k)
             out.emplace_back(occluded_.links[size_t(k)], own);
     };
@@ -179,6 +180,15 @@ void FinalGather::links_reaching(const Solution& s, int leaf, std::vector<std::p
 }
 
 static constexpr int kDeepRays = 8;
+
+int FinalGather::ray_share(int budget, double weight, double total, int lo, int hi) {
+    int n = lo;
+    if (total > 0 && weight > 0) {
+        const double want = budget * weight / total;
+        n = want >= 1 ? 1 << int(std::lround(std::log2(want))) : 1;
+    }
+    return std::min(std::max(n, lo), hi);
+}
 
 void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, const Point* old, const Moves* moves,
                               Counts& counts) const {
@@ -269,7 +279,7 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
         // not depend on which receiver node holds the link, so when an update splits a link on
         // the receiver side (a closure split), the link that now reaches the point from the
         // same sender is the same transfer, and its record is kept or replayed (below).
-        const uint64_t lseed = Hierarchy::mix(pt.seed, Hierarchy::mix(h.nodes[size_t(l.src)].key, 0x5e4d3ull));
+        const uint64_t lseed = transfer_seed(h, pt.seed, l.src);
         Record rec;
         rec.src = l.src;
         rec.own = u.own;
@@ -278,12 +288,7 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
         // The link's share of the budget, in powers of two: a small change of the light (an
         // update's solution against a full solve's) then rarely changes a link's rays, so the
         // two gather the same rays where their links agree.
-        int rays = c.min_rays;
-        if (total > 0 && u.weight > 0) {
-            const double want = c.rays * u.weight / total;
-            rays = want >= 1 ? 1 << int(std::lround(std::log2(want))) : 1;
-        }
-        rays = std::min(std::max(rays, c.min_rays), std::max(c.rays, c.min_rays));
+        int rays = ray_share(c.rays, u.weight, total, c.min_rays, std::max(c.rays, c.min_rays));
         const int refined_rays = std::min(c.rays, 4 * rays);
         // The same link, or one new since (split on the receiver side, or made again) from a
         // sender the point read before: the same transfer.

@@ -191,6 +191,14 @@ double distance_outside(const Poly& poly, const Vec3& n, const Vec3& x) {
     return o;
 }
 
+bool within_edges(const Poly& poly, const Vec3& n, const Vec3& x, double tol) {
+    for (int k = 0; k < poly.n; ++k) {
+        const Vec3 e = poly.v[(k + 1) % poly.n] - poly.v[k];
+        if (dot(cross(e, x - poly.v[k]), n) < -tol * length(e)) return false;
+    }
+    return true;
+}
+
 Cubature receiver_cubature(const Poly& rcv, const Vec3& src_p, const Vec3& src_n) {
     const FrontPart f = front_part(rcv, src_p, src_n);
     const double area = rcv.area();

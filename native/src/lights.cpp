@@ -358,12 +358,7 @@ int Solver::light_contact(int surface, const Vec3& p) const {
     const double tol = 1e-9 * h_.scene_diag;
     for (int t : lights_.contacts[surface]) {
         const Node& m = h_.nodes[h_.surfaces[t].root];
-        bool inside = true;
-        for (int k = 0; k < m.poly.n && inside; ++k) {
-            const Vec3 e = m.poly.v[(k + 1) % m.poly.n] - m.poly.v[k];
-            inside = dot(cross(e, p - m.poly.v[k]), m.normal) >= -tol * length(e);
-        }
-        if (inside) return t;
+        if (within_edges(m.poly, m.normal, p, tol)) return t;
     }
     return -1;
 }

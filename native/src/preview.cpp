@@ -204,8 +204,8 @@ std::vector<Rgb> FinalGather::preview(const Solution& s, const Preview& p, Previ
             // trace_point's seed for this transfer (a shadow edge's retrace: +1, a deep
             // penumbra's, with more rays than the budget: +2), so that the rays through no moved
             // box are the ones recorded and replay their outcomes.
-            const uint64_t seed = Hierarchy::mix(pt.seed, Hierarchy::mix(src.key, 0x5e4d3ull)) +
-                                  (r.refined ? (int(r.rays) > config_.rays ? 2 : 1) : 0);
+            const uint64_t seed =
+                transfer_seed(h, pt.seed, r.src) + (r.refined ? (int(r.rays) > config_.rays ? 2 : 1) : 0);
             fresh.clear();
             PointRayStream rs(s.vis, moved || src_moved ? nullptr : &r.outcome, &p.clips);
             point_transfer(h, rs, r.src, x, n, pt.leaf, int(r.rays), seed, fresh);
@@ -231,41 +231,37 @@ std::vector<Rgb> FinalGather::preview(const Solution& s, const Preview& p, Previ
 }
 
 Rgb FinalGather::fresh_irradiance(const Solution& s, const Point& pt, int64_t& rays) const {
-    // The active links into the point's leaf, its element ancestors and the clusters above its
-    // surface, each from the point (as trace_point, without its shadow-edge retraces, closure
-    // and near field: a preview's approximation), budgets shared by the light they bring.
+    // The links reaching the point's leaf (links_reaching), each from the point as trace_point
+    // does, without its shadow-edge retraces, closure and near field (a preview's
+    // approximation), budgets shared by the light they bring.
     const Hierarchy& h = s.h;
     const int leaf = h.live_element(pt.leaf);
+    thread_local std::vector<std::pair<int, bool>> reaching;
     thread_local std::vector<std::pair<int, double>> use;
+    links_reaching(s, leaf, reaching);
     use.clear();
     double total = 0;
-    auto take = [&](int node) {
-        for (int li : h.nodes[size_t(node)].in_links) {
-            const Link& l = s.links[size_t(li)];
-            const Node& src = h.nodes[size_t(l.src)];
-            const double w = l.K_unoccluded * std::max(src.Lmax.max(), src.L.max());
-            if (!(w > 0)) continue;
-            use.emplace_back(li, w);
-            total += w;
-        }
-    };
-    for (int a = leaf; a >= 0 && !h.nodes[size_t(a)].is_cluster(); a = h.nodes[size_t(a)].parent) take(a);
-    for (int a : h.ancestors_of_surface(h.nodes[size_t(leaf)].surface)) take(a);
+    for (const auto& link_own : reaching) {
+        const Link& l = s.links[size_t(link_own.first)];
+        const Node& src = h.nodes[size_t(l.src)];
+        const double w = l.K_unoccluded * std::max(src.Lmax.max(), src.L.max());
+        if (!(w > 0)) continue;
+        use.emplace_back(link_own.first, w);
+        total += w;
+    }
     const PointLight lamp = direct_light_at(s.scene, h, s.vis, pt.x, pt.n, false, config_.light_samples, pt.seed);
     rays += lamp.rays;
     Rgb E = lamp.E;
+    // A quarter of the trace's budget, one ray for the faint: a preview of a footprint, seen
+    // while it moves.
+    const int budget = std::max(config_.rays / 4, config_.min_rays);
     thread_local std::vector<std::pair<int, float>> samples;
     for (const auto& [li, w] : use) {
         const Link& l = s.links[size_t(li)];
-        // A quarter of the trace's budget: a preview of a footprint, seen while it moves.
-        const int budget = std::max(config_.rays / 4, config_.min_rays);
-        const double want = budget * w / total;
-        int n = want >= 1 ? 1 << int(std::lround(std::log2(want))) : 1;
-        n = std::min(std::max(n, 1), budget);  // (one ray for the faint: a preview's noise)
         samples.clear();
         PointRayStream rs(s.vis);
-        point_transfer(h, rs, l.src, pt.x, pt.n, leaf, n,
-                       Hierarchy::mix(pt.seed, Hierarchy::mix(h.nodes[size_t(l.src)].key, 0x5e4d3ull)), samples);
+        point_transfer(h, rs, l.src, pt.x, pt.n, leaf, ray_share(budget, w, total, 1, budget), transfer_seed(h, pt.seed, l.src),
+                       samples);
         for (const auto& [node, sw] : samples) E += h.nodes[size_t(h.live_element(node))].L * double(sw);
         rays += rs.cast;
     }
@@ -340,24 +336,19 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
             polys.push_back(q);
         }
     }
-    auto holds = [&](const Poly& poly, const Vec3& normal, const Vec3& x) {
-        for (int j = 0; j < poly.n; ++j) {
-            const Vec3 e = poly.v[size_t((j + 1) % poly.n)] - poly.v[size_t(j)];
-            if (dot(cross(e, x - poly.v[size_t(j)]), normal) < -1e-9 * h_.scene_diag * length(e)) return false;
-        }
-        return true;
-    };
+    // (light_contact's test, with the moved objects where they are now.)
+    const double inside_tol = 1e-9 * h_.scene_diag;
     p.covered = [&](int surface, const Vec3& x, const Vec3& n) {
         if (surface >= 0 && size_t(surface) < lights_.contacts.size())
             for (int t : lights_.contacts[size_t(surface)]) {
                 const Node& m = h_.nodes[size_t(h_.surfaces[size_t(t)].root)];
                 if (m.object >= 0 && p.moved[size_t(m.object)]) continue;  // where it was
-                if (holds(m.poly, m.normal, x)) return true;
+                if (within_edges(m.poly, m.normal, x, inside_tol)) return true;
             }
         for (const Placed& q : polys) {
             if (!q.box.contains(x) || dot(q.normal, n) > -1 + 1e-6) continue;
             if (std::fabs(dot(x - q.poly.v[0], q.normal)) > tol) continue;
-            if (holds(q.poly, q.normal, x)) return true;
+            if (within_edges(q.poly, q.normal, x, inside_tol)) return true;
         }
         return false;
     };

@@ -17,7 +17,6 @@ from .corners import radiance_to_rgba
 IDLE, RUNNING, DONE, CANCELLED, FAILED = "IDLE", "RUNNING", "DONE", "CANCELLED", "FAILED"
 
 
-MATRIX_TOLERANCE = 1e-7
 # Native stats that count work since the last full solve (not per update).
 CUMULATIVE_WORK = ("rays", "links_evaluated")
 
@@ -177,15 +176,15 @@ class SolveJob:
             if o.name not in hit.object_ids or o.name in changed:
                 continue        # added or replaced: given as it is now
             oid = hit.object_ids[o.name]
-            m = scene_data.object_matrix(o)
-            if not np.allclose(m, hit.matrices[o.name], rtol=0.0, atol=MATRIX_TOLERANCE):
-                rel = m @ np.linalg.inv(hit.build_matrices[o.name])
+            rel = scene_data.relative_move(scene_data.object_matrix(o), hit.matrices[o.name],
+                                           hit.build_matrices[o.name])
+            if rel is not None:
                 if not scene_data.is_rigid(rel):
                     if not can_replace:
                         return f"'{o.name}' was scaled, sheared or mirrored (not a rigid move)"
                     changed.append(o.name)
                     continue
-                moves.append((oid, np.ascontiguousarray(rel, dtype=np.float64)))
+                moves.append((oid, rel))
             if not np.array_equal(o.emission, hit.emission[o.name]):
                 emissions.append((oid, np.ascontiguousarray(o.emission, dtype=np.float64)))
             if not np.array_equal(o.reflectance, hit.reflectance[o.name]):

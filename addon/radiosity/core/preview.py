@@ -12,8 +12,6 @@ import numpy as np
 from . import scene_data
 from .corners import radiance_to_rgba
 
-MATRIX_TOLERANCE = 1e-7     # as core.job: a matrix this close is where the solution has it
-
 
 def unavailable(entry):
     """Why the kept solution `entry` (core.job.CachedSolution) cannot preview now, or None: it
@@ -44,12 +42,9 @@ def moves(entry, matrices):
         oid = entry.object_ids.get(name)
         if oid is None or name not in entry.matrices or name not in entry.build_matrices:
             continue
-        m = np.asarray(m, dtype=np.float64).reshape(4, 4)
-        if np.allclose(m, entry.matrices[name], rtol=0.0, atol=MATRIX_TOLERANCE):
-            continue
-        rel = m @ np.linalg.inv(entry.build_matrices[name])
-        if scene_data.is_rigid(rel):
-            out[int(oid)] = np.ascontiguousarray(rel)
+        rel = scene_data.relative_move(m, entry.matrices[name], entry.build_matrices[name])
+        if rel is not None and scene_data.is_rigid(rel):
+            out[int(oid)] = rel
     return out
 
 
@@ -92,5 +87,4 @@ def rgba_for(entry, name, rad):
 
 def base_radiance(entry, name):
     """The last bake's radiance of object `name` (to put back what an earlier step changed)."""
-    i = {n: k for k, n in enumerate(entry.names)}.get(name)
-    return None if i is None else entry.radiance[i]
+    return entry.radiance[entry.names.index(name)] if name in entry.names else None

@@ -317,6 +317,18 @@ def shape_digests(scene_input):
             for o in scene_input.objects}
 
 
+MATRIX_TOLERANCE = 1e-7     # a world matrix this close to the one solved has not moved
+
+
+def relative_move(m, solved, build):
+    """None when world matrix `m` is where the solution has the object (`solved`), else `m`
+    relative to the placement it was added with (`build`): what Solver.move_object takes."""
+    m = np.asarray(m, dtype=np.float64).reshape(4, 4)
+    if np.allclose(m, solved, rtol=0.0, atol=MATRIX_TOLERANCE):
+        return None
+    return np.ascontiguousarray(m @ np.linalg.inv(build))
+
+
 def is_rigid(m, tol=1e-5):
     """A proper rigid motion (rotation + translation, no scale/shear/mirror)?"""
     m = np.asarray(m, dtype=np.float64)

@@ -182,6 +182,14 @@ private:
     // preview(): irradiance / pi at a point gathered afresh from the active links reaching its
     // leaf and the lamps, without retraces, closure or near field (a footprint uncovered).
     Rgb fresh_irradiance(const Solution& s, const Point& pt, int64_t& rays) const;
+    // The seed of a point's transfer from sender node `src`: the point's and the sender's alone
+    // (not the link's), so the same transfer draws the same rays whichever link holds it.
+    static uint64_t transfer_seed(const Hierarchy& h, uint64_t point_seed, int src) {
+        return Hierarchy::mix(point_seed, Hierarchy::mix(h.nodes[size_t(src)].key, 0x5e4d3ull));
+    }
+    // A transfer's share of a point's ray budget: `budget` x weight / total in powers of two,
+    // within [lo, hi] (lo when it brings nothing).
+    static int ray_share(int budget, double weight, double total, int lo, int hi);
     // A point traced afresh, or (with `old` and `moves`) re-traced after moves.
     void trace_point(const Solution& s, const Config& c, Point& pt, const Point* old, const Moves* moves,
                      Counts& counts) const;

@@ -5,6 +5,8 @@ on, through the add-on in Blender, as a user's drag drives it.
         [--steps 30] [--runs 3] [--out bench/results/live_drag.md]
     (or: blender -b --factory-startup --python bench/live_drag.py -- ARGS)
 
+--quick (CI smoke run, nothing judged): the Cornell box at DRAFT, 3 steps, one run, no report file.
+
 python3 must import bpy (PyPI's bpy 5.x); the add-on comes from build/addon/stage (the build's
 staged package with the native module). Per run: open the file, bake (Live on), then N steps
 from the object's place to scene["radiosity_move"]'s (location and turn shared evenly): each
@@ -42,7 +44,12 @@ def parse():
     p.add_argument("--runs", type=int, default=3)
     p.add_argument("--out", help="append the report (markdown) to this file")
     p.add_argument("--addon-dir", default=os.path.join(REPO, "build", "addon", "stage"))
-    return p.parse_args(argv)
+    p.add_argument("--quick", action="store_true")
+    a = p.parse_args(argv)
+    if a.quick:
+        a.blend = os.path.join(REPO, "example_blends", "cornell_box.blend")
+        a.preset, a.steps, a.runs, a.out = "DRAFT", 3, 1, None
+    return a
 
 
 def colours(attr):

@@ -24,6 +24,7 @@ benches=(
   "$PY bench/tradeoff/run_scaling.py --quick --exe $B/bench_scaling"
   "$PY bench/tradeoff/run_tradeoff.py --quick --zip $ZIP"
   "$PY bench/tradeoff/run_table2.py --quick --zip $ZIP"
+  "$PY bench/live_drag.py --quick --addon-dir $BUILD/addon/stage"
 )
 passed=0
 failed=()

@@ -393,5 +393,19 @@ PYBIND11_MODULE(radiosity_native, m) {
         .def("stats", [](const PySolver& s) {
             s.idle();
             return stats_dict(s.solver->stats());
+        })
+        .def("object_costs", [](const PySolver& s) {
+            s.idle();
+            py::list out;
+            for (const Solver::ObjectCost& c : s.solver->object_costs()) {
+                py::dict d;
+                d["point_rays"] = c.point_rays;
+                d["links"] = c.links;
+                d["link_rays"] = c.link_rays;
+                d["history_links"] = c.history_links;
+                d["history_link_rays"] = c.history_link_rays;
+                out.append(d);
+            }
+            return out;
         });
 }

@@ -880,6 +880,7 @@ void FinalGather::run(const Solution& s, const Config& c, std::vector<Job>& jobs
         sealed_rule_ = c.sealed_solids && s.tri_prim != nullptr && !light_sealed_in(s, guard);
         n_rays += guard.rays;
     }
+    std::vector<std::atomic<int64_t>> object_rays(s.scene.objects().size());
     const size_t block = 512;
     for (size_t b = 0; b < jobs.size(); b += block) {
         if (progress) progress(double(b) / double(jobs.size()));
@@ -915,6 +916,7 @@ void FinalGather::run(const Solution& s, const Config& c, std::vector<Job>& jobs
             pt.samples.shrink_to_fit();
             n_links += local.links;
             n_rays += local.rays;
+            object_rays[size_t(j.object)] += local.rays;
             n_refined += local.refined;
             n_near += local.near;
             n_sealed += pt.sealed;
@@ -938,6 +940,8 @@ void FinalGather::run(const Solution& s, const Config& c, std::vector<Job>& jobs
     counts_.fresh_points = n_fresh;
     counts_.near = n_near;
     counts_.sealed = n_sealed;
+    counts_.object_rays.assign(object_rays.size(), 0);
+    for (size_t o = 0; o < object_rays.size(); ++o) counts_.object_rays[o] = object_rays[o];
     traced_ = true;
 }
 

@@ -193,3 +193,54 @@ def test_empty_scene(rn):
     assert st["no_emitters"] is True and st["warnings"]
     with pytest.raises(IndexError):
         solver.corner_radiance(0)
+
+
+def test_object_costs(rn, solved_room):
+    """Solver.object_costs: per object, its output points' rays (they add up to the final
+    gather's) and its links with the rest of the scene; links inside one object count for none."""
+    scene, solver, ids, _ = solved_room
+    st = solver.stats()
+    costs = solver.object_costs()
+    assert len(costs) == scene.object_count
+    keys = {"point_rays", "links", "link_rays", "history_links", "history_link_rays"}
+    for c in costs:
+        assert set(c) == keys and all(isinstance(v, int) and v >= 0 for v in c.values())
+    points = sum(c["point_rays"] for c in costs)
+    # All of the final gather's rays but the few of its sealed-solid check belong to a point.
+    assert 0.98 * st["gather_rays"] <= points <= st["gather_rays"]
+    for name in ("room", "lamp", "table", "crate"):
+        c = costs[ids[name]]
+        assert c["links"] > 0 and c["link_rays"] > 0, name
+    assert costs[ids["room"]]["point_rays"] > costs[ids["crate"]]["point_rays"] > 0
+    # A link has two ends: the room's links with the rest at most all the others' together.
+    others = sum(costs[ids[n]]["links"] for n in ("lamp", "table", "crate"))
+    assert costs[ids["room"]]["links"] <= others
+
+    # One object alone: every link lies inside it.
+    s = rn.Scene()
+    room = rs.box([0, 0, 0], [1, 1, 1], 2, inward=True)
+    room.add(s, "room", -1, rho=0.5, emission=1.0)
+    one = rn.Solver(s, rn.Settings.preset("DRAFT"))
+    one.solve()
+    (c,) = one.object_costs()
+    assert c["links"] == c["history_links"] == c["link_rays"] == 0
+    assert c["point_rays"] > 0
+
+
+def test_object_costs_after_a_move(rn):
+    """After an update the points' rays are the update's: the moved crate's points are traced
+    anew, the others mostly kept or replayed."""
+    s, ids, _ = room_with_furniture(rn)
+    solver = rn.Solver(s, rn.Settings.preset("DRAFT"))
+    solver.solve()
+    before = solver.object_costs()
+    m = np.eye(4)
+    m[1, 3] = -0.2
+    solver.move_object(ids["crate"], m)
+    solver.update()
+    assert solver.stats()["mode"] == "incremental"
+    after = solver.object_costs()
+    assert after[ids["crate"]]["point_rays"] > 0.5 * before[ids["crate"]]["point_rays"]
+    assert after[ids["crate"]]["links"] > 0
+    for name in ("room", "lamp", "table"):
+        assert after[ids[name]]["point_rays"] < 0.5 * before[ids[name]]["point_rays"], name

@@ -68,6 +68,7 @@ public:
         int64_t fresh_points = 0;  // retrace: points traced anew
         int64_t near = 0;        // near-field corrections (a sender a hair from the point)
         int64_t sealed = 0;      // points inside a closed solid (no light)
+        std::vector<int64_t> object_rays;  // per object: the rays its points cast (of `rays`)
     };
 
     // Traces every output point of the scene's objects. `progress(f)` is called with f in

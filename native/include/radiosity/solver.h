@@ -96,6 +96,19 @@ public:
     void update(Control* control = nullptr);
 
     const Stats& stats() const { return stats_; }
+    // What the solution holds of each object, in object order (costs.cpp): its output points'
+    // rays in the last final gather (a solve's, or an update's), and its links with the rest of
+    // the scene as they stand, with the rays their last evaluation cast. Every such ray has an
+    // end on the object, so an update that moves it casts them all again: their share of a
+    // full solve's rays is a floor under any update that re-computes what a full solve would
+    // (bench/update_floor.py). A link between two parts of one object belongs to none (a
+    // rigid move keeps it), and an end at a cluster of several objects to no object.
+    struct ObjectCost {
+        int64_t point_rays = 0;
+        int64_t links = 0, link_rays = 0;                  // gathering or fully occluded links
+        int64_t history_links = 0, history_link_rays = 0;  // refined into others (3.4)
+    };
+    std::vector<ObjectCost> object_costs() const;
     // A fresh evaluation of the link src -> rcv as the solver would make it (same seed).
     Link evaluate(int src, int rcv) const;
     // The same for a kept link whose ends did not move, during an update that moved objects

@@ -679,6 +679,18 @@ Link evaluate_link(const Hierarchy& h, const Visibility& vis, int src, int rcv, 
     return l;
 }
 
+namespace {
+// Visibility where every ray is clear.
+struct ClearView {
+    bool occluded(const Vec3&, const Vec3&) const { return false; }
+    bool hidden_by(const Vec3&, const Vec3&, double, int) const { return false; }
+};
+}  // namespace
+
+Link evaluate_link_unoccluded(const Hierarchy& h, int src, int rcv, int rays, uint64_t seed) {
+    return evaluate_with(h, ClearView{}, src, rcv, rays, seed);
+}
+
 Link reevaluate_link(const Hierarchy& h, const Visibility& vis, const Link& old, int rays, uint64_t seed,
                      const std::vector<Aabb>& changed) {
     if (old.ray_count < 0) return evaluate_link(h, vis, old.src, old.rcv, rays, seed);

@@ -97,6 +97,8 @@ TEST(Dynamic, TwoObjectsAtOnce) {
 TEST(Dynamic, PruningNeverMissesAChangedLink) {
     // After an update every live env-env link must carry what a fresh evaluation gives: a link
     // whose visibility changed but that the outcode test rejected would keep a stale value.
+    // The exception is declared: a history link the move may have changed is left stale
+    // (flagged, never gathered, evaluated before anything judges it).
     for (int trial = 0; trial < 3; ++trial) {
         Rng rng(100 + trial);
         Settings st = settings();
@@ -106,16 +108,21 @@ TEST(Dynamic, PruningNeverMissesAChangedLink) {
         s.move_object(2, translation(t).data());
         s.update();
         const Hierarchy& h = s.hierarchy();
-        int checked = 0;
+        int checked = 0, stale = 0;
         for (size_t i = 0; i < s.links().size(); ++i) {
             const Link& l = s.links()[i];
             if (l.dead || l.settled) continue;
             if (h.nodes[l.src].object == 2 || h.nodes[l.rcv].object == 2) continue;
+            if (l.stale) {
+                EXPECT_FALSE(l.active || l.occluded) << "a gathered link left stale: " << i;
+                ++stale;
+                continue;
+            }
             Link f = s.evaluate(l.src, l.rcv);
             EXPECT_DOUBLE_EQ(f.K, l.K) << "link " << i << " trial " << trial;
             ++checked;
         }
-        EXPECT_GT(checked, 0);
+        EXPECT_GT(checked, 10 * stale);
     }
 }
 

@@ -38,6 +38,10 @@ struct Link {
     // the geometry (a leaf below sees less than this link's receiver), not the light level,
     // so un-refinement (3.4) keeps it.
     bool closure_split = false;
+    // A history link whose rays may have changed with a move (some pass through a moved box)
+    // but which was not evaluated since: its K, vis and samples are of the old placement.
+    // Anything that judges it evaluates it first (Solver::freshen_stale).
+    bool stale = false;
     int first_child = -1;  // history tree: the links that refined this one
     int next_sibling = -1;
     // Outcomes of the visibility rays of its last evaluation, in the order they were cast

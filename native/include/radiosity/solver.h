@@ -227,6 +227,13 @@ private:
     // History links reactivated where acceptable; only those whose sender is marked in
     // `senders` (all when null).
     void unrefine_pass(const std::vector<char>* senders = nullptr);
+    // Before history links are judged for un-refinement: the stale ones among `ids` that a
+    // judgement without rays would not take back are dropped from `ids` (they stay stale);
+    // the others are evaluated. `first_bounce`: judged as unrefine_pass does in a lit scene.
+    void freshen_stale(std::vector<int>& ids, bool first_bounce);
+    // Whether a history link would be taken back now (see unrefine_if_acceptable), and with
+    // which judgement.
+    bool acceptable_again(const Link& l, const Judgement* first, Judgement& use) const;
     // Nodes whose radiance (or its range below them) moved enough since `snap` to change an
     // oracle judgement of a link they send through.
     std::vector<char> changed_senders(const std::vector<float>& snap) const;

@@ -26,7 +26,8 @@ struct Stats {
     int64_t env_env_links = 0;      // active links with both ends in the environment
     int64_t obj_obj_links = 0;
     int64_t env_env_links_recomputed = 0;  // visibility re-evaluated after a move (3.3): active and occluded ones
-    int64_t history_links_recomputed = 0;  // ... and env-env history links (un-refinement may ask for them)
+    int64_t history_links_recomputed = 0;  // ... and env-env history links, when un-refinement asked for them
+    int64_t history_links_stale = 0;       // env-env history links a move may have changed, left stale
     int64_t env_env_links_tested = 0;      // env-env links the outcode test looked at
     int64_t env_env_links_rejected = 0;    // ... and trivially rejected
     int64_t env_env_links_rays_clear = 0;  // ... not rejected, but no ray of theirs can meet a moved box (shaft test)

@@ -183,8 +183,8 @@ void Solver::freshen_stale(std::vector<int>& ids, bool first_bounce) {
     // away: one judged to need its split when nothing stands between its ends keeps it (it
     // stays stale, at worst finer than a full solve would make it, where the move hid it all);
     // one that might come back is evaluated -- only the rays through a moved box cast -- and
-    // judged as any other. Nearly all history links that a move's boxes touch keep their
-    // split (box room: x of y).
+    // judged as any other. Most history links that a move's boxes touch keep their split
+    // (box room, MEDIUM: 24.6k of 65.4k are evaluated).
     std::vector<int> stale;
     for (int id : ids)
         if (links_[id].stale && !links_[id].dead) stale.push_back(id);

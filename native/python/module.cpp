@@ -395,7 +395,7 @@ PYBIND11_MODULE(radiosity_native, m) {
             return stats_dict(s.solver->stats());
         })
         .def("object_costs", [](const PySolver& s) {
-            s.idle();
+            s.solved();
             py::list out;
             for (const Solver::ObjectCost& c : s.solver->object_costs()) {
                 py::dict d;

@@ -178,13 +178,18 @@ void Solver::refresh(int id, const Link& f) {
 }
 
 void Solver::freshen_stale(std::vector<int>& ids, bool first_bounce) {
-    // A stale history link is judged first without rays. Occlusion can only add to what the
-    // oracle weighs (a partial view, a penumbra's spread over the receiver) or take light
-    // away: one judged to need its split when nothing stands between its ends keeps it (it
-    // stays stale, at worst finer than a full solve would make it, where the move hid it all);
-    // one that might come back is evaluated -- only the rays through a moved box cast -- and
-    // judged as any other. Most history links that a move's boxes touch keep their split
-    // (box room, MEDIUM: 24.6k of 65.4k are evaluated).
+    // A stale history link is judged first without rays, as if nothing stood between its
+    // ends. One that might come back then is evaluated -- only the rays through a moved box
+    // cast -- and judged as any other, so nothing is ever taken back on stale values and the
+    // result is never coarser than a full solve's. One judged to need its split keeps it and
+    // stays stale. That filter errs only toward finer: occlusion usually adds to what the
+    // oracle weighs (a partial view, a penumbra's spread), but it can also lower it (a sender
+    // whose dim part is hidden sends the mean of its bright part; a fully hidden one sends
+    // nothing), so some links a full solve would take back keep their split (a reviewer
+    // counted 790 of 3,635 stale links after a box move that the ray-free judgement splits
+    // and an exact one does not; their children carry the right light). Box room, MEDIUM:
+    // 24.6k of 65.4k stale links are evaluated; after a 30-step drag the built-in room holds
+    // 430.6k live links against 422.1k before this (a full solve: 357.1k).
     std::vector<int> stale;
     for (int id : ids)
         if (links_[id].stale && !links_[id].dead) stale.push_back(id);
@@ -268,7 +273,10 @@ bool Solver::unrefine_if_acceptable(int id, const Judgement* first) {
     // full solve, so its links are judged there exactly as here: a settlement stands too. With
     // Keep alone, a floor patch an old shadow had split under an emissive panel stayed split
     // where a full solve settles it whole (6 % at the floor's edge after a box move).
-    if (links_[id].stale) refresh(id, reevaluate(links_[id]));  // judged where things are now
+    if (links_[id].stale) {  // judged where things are now (callers freshen_stale first)
+        refresh(id, reevaluate(links_[id]));
+        ++stats_.history_links_recomputed;
+    }
     Judgement use;
     if (!acceptable_again(links_[id], first, use)) return false;
     unrefine(id);

@@ -8,6 +8,7 @@ std::vector<Solver::ObjectCost> Solver::object_costs() const {
     std::vector<ObjectCost> c(scene_.objects().size());
     const std::vector<int64_t>& pr = output_.counts().object_rays;
     for (size_t o = 0; o < c.size() && o < pr.size(); ++o) c[o].point_rays = pr[o];
+    if (h_.root < 0 || h_.nodes.empty()) return c;  // no hierarchy yet (no solve, or it failed early)
     // Per node: the one object everything below it belongs to (a collection holding one
     // object counts as that object), -1 for clusters of several (or none).
     std::vector<int> sole(h_.nodes.size(), -1);
@@ -29,7 +30,9 @@ std::vector<Solver::ObjectCost> Solver::object_costs() const {
         if (l.dead) continue;
         const int a = sole[size_t(l.src)], b = sole[size_t(l.rcv)];
         if (a == b) continue;  // inside one object, or between clusters of several
-        // The rays its last evaluation cast (the record holds up to 64; beyond, the budget).
+        // The rays of its last evaluation, replayed ones included (the record holds up to 64;
+        // without a record -- beyond 64, stale, or dropped after an addition or removal -- the
+        // budget).
         const int64_t rays = l.ray_count >= 0 ? l.ray_count : settings_.rays_per_link;
         for (int o : {a, b}) {
             if (o < 0 || size_t(o) >= c.size()) continue;

@@ -1,6 +1,7 @@
 // Dynamic environments: AdjustSystem after rigid moves and attribute changes (issue 3).
 #include <gtest/gtest.h>
 
+#include "radiosity/parallel.h"
 #include "radiosity/transfer.h"
 #include "test_util.h"
 
@@ -136,6 +137,51 @@ TEST(Dynamic, PruningNeverMissesAChangedLink) {
         }
         EXPECT_GT(checked, 10 * stale);
     }
+}
+
+TEST(Dynamic, KeptLinksStayCurrentOverSeveralUpdates) {
+    // Several updates in a row (a move, a material change, a move of the other box, the first
+    // box again): after each, every live link with no end on a moved box carries what a fresh
+    // evaluation gives -- history links too, unless flagged stale -- and no stale link keeps
+    // a ray record (the next update would replay outcomes of an older geometry).
+    Solver s(room(), settings());
+    s.solve();
+    auto check = [&](const char* step) {
+        const Hierarchy& h = s.hierarchy();
+        std::vector<int> ids;
+        int stale = 0;
+        for (size_t i = 0; i < s.links().size(); ++i) {
+            const Link& l = s.links()[i];
+            if (l.dead || l.settled) continue;
+            const int a = h.nodes[l.src].object, b = h.nodes[l.rcv].object;
+            if (a == 2 || b == 2 || a == 3 || b == 3) continue;  // moved ends: evaluated afresh (or rigid)
+            if (l.stale) {
+                EXPECT_FALSE(l.active || l.occluded) << step << ": a gathered link left stale: " << i;
+                EXPECT_LT(l.ray_count, 0) << step << ": a stale link keeps a ray record: " << i;
+                ++stale;
+                continue;
+            }
+            ids.push_back(int(i));
+        }
+        std::vector<double> K(ids.size());
+        parallel_for(ids.size(), 0, [&](size_t k) { K[k] = s.evaluate(s.links()[ids[k]].src, s.links()[ids[k]].rcv).K; }, 64);
+        int wrong = 0;
+        for (size_t k = 0; k < ids.size(); ++k) wrong += K[k] != s.links()[ids[k]].K;
+        EXPECT_EQ(wrong, 0) << step;
+        EXPECT_GT(ids.size(), size_t(10 * stale)) << step;
+    };
+    s.move_object(2, translation({35.6, 60.8, 0}).data());
+    s.update();
+    check("move");
+    s.set_reflectance(3, {Rgb{0.6, 0.6, 0.2}});
+    s.update();
+    check("material");
+    s.move_object(3, translation({-100, -150, 0}).data());
+    s.update();
+    check("other box moved");
+    s.move_object(2, translation({-20, 30, 0}).data());
+    s.update();
+    check("first box again");
 }
 
 TEST(Dynamic, ShaftTestIsConservativeAndTight) {

@@ -139,6 +139,11 @@ def test_results_before_any_solve_raise(rn):
         solver.corner_radiance(0)
     with pytest.raises(RuntimeError, match="no finished solve"):
         solver.radiance_at(0, 0, [0, 0, 0])
+    with pytest.raises(RuntimeError, match="no finished solve"):
+        solver.object_costs()
+    # Nor on an empty scene (the hierarchy has no root then; it crashed).
+    with pytest.raises(RuntimeError, match="no finished solve"):
+        rn.Solver(rn.Scene(), rn.Settings.preset("DRAFT")).object_costs()
 
 
 def test_solver_copies_its_scene(rn):
@@ -193,6 +198,7 @@ def test_empty_scene(rn):
     assert st["no_emitters"] is True and st["warnings"]
     with pytest.raises(IndexError):
         solver.corner_radiance(0)
+    assert solver.object_costs() == []
 
 
 def test_object_costs(rn, solved_room):

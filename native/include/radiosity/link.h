@@ -40,7 +40,8 @@ struct Link {
     bool closure_split = false;
     // A history link whose rays may have changed with a move (some pass through a moved box)
     // but which was not evaluated since: its K, vis and samples are of the old placement.
-    // Anything that judges it evaluates it first (Solver::freshen_stale).
+    // Un-refinement judges it without rays first and evaluates it before taking it back
+    // (Solver::freshen_stale); nothing else reads a history link's values.
     bool stale = false;
     int first_child = -1;  // history tree: the links that refined this one
     int next_sibling = -1;

@@ -98,7 +98,8 @@ public:
     const Stats& stats() const { return stats_; }
     // What the solution holds of each object, in object order (costs.cpp): its output points'
     // rays in the last final gather (a solve's, or an update's), and its links with the rest of
-    // the scene as they stand, with the rays their last evaluation cast. Every such ray has an
+    // the scene as they stand, with the rays of their last evaluation (after a full solve, the
+    // rays it cast; see costs.cpp for the rest). Every such ray has an
     // end on the object, so an update that moves it casts them all again: their share of a
     // full solve's rays is a floor under any update that re-computes what a full solve would
     // (bench/update_floor.py). A link between two parts of one object belongs to none (a

@@ -6,7 +6,8 @@
 // The bytes are read as a small program: settings first, then objects (vertices on a coarse
 // lattice so coincident, coplanar and degenerate polygons come up often; now and then a
 // special value such as NaN, inf or 1e30), then a list of operations. Sizes are capped so a
-// run stays in the milliseconds: at most 6 objects of 8 polygons of up to 8 corners.
+// run stays in the milliseconds: at most 6 objects of 8 polygons of up to 8 corners, and up
+// to 2 warped sheets of at most 6 x 6 quads (warped_sheet), moved by turns of any angle.
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -119,6 +120,68 @@ std::vector<double> matrix(Bytes& in) {
     return m;
 }
 
+// A rotation by any angle about any axis (Rodrigues), as a turn dragged in Blender gives:
+// its matrix is rigid only to rounding, and turned quads are planar only to rounding.
+void any_rotation(Bytes& in, double R[9]) {
+    Vec3 a{double(int(in.u8()) - 128), double(int(in.u8()) - 128), double(int(in.u8()) - 128)};
+    const double l = length(a);
+    a = l > 0 ? a / l : Vec3{0, 0, 1};
+    const double t = (in.u8() * 256 + in.u8()) * (2 * 3.14159265358979323846 / 65536.0);
+    const double c = std::cos(t), s = std::sin(t), k = 1 - c;
+    const double m[9] = {c + a.x * a.x * k,       a.x * a.y * k - a.z * s, a.x * a.z * k + a.y * s,
+                         a.y * a.x * k + a.z * s, c + a.y * a.y * k,       a.y * a.z * k - a.x * s,
+                         a.z * a.x * k - a.y * s, a.z * a.y * k + a.x * s, c + a.z * a.z * k};
+    for (int i = 0; i < 9; ++i) R[i] = m[i];
+}
+
+// A move with a turn by any angle about any axis through the object's neighbourhood, and a
+// lattice translation: the object can end inside a wall or another object.
+std::vector<double> turned_matrix(Bytes& in) {
+    double R[9];
+    any_rotation(in, R);
+    const Vec3 t{in.coord(), in.coord(), in.coord()};
+    return {R[0], R[1], R[2], t.x, R[3], R[4], R[5], t.y, R[6], R[7], R[8], t.z, 0, 0, 0, 1};
+}
+
+// A gridded sheet of quads as Bevel and Subdivision Surface leave them: each vertex lifted off
+// the sheet by a warp from a rounding error up to far beyond the hierarchy's planarity
+// tolerance, sometimes bulged into a cushion, in any orientation. Its quads are warped and,
+// where the warp is large, concave or bow-tied; planes through neighbouring points cross them
+// up to four times.
+ObjectDesc warped_sheet(Bytes& in, int index, int clusters) {
+    ObjectDesc o;
+    o.name = "sheet" + std::to_string(index);
+    o.cluster = in.below(clusters + 1) - 1;
+    static const double warps[] = {0.0, 1e-12, 1e-9, 1e-6, 2e-5, 1e-4, 3e-4, 1e-2, 0.3};
+    const double warp = in.pick(warps);
+    const double bulge = in.flag() ? 0.25 * in.below(5) : 0.0;
+    const int n = 1 + in.below(6);
+    const double size = 0.5 + 0.25 * in.below(12);
+    double R[9];
+    any_rotation(in, R);
+    const Vec3 at{in.coord(), in.coord(), in.coord()};
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+            const double u = 2.0 * i / n - 1, v = 2.0 * j / n - 1;
+            const double lift = warp * (size / n) * (int(in.u8()) - 128) / 128.0 + bulge * (1 - u * u) * (1 - v * v);
+            const Vec3 p{u * size, v * size, lift};
+            o.vertices.push_back(Vec3{R[0] * p.x + R[1] * p.y + R[2] * p.z, R[3] * p.x + R[4] * p.y + R[5] * p.z,
+                                      R[6] * p.x + R[7] * p.y + R[8] * p.z} + at);
+        }
+    const Rgb rho = colour(in, false), e = colour(in, true);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const int a = j * (n + 1) + i;
+            o.loop_starts.push_back(int32_t(o.corner_verts.size()));
+            o.loop_totals.push_back(4);
+            o.corner_verts.insert(o.corner_verts.end(), {a, a + 1, a + n + 2, a + n + 1});
+            o.reflectance.push_back(rho);
+            o.emission.push_back(i == 0 && j == 0 ? e : Rgb{});
+            o.two_sided.push_back(in.u8() % 4 != 0);
+        }
+    return o;
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -158,6 +221,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         }
     }
 
+    const int sheets = in.below(3);
+    for (int i = 0; i < sheets; ++i) {
+        try {
+            scene.add_object(warped_sheet(in, objects + i, int(scene.clusters().size())));
+        } catch (const InputError&) {
+        }
+    }
+
     Solver solver(std::move(scene), st);  // the settings above always validate
     solver.solve();
     check_output(solver);
@@ -167,7 +238,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const int n_objects = int(solver.scene().objects().size());
         const int obj = in.below(n_objects + 1);  // n_objects: unknown object (or a removed one)
         try {
-            switch (in.below(6)) {
+            switch (in.below(8)) {
+                case 6: {
+                    std::vector<double> m = turned_matrix(in);
+                    solver.move_object(obj, m.data());
+                    break;
+                }
+                case 7:
+                    solver.add_object(warped_sheet(in, n_objects, int(solver.scene().clusters().size())));
+                    break;
                 case 4:
                     solver.remove_object(obj);
                     break;

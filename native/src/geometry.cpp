@@ -1,5 +1,6 @@
 #include "radiosity/geometry.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace radiosity {
@@ -77,38 +78,86 @@ Vec3 Poly::sample(double f, double u1, double u2) const {
     return in_tri(v[0], v[2], v[3], (u1 - f) / (1 - f), u2);
 }
 
+namespace {
+// Clips the convex polygon v[0..n) (signed distances d), crossed at most twice, at d > 0 into
+// out (at most n + 1 vertices); returns the count.
+int clip_at_plane(const Vec3* v, const double* d, int n, Vec3* out) {
+    int m = 0;
+    for (int i = 0; i < n; ++i) {
+        const int j = (i + 1) % n;
+        if (d[i] > 0) out[m++] = v[i];
+        if ((d[i] > 0) != (d[j] > 0)) out[m++] = v[i] + (v[j] - v[i]) * (d[i] / (d[i] - d[j]));
+    }
+    return m;
+}
+
+// Whether a quad is planar (its corners' turns parallel to 1e-9) and convex: a plane then
+// crosses it at most twice and it can be clipped whole.
+bool planar_convex(const Poly& p) {
+    Vec3 c[4];
+    for (int k = 0; k < 4; ++k)
+        c[k] = cross(p.v[size_t((k + 1) % 4)] - p.v[size_t(k)], p.v[size_t((k + 2) % 4)] - p.v[size_t((k + 1) % 4)]);
+    for (int k = 1; k < 4; ++k)
+        if (!(dot(c[k], c[0]) > 0) || length(cross(c[k], c[0])) > 1e-9 * length(c[k]) * length(c[0])) return false;
+    return true;
+}
+
+// Appends the fan of c[0..m) from c[0] to f (nothing when m < 3).
+void add_fan(FrontPart& f, const Vec3* c, int m) {
+    for (int i = 1; i + 1 < m && f.n < int(f.tri.size()); ++i) {
+        const double a = tri_area(c[0], c[i], c[i + 1]);
+        f.tri[size_t(f.n)] = {c[0], c[i], c[i + 1]};
+        f.tri_area[size_t(f.n)] = a;
+        f.area += a;
+        ++f.n;
+    }
+}
+}  // namespace
+
 FrontPart front_part(const Poly& poly, const Vec3& x, const Vec3& nx) {
     FrontPart f;
-    for (int i = 0; i < poly.n; ++i) {
-        const Vec3& a = poly.v[i];
-        const Vec3& b = poly.v[(i + 1) % poly.n];
-        double da = dot(a - x, nx), db = dot(b - x, nx);
-        if (da > 0) f.v[f.n++] = a;
-        if ((da > 0) != (db > 0) && da != db) f.v[f.n++] = a + (b - a) * (da / (da - db));
+    const int n = poly.n;
+    if (n < 3 || n > 4) return f;
+    double d[4];
+    int crossings = 0;
+    for (int i = 0; i < n; ++i) d[i] = dot(poly.v[size_t(i)] - x, nx);
+    for (int i = 0; i < n; ++i) crossings += (d[i] > 0) != (d[(i + 1) % n] > 0);
+    Vec3 c[5];
+    if (n == 3 || crossings == 0 || (crossings == 2 && planar_convex(poly))) {
+        add_fan(f, c, clip_at_plane(poly.v.data(), d, n, c));
+    } else {
+        // A warped or concave quad the plane cuts: its two triangles one by one (its clip as
+        // one polygon would leave its surface, and overflow where the plane crosses it four
+        // times).
+        const int halves[2][3] = {{0, 1, 2}, {0, 2, 3}};
+        for (const auto& t : halves) {
+            const Vec3 tv[3] = {poly.v[size_t(t[0])], poly.v[size_t(t[1])], poly.v[size_t(t[2])]};
+            const double td[3] = {d[t[0]], d[t[1]], d[t[2]]};
+            add_fan(f, c, clip_at_plane(tv, td, 3, c));
+        }
     }
-    if (f.n < 3) {
+    if (!(f.area > 0)) {
         f.n = 0;
-        return f;
+        f.area = 0;
     }
-    for (int i = 1; i + 1 < f.n; ++i) f.area += tri_area(f.v[0], f.v[i], f.v[i + 1]);
-    if (!(f.area > 0)) f.n = 0;
     return f;
 }
 
 Vec3 FrontPart::sample(double u1, double u2) const {
-    // A fan from v[0]; u1 picks the triangle by area and is reused within it (stratification
-    // along u1 carries over).
+    // u1 picks the triangle by area and is reused within it (stratification along u1 carries
+    // over).
     double acc = 0;
-    for (int i = 1; i + 1 < n; ++i) {
-        double a = tri_area(v[0], v[i], v[i + 1]);
-        if (u1 * area <= acc + a || i + 2 == n) {
-            double s = a > 0 ? std::min(1.0, std::max(0.0, (u1 * area - acc) / a)) : 0.5;
-            double su = std::sqrt(s);
-            return v[0] * (1 - su) + v[i] * (su * (1 - u2)) + v[i + 1] * (su * u2);
+    for (int i = 0; i < n; ++i) {
+        const double a = tri_area[size_t(i)];
+        if (u1 * area <= acc + a || i + 1 == n) {
+            const double s = a > 0 ? std::min(1.0, std::max(0.0, (u1 * area - acc) / a)) : 0.5;
+            const double su = std::sqrt(s);
+            const auto& t = tri[size_t(i)];
+            return t[0] * (1 - su) + t[1] * (su * (1 - u2)) + t[2] * (su * u2);
         }
         acc += a;
     }
-    return v[0];
+    return tri[0][0];
 }
 
 Cubature cubature(const Poly& p) {
@@ -203,14 +252,15 @@ Cubature receiver_cubature(const Poly& rcv, const Vec3& src_p, const Vec3& src_n
     const FrontPart f = front_part(rcv, src_p, src_n);
     const double area = rcv.area();
     if (f.n == 0 || !(area > 0) || f.area >= (1.0 - 1e-9) * area) return cubature(rcv);
-    // A fan of up to three triangles from v[0], each by its centroid (exact for a linear
+    // The front part's triangles (up to four), each by its centroid (exact for a linear
     // kernel; the oracle refines where the kernel varies more, as the spread at the corners,
     // 0 behind, tells it).
     Cubature c;
-    for (int i = 1; i + 1 < f.n; ++i) {
-        const double a = tri_area(f.v[0], f.v[i], f.v[i + 1]);
+    for (int i = 0; i < f.n; ++i) {
+        const double a = f.tri_area[size_t(i)];
         if (!(a > 0)) continue;
-        c.p[size_t(c.n)] = (f.v[0] + f.v[i] + f.v[i + 1]) * (1.0 / 3.0);
+        const auto& t = f.tri[size_t(i)];
+        c.p[size_t(c.n)] = (t[0] + t[1] + t[2]) * (1.0 / 3.0);
         c.w[size_t(c.n)] = a / area;
         ++c.n;
     }
@@ -218,13 +268,26 @@ Cubature receiver_cubature(const Poly& rcv, const Vec3& src_p, const Vec3& src_n
     return c;
 }
 
+double warp(const Poly& p, const Vec3& n) {
+    if (p.n < 4) return 0;
+    const Vec3 c = (p.v[0] + p.v[1] + p.v[2] + p.v[3]) * 0.25;
+    double w = 0;
+    for (int i = 0; i < 4; ++i) w = std::max(w, std::fabs(dot(p.v[size_t(i)] - c, n)));
+    return w;
+}
+
 bool can_face(const Poly& src, const Vec3& src_n, const Poly& rcv, const Vec3& rcv_n, double eps) {
-    // Some point of the receiver must be in front of the sender and vice versa.
+    // Some point of the receiver must be in front of the sender and vice versa, by more than
+    // the two polygons' warps: within them, the two are one sheet (the far side of a warped
+    // quad is a hair "in front" of its own vertices) and exchange no light.
+    const double tol = eps + warp(src, src_n) + warp(rcv, rcv_n);
+    const Vec3 sc = src.n == 4 ? (src.v[0] + src.v[1] + src.v[2] + src.v[3]) * 0.25 : src.v[0];
+    const Vec3 rc = rcv.n == 4 ? (rcv.v[0] + rcv.v[1] + rcv.v[2] + rcv.v[3]) * 0.25 : rcv.v[0];
     bool rcv_front = false, src_front = false;
     for (int i = 0; i < rcv.n; ++i)
-        if (dot(rcv.v[i] - src.v[0], src_n) > eps) rcv_front = true;
+        if (dot(rcv.v[size_t(i)] - sc, src_n) > tol) rcv_front = true;
     for (int i = 0; i < src.n; ++i)
-        if (dot(src.v[i] - rcv.v[0], rcv_n) > eps) src_front = true;
+        if (dot(src.v[size_t(i)] - rc, rcv_n) > tol) src_front = true;
     return rcv_front && src_front;
 }
 

@@ -317,23 +317,26 @@ private:
     Vec3 d_;
 };
 
-// Whether every surface below P and Q lies in one plane (either side of it). Stops at the
-// first surface off the plane, so mixed clusters cost little.
+// Whether every surface below P and Q lies in one plane (either side of it), to within its
+// own warp (a quad is planar only to 1e-4 of its size: one of Bevel's or a float32 vertex's
+// rounding). Stops at the first surface off the plane, so mixed clusters cost little.
 bool coplanar(const Hierarchy& h, const Node& P, const Node& Q) {
     const double tol = 1e-9 * h.scene_diag;  // far above the 2^-36 snapping of the input
     Vec3 n0;
-    double d0 = 0;
+    double d0 = 0, w0 = 0;
     bool have = false;
     auto on_plane = [&](const Poly& poly, const Vec3& normal) {
+        const double w = warp(poly, normal);
         if (!have) {
             n0 = normal;
             d0 = dot(n0, poly.v[0]);
+            w0 = w;
             have = length2(n0) > 0;
             if (!have) return false;
         }
-        if (std::fabs(std::fabs(dot(normal, n0)) - 1.0) > 1e-9) return false;
+        if (std::fabs(std::fabs(dot(normal, n0)) - 1.0) > 1e-8) return false;
         for (int k = 0; k < poly.n; ++k)
-            if (std::fabs(dot(n0, poly.v[k]) - d0) > tol) return false;
+            if (std::fabs(dot(n0, poly.v[k]) - d0) > tol + 2 * w0 + 2 * w) return false;
         return true;
     };
     for (const Node* c : {&P, &Q}) {

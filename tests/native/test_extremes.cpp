@@ -1090,3 +1090,113 @@ TEST(Extremes, SelfOverlappingPolygonNearOneDoesNotDiverge) {
     solver.update();
     for (float v : solver.all_corner_radiance()) ASSERT_TRUE(std::isfinite(v));
 }
+
+// ---------------------------------------------------------------------------------------
+// Warped quads and turned moves (meshes from Bevel and Subdivision Surface)
+// ---------------------------------------------------------------------------------------
+
+namespace {
+
+// A rigid move: a turn by `angle` about the axis through `centre` along coordinate `axis`,
+// then a translation by t (row-major 4 x 4, as Solver::move_object takes it).
+std::array<double, 16> turn_about(int axis, double angle, Vec3 centre, Vec3 t) {
+    double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    const int i = (axis + 1) % 3, j = (axis + 2) % 3;
+    const double c = std::cos(angle), s = std::sin(angle);
+    R[i * 3 + i] = c, R[i * 3 + j] = -s, R[j * 3 + i] = s, R[j * 3 + j] = c;
+    // p' = R (p - centre) + centre + t
+    Vec3 off;
+    for (int r = 0; r < 3; ++r) off[r] = centre[r] + t[r] - (R[r * 3] * centre.x + R[r * 3 + 1] * centre.y + R[r * 3 + 2] * centre.z);
+    return {R[0], R[1], R[2], off.x, R[3], R[4], R[5], off.y, R[6], R[7], R[8], off.z, 0, 0, 0, 1};
+}
+
+// Object o of `sc` placed by the row-major matrix m (a full solve's scene after a move).
+void place(SceneDesc& sc, int o, const std::array<double, 16>& m) {
+    for (Vec3& v : sc.objects_mut()[size_t(o)].vertices)
+        v = Vec3{m[0] * v.x + m[1] * v.y + m[2] * v.z + m[3], m[4] * v.x + m[5] * v.y + m[6] * v.z + m[7],
+                 m[8] * v.x + m[9] * v.y + m[10] * v.z + m[11]};
+}
+
+// An n x n grid over [x0, x1] x [y0, y1] at height z whose vertices are lifted by +-warp in a
+// checkerboard: every quad is warped (planar only to warp / cell), crossing its neighbours'
+// tangent planes four times, as the quads of a bevelled, subdivided cushion do.
+ObjectDesc warped_grid(const std::string& name, int cluster, double x0, double x1, double y0, double y1, double z,
+                       int n, double warp, Rgb rho) {
+    ObjectDesc o;
+    o.name = name;
+    o.cluster = cluster;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i)
+            o.vertices.push_back({x0 + (x1 - x0) * i / n, y0 + (y1 - y0) * j / n, z + (((i + j) & 1) ? warp : -warp)});
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            o.loop_starts.push_back(int32_t(o.corner_verts.size()));
+            o.loop_totals.push_back(4);
+            const int a = j * (n + 1) + i;
+            o.corner_verts.insert(o.corner_verts.end(), {a, a + 1, a + n + 2, a + n + 1});
+            o.reflectance.push_back(rho);
+            o.emission.push_back({});
+            o.two_sided.push_back(1);
+        }
+    return o;
+}
+
+}  // namespace
+
+TEST(Extremes, WarpedQuadsBakeAsTheirFlatTwinAndSurviveTurnedMoves) {
+    // A rug of warped quads in the lit room with a crate on it: the solve, and the crate moved
+    // and turned 0.6 rad into a wall, must stay sane; the rug must light as a flat one does.
+    auto scene = [](double warp) {
+        SceneDesc sc = lit_room(0.1, 4);
+        sc.add_object(warped_grid("rug", -1, 0.5, 2.5, 0.5, 2.5, 0.01, 16, warp, Rgb::all(0.6)));
+        const int c = sc.add_cluster("Crate");
+        scenes::add_box(sc, "crate", c, {1.0, 1.0, 0.02}, {1.6, 1.5, 0.6}, 3, Rgb::all(0.5), {});
+        return sc;
+    };
+    const double cell = 2.0 / 16;
+    const Settings st = Settings::preset("DRAFT");
+    Solver warped(scene(2e-5 * cell), st), flat(scene(0.0), st);
+    warped.solve();
+    flat.solve();
+    expect_sane(warped, "warped rug");
+    ASSERT_EQ(warped.hierarchy().prims.size(), flat.hierarchy().prims.size()) << "the warped quads stay quads";
+    auto mean = [](const std::vector<float>& c) {
+        double s = 0;
+        for (float v : c) s += v;
+        return s / double(c.size());
+    };
+    const double mw = mean(warped.corner_radiance(2)), mf = mean(flat.corner_radiance(2));
+    EXPECT_NEAR(mw, mf, 0.02 * mf) << "rug mean, warped " << mw << " flat " << mf;
+
+    // Into the wall at x = 3, turned.
+    const auto m = turn_about(2, 0.6, {1.3, 1.25, 0.3}, {1.5, 0.3, 0});
+    warped.move_object(3, m.data());
+    warped.update();
+    expect_sane(warped, "crate turned into the wall");
+    SceneDesc moved = scene(2e-5 * cell);
+    place(moved, 3, m);
+    Solver full(moved, st);
+    full.solve();
+    expect_sane(full, "full solve with the crate in the wall");
+    EXPECT_LE(nrmse(warped.all_corner_radiance(), full.all_corner_radiance()), 0.03);
+}
+
+TEST(Extremes, CornellBlockMovedAndTurned) {
+    // The short block moved across the floor and turned 0.4 rad, then turned 0.6 rad into the
+    // red wall: the update stays sane and equals a full solve of the moved scene.
+    const int block = 6;
+    const Settings st = Settings::preset("DRAFT");
+    Solver s(scenes::cornell_box(4), st);
+    s.solve();
+    const Vec3 centre{0.186, 0.0825, 0.169};
+    for (const auto& m : {turn_about(1, 0.4, centre, {0.09, 0, 0.12}), turn_about(1, 0.6, centre, {0.33, 0, 0.05})}) {
+        s.move_object(block, m.data());
+        s.update();
+        expect_sane(s, "moved block");
+        SceneDesc moved = scenes::cornell_box(4);
+        place(moved, block, m);
+        Solver full(moved, st);
+        full.solve();
+        EXPECT_LE(nrmse(s.all_corner_radiance(), full.all_corner_radiance()), 0.03);
+    }
+}

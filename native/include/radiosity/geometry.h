@@ -29,15 +29,22 @@ struct Poly {
     double first_share() const;
 };
 
-// The part of a polygon in front of a plane (a convex polygon of up to 5 vertices), sampled
-// uniformly: visibility rays toward a point go only where the point's kernel is non-zero.
+// The part of a polygon in front of a plane, as up to four triangles, sampled uniformly:
+// visibility rays toward a point go only where the point's kernel is non-zero. A quad is the
+// two triangles (v0, v1, v2) and (v0, v2, v3), as Poly::area and Poly::sample read it. A
+// planar convex quad (to 1e-9) is clipped whole, a fan of up to three triangles; a warped or
+// concave one the plane cuts is clipped one triangle at a time (two pieces of at most four
+// vertices): the hierarchy keeps quads planar only to 1e-4 of their size, and a plane nearly
+// containing such a quad crosses it four times.
 struct FrontPart {
-    std::array<Vec3, 5> v{};
-    int n = 0;          // 0 when nothing of the polygon lies in front
+    std::array<std::array<Vec3, 3>, 4> tri{};
+    std::array<double, 4> tri_area{};
+    int n = 0;          // triangles; 0 when nothing of the polygon lies in front
     double area = 0;
     Vec3 sample(double u1, double u2) const;
 };
-// The part of `poly` where dot(p - x, nx) > 0.
+// The part of `poly` where dot(p - x, nx) > 0. Any input is safe: a non-finite x or nx, or a
+// degenerate polygon, gives n = 0.
 FrontPart front_part(const Poly& poly, const Vec3& x, const Vec3& nx);
 
 // How far x (a point in the polygon's plane) lies outside `poly`, whose unit normal is n: the
@@ -69,7 +76,11 @@ double point_polygon_form_factor(const Vec3& x, const Vec3& nx, const Poly& poly
 // The same for a convex planar polygon of n <= 12 vertices (a clipped element).
 double point_polygon_form_factor(const Vec3& x, const Vec3& nx, const Vec3* v, int n, const Vec3& poly_normal);
 
-// Whether any transfer from `src` (front side) to `rcv` (front side) is geometrically possible.
+// How far a quad's vertices lie off the plane through their mean with normal n (0 for a
+// triangle): the hierarchy keeps quads planar to 1e-4 of their size, not exactly.
+double warp(const Poly& p, const Vec3& n);
+// Whether any transfer from `src` (front side) to `rcv` (front side) is geometrically possible:
+// each has a vertex in front of the other's plane by more than eps plus both warps.
 bool can_face(const Poly& src, const Vec3& src_n, const Poly& rcv, const Vec3& rcv_n, double eps);
 
 // An orthonormal frame (u, v, w) around the unit vector w.

@@ -2,8 +2,9 @@
 
 Supported, following the link into the active Material Output's Surface input (through reroutes):
   Diffuse BSDF (Color), Principled BSDF (diffuse part: Base Color x (1-metallic) x (1-transmission),
-  in Blender 4.0+ times the share the specular layers leave to the diffuse, measured by Cycles:
-  principled.py;
+  times a factor measured by Cycles (principled.py): in Blender 4.0+ the share the specular
+  layers leave to the diffuse, in 3.x the brightening of its retro-reflective Disney diffuse
+  (1.036 at roughness 1);
   emission colour x strength; socket names differ: 3.x "Emission", 4.x "Emission Color"),
   Emission (Color x Strength), Mix Shader (constant Fac: linear mix) and Add Shader (sum).
 Anything else (textures or links into the used colour sockets, groups, other BSDFs) is

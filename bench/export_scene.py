@@ -8,7 +8,9 @@ Per object i: o{i}_vertices, _loop_starts, _loop_totals, _corner_verts (Blender'
 _reflectance, _emission; o{i}_two_sided and o{i}_occluder when not the defaults (an area
 light: one-sided, casts no shadow), o{i}_corner_perm for a mirrored object (the solver gets
 corner_verts[perm] and its output is mapped back with the same permutation), o{i}_written
-(False for what the add-on gathers but never writes: area lights, unwritable meshes);
+(False for what the add-on gathers but never writes: area lights, unwritable meshes,
+instances) and o{i}_output when False (the same objects: the solver gathers no light at
+their corners, core.scene_data.ObjectInput.output);
 "lights": JSON of the Blender lights and the world (core.lights.LightInput fields).
 """
 import json
@@ -40,6 +42,8 @@ def main():
         if o.corner_perm is not None:
             arrays[f"o{i}_corner_perm"] = np.asarray(o.corner_perm, np.int64)
         arrays[f"o{i}_written"] = np.array(o.target is not None)
+        if not o.output:
+            arrays[f"o{i}_output"] = np.array(False)
     arrays["objects"] = np.array(names)
     arrays["lights"] = np.array(json.dumps([dict(vars(li)) for li in si.lights], default=float))
     mv = scene.get("radiosity_move")

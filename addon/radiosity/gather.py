@@ -287,12 +287,15 @@ def _object_input(name, geo, mat, cluster, target=None, corner_map=None, instanc
     perm = None
     if np.linalg.det(mat[:3, :3]) < 0.0:
         perm = reverse_polygon_permutation(geo.starts, geo.totals)
-    # name_full: a linked object may share its name with a local one.
+    # name_full: a linked object may share its name with a local one. Only what is written
+    # (a target) is gathered at its corners: instances, curves and unwritable meshes only
+    # light the others.
     return ObjectInput(
         name=name, cluster=cluster, vertices=world, loop_starts=geo.starts,
         loop_totals=geo.totals, corner_verts=geo.corner_verts, reflectance=geo.reflectance,
         emission=geo.emission, corner_perm=perm, target=target, matrix=mat,
-        local_vertices=geo.co, corner_map=corner_map, instance_of=instance_of)
+        local_vertices=geo.co, corner_map=corner_map, instance_of=instance_of,
+        output=target is not None)
 
 
 def gather(scene, view_layer, depsgraph):
@@ -467,7 +470,7 @@ def _gather_light(obj, cluster, si, warnings):
             emission=np.tile(np.asarray(rad, np.float32), (len(starts), 1)), target=None,
             # pinv: a light scaled to 0 has a singular matrix (inv raised LinAlgError)
             matrix=mat, local_vertices=core_lights.transform(verts, np.linalg.pinv(mat)),
-            two_sided=np.zeros(len(starts), np.uint8), occluder=False))
+            two_sided=np.zeros(len(starts), np.uint8), occluder=False, output=False))
         return
     pos = tuple(mat[:3, 3])
     if light.type == "POINT":

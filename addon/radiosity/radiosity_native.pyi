@@ -98,6 +98,9 @@ class Scene:
                    # [, emission (P,3) >= 0]); elements take the area mean of the pieces inside
                    # them. None: uniform polygons.
                    pieces: Optional[tuple] = None,
+                   # False: its colours are not read (an instance, an area light): no final
+                   # gather at its corners, which read the leaves; it still lights the rest.
+                   output: bool = True,
                    ) -> int:
         """A rigid object. cluster=-1: a surface set by itself (object directly in the scene).
         Raises ValueError naming the object and polygon on NaN/inf, bad indices, rho outside [0,1),
@@ -144,7 +147,8 @@ class Solver:
                    loop_totals: np.ndarray, corner_verts: np.ndarray, reflectance: np.ndarray,
                    emission: np.ndarray, two_sided: Optional[np.ndarray] = None,
                    occluder: bool = True, corner_reflectance: Optional[np.ndarray] = None,
-                   corner_emission: Optional[np.ndarray] = None, pieces: Optional[tuple] = None) -> int:
+                   corner_emission: Optional[np.ndarray] = None, pieces: Optional[tuple] = None,
+                   output: bool = True) -> int:
         """As Scene.add_object (world space, placed as given: later moves are relative to it).
         ValueError naming the object and polygon for bad input."""
     def remove_object(self, object_id: int) -> None: ...  # ValueError: unknown id, removed already

@@ -73,10 +73,11 @@ ObjectDesc make_object(const std::string& name, int cluster, const Arr<double>& 
                        const Arr<int32_t>& loop_starts, const Arr<int32_t>& loop_totals, const Arr<int32_t>& corner_verts,
                        const Arr<double>& reflectance, const Arr<double>& emission, const py::object& two_sided,
                        bool occluder, const py::object& corner_reflectance, const py::object& corner_emission,
-                       const py::object& pieces) {
+                       const py::object& pieces, bool output) {
     ObjectDesc o;
     o.name = name;
     o.occluder = occluder;
+    o.output = output;
     o.cluster = cluster;
     if (verts.ndim() != 2 || verts.shape(1) != 3) throw py::value_error("object '" + name + "': vertices must be (V,3)");
     auto v = verts.unchecked<2>();
@@ -105,9 +106,10 @@ int add_object(SceneDesc& s, const std::string& name, int cluster, const Arr<dou
                const Arr<int32_t>& loop_starts, const Arr<int32_t>& loop_totals, const Arr<int32_t>& corner_verts,
                const Arr<double>& reflectance, const Arr<double>& emission, const py::object& two_sided,
                bool occluder, const py::object& corner_reflectance, const py::object& corner_emission,
-               const py::object& pieces) {
+               const py::object& pieces, bool output) {
     return s.add_object(make_object(name, cluster, verts, loop_starts, loop_totals, corner_verts, reflectance,
-                                    emission, two_sided, occluder, corner_reflectance, corner_emission, pieces));
+                                    emission, two_sided, occluder, corner_reflectance, corner_emission, pieces,
+                                    output));
 }
 
 // A solver plus the job that may be running it.
@@ -232,7 +234,7 @@ PYBIND11_MODULE(radiosity_native, m) {
              py::arg("loop_starts"), py::arg("loop_totals"), py::arg("corner_verts"), py::arg("reflectance"),
              py::arg("emission"), py::arg("two_sided") = py::none(), py::arg("occluder") = true,
              py::arg("corner_reflectance") = py::none(), py::arg("corner_emission") = py::none(),
-             py::arg("pieces") = py::none())
+             py::arg("pieces") = py::none(), py::arg("output") = true)
         .def("add_light", &SceneDesc::add_light, py::arg("light"))
         .def_property_readonly("light_count", [](const SceneDesc& s) { return s.lights().size(); })
         .def_property_readonly("object_count", [](const SceneDesc& s) { return s.objects().size(); })
@@ -260,15 +262,15 @@ PYBIND11_MODULE(radiosity_native, m) {
                               const Arr<int32_t>& corner_verts, const Arr<double>& reflectance,
                               const Arr<double>& emission, const py::object& two_sided, bool occluder,
                               const py::object& corner_reflectance, const py::object& corner_emission,
-                              const py::object& pieces) {
+                              const py::object& pieces, bool output) {
             s.idle();
             return s.solver->add_object(make_object(name, cluster, verts, loop_starts, loop_totals, corner_verts,
                                                     reflectance, emission, two_sided, occluder, corner_reflectance,
-                                                    corner_emission, pieces));
+                                                    corner_emission, pieces, output));
         }, py::arg("name"), py::arg("cluster"), py::arg("vertices"), py::arg("loop_starts"), py::arg("loop_totals"),
            py::arg("corner_verts"), py::arg("reflectance"), py::arg("emission"), py::arg("two_sided") = py::none(),
            py::arg("occluder") = true, py::arg("corner_reflectance") = py::none(),
-           py::arg("corner_emission") = py::none(), py::arg("pieces") = py::none())
+           py::arg("corner_emission") = py::none(), py::arg("pieces") = py::none(), py::arg("output") = true)
         .def("remove_object", [](PySolver& s, int object) {
             s.idle();
             s.solver->remove_object(object);

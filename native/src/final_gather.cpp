@@ -785,7 +785,10 @@ std::vector<FinalGather::Job> FinalGather::make_jobs(const Solution& s) {
     const Hierarchy& h = s.h;
     const auto& objects = s.scene.objects();
     corner_point_.assign(objects.size(), {});
-    for (size_t o = 0; o < objects.size(); ++o) corner_point_[o].assign(objects[o].corner_count(), -1);
+    // An object without output gets no points and no corner map: its corners read the leaves
+    // (Solver::corner_radiance), and the counts hold only the corners whose colour is read.
+    for (size_t o = 0; o < objects.size(); ++o)
+        if (objects[o].output) corner_point_[o].assign(objects[o].corner_count(), -1);
     // Every corner's sample point and contact state first: whether its vertex may share a
     // point depends on all of the vertex's corners.
     struct Corner {
@@ -798,7 +801,7 @@ std::vector<FinalGather::Job> FinalGather::make_jobs(const Solution& s) {
     std::vector<std::vector<char>> seen(objects.size());
     for (size_t pi = 0; pi < h.prims.size(); ++pi) {
         const Primitive& p = h.prims[pi];
-        if (p.object < 0 || p.front < 0) continue;
+        if (p.object < 0 || p.front < 0 || !objects[size_t(p.object)].output) continue;
         const ObjectDesc& o = objects[size_t(p.object)];
         std::vector<char>& done = seen[size_t(p.object)];
         if (done.empty()) {

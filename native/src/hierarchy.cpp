@@ -337,6 +337,35 @@ void Hierarchy::refresh_cluster_geometry(int id) {
     }
 }
 
+void Hierarchy::index_emitters() {
+    emits_.assign(nodes.size(), 0);
+    if (root < 0) return;
+    // Post-order over the cluster tree from the root (explicit stack: trees can be deep).
+    std::vector<std::pair<int, bool>> stack{{root, false}};
+    while (!stack.empty()) {
+        const auto [id, expanded] = stack.back();
+        stack.pop_back();
+        const Node& n = nodes[size_t(id)];
+        if (!n.is_cluster()) {
+            emits_[size_t(id)] = n.emission.max() > 0 ? kEmitsAny | kEmitsAll : 0;
+            continue;
+        }
+        if (!expanded) {
+            stack.push_back({id, true});
+            for (int c : n.children)
+                if (!nodes[size_t(c)].dead) stack.push_back({c, false});
+            continue;
+        }
+        uint8_t f = kEmitsAll;  // an empty cluster: every one of its (no) surfaces emits
+        for (int c : n.children) {
+            if (nodes[size_t(c)].dead) continue;
+            const uint8_t fc = emits_[size_t(c)];
+            f = uint8_t((f | (fc & kEmitsAny)) & (~kEmitsAll | (fc & kEmitsAll)));
+        }
+        emits_[size_t(id)] = f;
+    }
+}
+
 void Hierarchy::finish_cluster(int id) {
     nodes[id].surf_end = int(surface_order.size());
     refresh_cluster_geometry(id);

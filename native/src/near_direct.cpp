@@ -73,6 +73,8 @@ FinalGather::DirectVariation::DirectVariation(const Solution& s, const Config& c
 
 bool FinalGather::DirectVariation::cluster_emits(const Node& cl, bool all) const {
     const Hierarchy& h = s_.h;
+    const int f = h.emit_flags(int(&cl - h.nodes.data()));
+    if (f >= 0) return (f & (all ? Hierarchy::kEmitsAll : Hierarchy::kEmitsAny)) != 0;
     for (int k = cl.surf_begin; k < cl.surf_end; ++k) {
         const bool e = h.nodes[size_t(h.surfaces[size_t(h.surface_order[size_t(k)])].root)].emission.max() > 0;
         if (e != all) return e;

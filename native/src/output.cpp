@@ -1,7 +1,8 @@
 // Per-corner output. By default a final gather at every corner point (final_gather.h), run as
 // the last phase of a solve or an update. With gather_rays = 0: the radiance of the leaf
 // element at each input corner (the hierarchy evaluated at that point), averaged over the
-// faces that share the vertex unless a crease separates them.
+// faces that share the vertex unless a crease separates them; so too for an object whose
+// colours are not read (ObjectDesc::output false), which the final gather skips.
 #include <cmath>
 #include <limits>
 
@@ -50,7 +51,8 @@ std::vector<float> Solver::corner_radiance(int object) const {
             }
         return v;
     }
-    if (settings_.gather_rays > 0) {
+    // An object without output has no gather points (final_gather.cpp): its leaves.
+    if (settings_.gather_rays > 0 && o.output) {
         std::vector<float> v = output_.corner_radiance(h_, object);
         if (v.size() == scene_.objects()[size_t(object)].corner_count() * 3) return v;
     }
@@ -63,6 +65,7 @@ void Solver::final_gather(double from, double to, const FinalGather::Moves* move
         return;
     }
     if (lights_.contacts.size() != h_.surfaces.size()) light_contacts();  // lights.cpp
+    h_.index_emitters();  // the near field asks per point whether a cluster emits
     FinalGather::Config c;
     c.rays = settings_.gather_rays;
     c.min_rays = settings_.gather_min_rays;

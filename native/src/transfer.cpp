@@ -317,6 +317,64 @@ private:
     Vec3 d_;
 };
 
+// Draws a surface of a large cluster for a point transfer by descending the cluster's tree:
+// each child is taken in proportion to its weight toward d, an upper bound of its projected
+// area read from its axis bins plus min_cos times its area (FacingSampler's floor), so a draw
+// costs O(depth) where FacingSampler's table over every surface costs O(surfaces) to build,
+// for every point that reads the cluster. The bound sum_a |d_a| max(0, +-n_a) >= cos is
+// additive over children, so the probability of a surface is its own weight over the
+// cluster's; surfaces facing away keep the floor (wasted draws, no bias).
+class TreeSampler {
+public:
+    TreeSampler(const Hierarchy& h, int node, const Vec3& d, double min_cos)
+        : h_(h), node_(node), d_(d), min_cos_(min_cos) {}
+
+    double weight(int id) const {
+        const Node& n = h_.nodes[size_t(id)];
+        if (n.dead || !(n.area > 0)) return 0.0;
+        double b = 0;
+        if (n.is_cluster()) {
+            for (int a = 0; a < 3; ++a) b += std::fabs(d_[a]) * n.W[size_t(bin_of(a, d_[a]))];
+            return b + min_cos_ * n.area;
+        }
+        for (int a = 0; a < 3; ++a) b += std::fabs(d_[a]) * std::max(0.0, (d_[a] < 0 ? -1.0 : 1.0) * n.normal[a]);
+        return n.area * (b + min_cos_);
+    }
+    // A surface root, drawn by u in [0, 1) (rescaled at each level, so strata carry down), and
+    // the probability of drawing it; -1 when the cluster has nothing to draw.
+    int draw(double u, double* prob) const {
+        int id = node_;
+        double p = 1.0;
+        while (h_.nodes[size_t(id)].is_cluster()) {
+            const Node& n = h_.nodes[size_t(id)];
+            double total = 0;
+            for (int c : n.children) total += weight(c);
+            if (!(total > 0)) return -1;
+            double x = u * total, acc = 0;
+            int pick = -1;
+            double w_pick = 0;
+            for (int c : n.children) {
+                const double w = weight(c);
+                if (w <= 0) continue;
+                pick = c, w_pick = w;
+                if (x < acc + w) break;
+                acc += w;
+            }
+            u = std::min(std::max((x - acc) / w_pick, 0.0), std::nextafter(1.0, 0.0));
+            p *= w_pick / total;
+            id = pick;
+        }
+        *prob = p;
+        return id;
+    }
+
+private:
+    const Hierarchy& h_;
+    int node_;
+    Vec3 d_;
+    double min_cos_;
+};
+
 // Whether every surface below P and Q lies in one plane (either side of it), to within its
 // own warp (a quad is planar only to 1e-4 of its size: one of Bevel's or a float32 vertex's
 // rounding). Stops at the first surface off the plane, so mixed clusters cost little.
@@ -515,6 +573,8 @@ PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int s
     constexpr int kExactClusterSurfaces = 12;
     constexpr size_t kDescendChildren = 16;
     constexpr double kGatherMinCos = 0.1;  // FacingSampler's min_cos
+    // Beyond this many surfaces (and without a facing summary) a cluster is drawn down its tree.
+    constexpr int kTreeSampleSurfaces = 256;
     PointTransfer t;
     const Node& P = h.nodes[size_t(src)];
     const Node& R = h.nodes[size_t(rcv_leaf)];
@@ -614,6 +674,39 @@ PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int s
                                        samples);
         }
         return sum;
+    } else if (P.surf_end - P.surf_begin > kTreeSampleSurfaces && !h.has_facing_summary(src)) {
+        // A large cluster of many normals (a bevelled, subdivided sofa): drawn down its tree.
+        Vec3 d = x - P.center;
+        const double r0 = length(d);
+        if (!(r0 > 1e-9 * h.scene_diag)) return t;
+        d = d / r0;
+        const TreeSampler tree(h, src, d, kGatherMinCos);
+        const LatinHypercube strata(rng, rays, 3);
+        int clear = 0;
+        for (int k = 0; k < rays; ++k) {
+            const double* u = strata.at(k);
+            double prob = 0;
+            const int root = tree.draw(u[0], &prob);
+            if (root < 0) break;
+            const Node& g = h.nodes[size_t(root)];
+            if (g.pocket != R.pocket || !(prob > 0)) continue;
+            const Vec3 s = g.poly.sample(u[1], u[2]);
+            const Vec3 yx = s - y;
+            const double d2 = length2(yx);
+            if (d2 <= 0) continue;
+            // Kernel cos cos / (pi r^2) over the density prob / area.
+            const double gk = std::max(0.0, dot(yx, n)) * std::max(0.0, -dot(yx, g.normal)) / (d2 * d2) * g.area /
+                              (kPi * prob * rays);
+            if (gk <= 0) continue;
+            ++t.cast;
+            t.F_unoccluded += gk;
+            if (!vis.occluded(y, s + g.normal * lift)) {
+                ++clear;
+                t.F += gk;
+                samples.push_back({h.leaf_at(root, s), float(gk)});
+            }
+        }
+        t.partial = clear > 0 && clear < t.cast;
     } else {
         Vec3 d = x - P.center;
         const double r0 = length(d);

@@ -440,3 +440,84 @@ TEST(FinalGather, AnExcessAtAPointIsTakenFromItsSampledCouplings) {
     EXPECT_EQ(g.c_own, 1.0);
     EXPECT_EQ(g.c_inherited, 1.0);
 }
+
+TEST(FinalGather, LargeClustersOfManyNormalsAreDrawnDownTheirTreeUnbiased) {
+    // A UV sphere of 24 x 16 quads (a subdivided cushion: many normals, no facing summary) in
+    // its own collection, read from a point outside it: point_transfer draws its surfaces down
+    // the cluster tree, O(depth) a ray. The mean of 8-ray estimates must match the exact
+    // coupling (the sum of the point-to-polygon form factors of its faces), and no estimate
+    // may run away.
+    SceneDesc sc;
+    const int cl = sc.add_cluster("cushion");
+    ObjectDesc o;
+    o.name = "sphere";
+    o.cluster = cl;
+    const int nu = 24, nv = 16;
+    for (int j = 0; j <= nv; ++j)
+        for (int i = 0; i < nu; ++i) {
+            const double th = kPi * j / nv, ph = 2 * kPi * i / nu;
+            o.vertices.push_back({std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)});
+        }
+    for (int j = 0; j < nv; ++j)
+        for (int i = 0; i < nu; ++i) {
+            const int a = j * nu + i, b = j * nu + (i + 1) % nu;
+            o.loop_starts.push_back(int32_t(o.corner_verts.size()));
+            if (j == 0 || j == nv - 1) {  // the caps' triangles (outward: counter-clockwise seen from outside)
+                o.loop_totals.push_back(3);
+                if (j == 0) o.corner_verts.insert(o.corner_verts.end(), {a, a + nu, b + nu});
+                else o.corner_verts.insert(o.corner_verts.end(), {a, a + nu, b});
+            } else {
+                o.loop_totals.push_back(4);
+                o.corner_verts.insert(o.corner_verts.end(), {a, a + nu, b + nu, b});
+            }
+            o.reflectance.push_back(Rgb::all(0.5));
+            o.emission.push_back({});
+            o.two_sided.push_back(0);
+        }
+    sc.add_object(o);
+    const int probe = scenes::add_grid(sc, "probe", -1, {Vec3{4, 0.1, -0.1}, Vec3{4, -0.1, -0.1}, Vec3{4, -0.1, 0.1}, Vec3{4, 0.1, 0.1}},
+                                       1, 1, Rgb::all(0.5), Rgb{}, false);
+    sc.add_light([] {
+        LightDesc l;
+        l.name = "sun";
+        l.type = LightDesc::Type::Sun;
+        l.direction = normalize(Vec3{-1, 0.2, -0.5});
+        l.intensity = Rgb::all(1.0);
+        return l;
+    }());
+    Solver s(sc, Settings::preset("DRAFT"));
+    s.solve();
+    const Hierarchy& h = s.hierarchy();
+    int src = -1;
+    for (size_t i = 0; i < h.nodes.size(); ++i)
+        if (h.nodes[i].is_cluster() && !h.nodes[i].dead && h.nodes[i].object == 0 &&
+            (src < 0 || h.nodes[i].surf_end - h.nodes[i].surf_begin > h.nodes[size_t(src)].surf_end - h.nodes[size_t(src)].surf_begin))
+            src = int(i);
+    ASSERT_GE(src, 0);
+    const Node& P = h.nodes[size_t(src)];
+    ASSERT_GT(P.surf_end - P.surf_begin, 256) << "the sphere's cluster must be large enough to be drawn down its tree";
+    ASSERT_FALSE(h.has_facing_summary(src));
+    const std::vector<const Node*> probe_leaves = front_leaves(s, probe);
+    ASSERT_FALSE(probe_leaves.empty());
+    const int rcv = int(probe_leaves[0] - h.nodes.data());
+    const Vec3 x = h.to_internal(Vec3{4, 0.3, 0.2});
+    ASSERT_GT(length(x - P.center), 2.0 * P.radius);
+    const Vec3 n = normalize(Vec3{-1, -0.1, -0.05});
+    double exact = 0;
+    for (const Node* leaf : front_leaves(s, 0)) exact += point_polygon_form_factor(x, n, leaf->poly, leaf->normal);
+    ASSERT_GT(exact, 0.0);
+    double worst = 0, sum = 0;
+    const int trials = 2000;
+    std::vector<std::pair<int, float>> samples;
+    for (int k = 0; k < trials; ++k) {
+        PointRayStream rays(s.visibility());
+        samples.clear();
+        const PointTransfer t = point_transfer(h, rays, src, x, n, rcv, 8, uint64_t(7000 + k), samples);
+        worst = std::max(worst, t.F_unoccluded / exact);
+        sum += t.F_unoccluded;
+    }
+    std::printf("[ figure ] 8-ray estimates of a sphere cluster's coupling: worst %.3f x exact, mean %.4f x exact\n",
+                worst, sum / trials / exact);
+    EXPECT_NEAR(sum / trials / exact, 1.0, 0.02);
+    EXPECT_LE(worst, 2.0);
+}

@@ -35,7 +35,7 @@ class CachedSolution:
     settings_key: object = None
     object_ids: dict = field(default_factory=dict)       # name -> native object id
     cluster_ids: dict = field(default_factory=dict)      # cluster path (names from the root) -> native id
-    shapes: dict = field(default_factory=dict)           # name -> shape_digest
+    shapes: dict = field(default_factory=dict)           # name -> scene_data.Shape
     build_matrices: dict = field(default_factory=dict)   # name -> world matrix at add_object
     matrices: dict = field(default_factory=dict)         # name -> placement last solved
     reflectance: dict = field(default_factory=dict)      # name -> (F,3) last solved

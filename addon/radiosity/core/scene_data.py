@@ -51,6 +51,10 @@ class ObjectInput:
     # area light is one-sided and, as in Cycles, transparent to other light.
     two_sided: object = None
     occluder: bool = True
+    # Whether its colours are read (written to a mesh): False for instances, area lights and
+    # meshes that cannot be written. The solver then gathers no light at its corners (the
+    # costliest phase) while it still casts and reflects light.
+    output: bool = True
     # Modifiers that change the corner layout: per corner of the mesh written (the original),
     # the corner of this (evaluated) object whose value it takes (core.corners.
     # original_corner_map). None: the corners are the written mesh's own.
@@ -263,7 +267,7 @@ def fingerprint(scene_input, settings_key):
     for c in scene_input.clusters:
         h.update(f"C|{c.name}|{c.parent}".encode())
     for o in scene_input.objects:
-        h.update(f"O|{o.name}|{o.cluster}|{o.target is not None}|{o.occluder}".encode())
+        h.update(f"O|{o.name}|{o.cluster}|{o.target is not None}|{o.occluder}|{o.output}".encode())
         if o.two_sided is not None:
             h.update(np.ascontiguousarray(o.two_sided, dtype=np.uint8).tobytes())
         for arr, dtype in ((o.vertices, np.float64), (o.loop_starts, np.int32),
@@ -293,22 +297,53 @@ def object_matrix(obj):
     return np.eye(4) if obj.matrix is None else np.asarray(obj.matrix, dtype=np.float64)
 
 
-def shape_digest(obj, cluster_path):
-    """Digest of what a rigid move leaves unchanged: cluster, topology, object-space shape.
+SHAPE_TOLERANCE = 1e-6     # object-space vertices this close (of the object's size) are the same shape
 
-    Materials and the placement are not part of it (the incremental path updates those).
-    """
+
+class Shape:
+    """What a rigid move leaves unchanged: cluster, topology, object-space shape. Equal when
+    everything but the vertex positions is identical (a digest) and the positions agree within
+    SHAPE_TOLERANCE of the object's size: an evaluated Bevel + Subdivision Surface mesh comes
+    out about 1e-8 different from one evaluation to the next, and an exact comparison replaced
+    every such unmoved object at each incremental bake."""
+    __slots__ = ("digest", "local")
+
+    def __init__(self, digest, local):
+        self.digest = digest
+        self.local = local
+
+    def __eq__(self, other):
+        if not isinstance(other, Shape):
+            return NotImplemented
+        if self.digest != other.digest or self.local.shape != other.local.shape:
+            return False
+        if self.local.size == 0:
+            return True
+        size = float(np.max(np.ptp(self.local, axis=0)))
+        diff = float(np.max(np.abs(self.local - other.local)))
+        return diff <= SHAPE_TOLERANCE * size
+
+    __hash__ = None
+
+
+def shape_digest(obj, cluster_path):
+    """The object's Shape (above). Materials and the placement are not part of it (the
+    incremental path updates those). Whether its colours are read is: the native object is
+    made with it, so an object that becomes writable (out of Edit Mode, the first user of its
+    mesh) is replaced and gathered."""
     h = hashlib.blake2b(digest_size=20)
-    h.update(f"{obj.name}|{cluster_path}|{obj.corner_perm is not None}|{obj.occluder}".encode())
+    h.update(f"{obj.name}|{cluster_path}|{obj.corner_perm is not None}|{obj.occluder}|"
+             f"{obj.output}".encode())
     if obj.two_sided is not None:
         h.update(np.ascontiguousarray(obj.two_sided, dtype=np.uint8).tobytes())
-    local = obj.vertices if obj.local_vertices is None else obj.local_vertices
-    for arr, dtype in ((local, np.float64), (obj.loop_starts, np.int32),
-                       (obj.loop_totals, np.int32), (obj.corner_verts, np.int32)):
-        a = np.ascontiguousarray(arr, dtype=dtype)
+    local = np.ascontiguousarray(obj.vertices if obj.local_vertices is None else obj.local_vertices,
+                                 dtype=np.float64).reshape(-1, 3)
+    h.update(str(local.shape).encode())
+    for arr in (obj.loop_starts, obj.loop_totals, obj.corner_verts):
+        a = np.ascontiguousarray(arr, dtype=np.int32)
         h.update(str(a.shape).encode())
         h.update(a.tobytes())
-    return h.hexdigest()
+    return Shape(h.hexdigest(), local.copy())
 
 
 def shape_digests(scene_input):
@@ -357,6 +392,8 @@ def add_native_object(target, obj, cluster_id):
         extra["two_sided"] = np.ascontiguousarray(obj.two_sided, dtype=np.uint8)
     if not obj.occluder:
         extra["occluder"] = False
+    if not obj.output:
+        extra["output"] = False
     corners = corner_materials(obj)
     if corners[0] is not None:
         extra["corner_reflectance"] = corners[0]

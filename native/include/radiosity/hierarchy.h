@@ -113,6 +113,12 @@ public:
     void subdivide(int node);
     // Cluster bookkeeping after geometry changed (center, box, radius, bins).
     void refresh_cluster_geometry(int node);
+    // Per node, whether some (kEmitsAny) and every (kEmitsAll) surface below it emits (a
+    // surface root: itself), from the surface roots' emission now. Set before a final gather,
+    // which asks it per point; nodes made since count as unknown (emit_flags returns -1).
+    static constexpr uint8_t kEmitsAny = 1, kEmitsAll = 2;
+    void index_emitters();
+    int emit_flags(int node) const { return size_t(node) < emits_.size() ? emits_[size_t(node)] : -1; }
     // Places an object rigidly: p = R p0 + t in the internal frame (R row-major 3x3), its
     // surfaces and elements re-derived from the given geometry, clusters above refreshed.
     void place_object(int object, const double R[9], const Vec3& t);
@@ -207,6 +213,7 @@ public:
         std::vector<FacingGroup> groups; // distinct (normal, pocket), summed area
     };
     std::vector<FacingSummary> facing_summary;        // per node (empty vector: none)
+    bool has_facing_summary(int node) const { return size_t(node) < facing_summary.size() && facing_summary[size_t(node)].valid; }
     static constexpr int kSummaryMinSurfaces = 256, kSummaryMaxNormals = 24;
     void refresh_surface_geom();
     // Whether surface_geom matches the nodes (tests).
@@ -245,6 +252,7 @@ public:
     size_t unfanned_polygons = 0;
 
 private:
+    std::vector<uint8_t> emits_;  // index_emitters()
     int new_node(NodeKind kind, int parent);
     int build_object_tree(std::vector<int>& prim_ids, int begin, int end, int parent, int object, uint64_t key);
     void add_surfaces_of_prims(const std::vector<int>& prim_ids, int begin, int end, int parent);

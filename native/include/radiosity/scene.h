@@ -55,6 +55,10 @@ struct ObjectDesc {
     std::vector<uint8_t> two_sided;             // per polygon
     // false: casts no shadow (rays pass through it), like a Blender area light in Cycles.
     bool occluder = true;
+    // false: no colour of it is read (an instance, an area light, a mesh that cannot be
+    // written): the final gather traces no point at its corners, which read the leaves. It
+    // takes part in the light transport all the same.
+    bool output = true;
     size_t polygon_count() const { return loop_starts.size(); }
     size_t corner_count() const { return corner_verts.size(); }
 };

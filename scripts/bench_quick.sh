@@ -25,6 +25,7 @@ benches=(
   "$PY bench/tradeoff/run_tradeoff.py --quick --zip $ZIP"
   "$PY bench/tradeoff/run_table2.py --quick --zip $ZIP"
   "$PY bench/live_drag.py --quick --addon-dir $BUILD/addon/stage"
+  "$PY bench/interior/run_interior.py --quick --zip $ZIP"
 )
 passed=0
 failed=()

@@ -327,4 +327,5 @@ def main():
         f.write("\n".join(md) + "\n")
 
 
-main()
+if __name__ == "__main__":
+    main()

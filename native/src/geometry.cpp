@@ -268,9 +268,15 @@ Cubature receiver_cubature(const Poly& rcv, const Vec3& src_p, const Vec3& src_n
     return c;
 }
 
+namespace {
+// A point of the polygon's plane to measure from: a quad's vertex mean (the plane that halves
+// its warp), a triangle's first vertex.
+Vec3 plane_point(const Poly& p) { return p.n == 4 ? (p.v[0] + p.v[1] + p.v[2] + p.v[3]) * 0.25 : p.v[0]; }
+}  // namespace
+
 double warp(const Poly& p, const Vec3& n) {
     if (p.n < 4) return 0;
-    const Vec3 c = (p.v[0] + p.v[1] + p.v[2] + p.v[3]) * 0.25;
+    const Vec3 c = plane_point(p);
     double w = 0;
     for (int i = 0; i < 4; ++i) w = std::max(w, std::fabs(dot(p.v[size_t(i)] - c, n)));
     return w;
@@ -281,8 +287,7 @@ bool can_face(const Poly& src, const Vec3& src_n, const Poly& rcv, const Vec3& r
     // the two polygons' warps: within them, the two are one sheet (the far side of a warped
     // quad is a hair "in front" of its own vertices) and exchange no light.
     const double tol = eps + warp(src, src_n) + warp(rcv, rcv_n);
-    const Vec3 sc = src.n == 4 ? (src.v[0] + src.v[1] + src.v[2] + src.v[3]) * 0.25 : src.v[0];
-    const Vec3 rc = rcv.n == 4 ? (rcv.v[0] + rcv.v[1] + rcv.v[2] + rcv.v[3]) * 0.25 : rcv.v[0];
+    const Vec3 sc = plane_point(src), rc = plane_point(rcv);
     bool rcv_front = false, src_front = false;
     for (int i = 0; i < rcv.n; ++i)
         if (dot(rcv.v[size_t(i)] - sc, src_n) > tol) rcv_front = true;

@@ -243,7 +243,7 @@ public:
             total_ = cdf_.empty() ? 0.0 : cdf_.back();
             return;
         }
-        if (size_t(node) < h.facing_summary.size() && h.facing_summary[size_t(node)].valid) {
+        if (h.has_facing_summary(node)) {
             // A large cluster of few normals in one pocket: the projected area is a sum over
             // its normals, and surfaces are drawn by area and kept with probability cos
             // (rejection), unless so little of it faces d that rejection would spin.
@@ -583,6 +583,24 @@ PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int s
     Rng rng(seed);
     rays = std::max(rays, 1);
     const size_t first = samples.size();
+    // One ray of a sender drawn by density den / num per area (a cluster's samplers): the
+    // point kernel cos cos / (pi r^2) over that density, toward s (normal ns) on surface root
+    // `root`; the clear ones keep their leaf for the sender's radiance.
+    int clear_draws = 0;
+    auto tally = [&](const Vec3& s, const Vec3& ns, int root, double num, double den) {
+        const Vec3 yx = s - y;
+        const double d2 = length2(yx);
+        if (d2 <= 0) return;
+        const double g = std::max(0.0, dot(yx, n)) * std::max(0.0, -dot(yx, ns)) / (d2 * d2) * num / (kPi * den * rays);
+        if (g <= 0) return;
+        ++t.cast;
+        t.F_unoccluded += g;
+        if (!vis.occluded(y, s + ns * lift)) {
+            ++clear_draws;
+            t.F += g;
+            samples.push_back({h.leaf_at(root, s), float(g)});
+        }
+    };
     if (!P.is_cluster()) {
         if (P.pocket != R.pocket) return t;
         const double F = point_polygon_form_factor(x, n, P.poly, P.normal);
@@ -628,26 +646,13 @@ PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int s
         const double lo = pre[P.surf_begin], span = pre[P.surf_end] - lo;
         if (!(span > 0)) return t;
         const LatinHypercube strata(rng, rays, 3);
-        int clear = 0;
         for (int k = 0; k < rays; ++k) {
             const double* u = strata.at(k);
             const SurfaceGeom& g = h.surface_geom[size_t(surface_at_area(h, P.surf_begin, P.surf_end, lo + u[0] * span))];
             if (g.pocket != R.pocket || h.nodes[size_t(g.root)].dead) continue;
-            const Vec3 s = g.poly.sample(g.share, u[1], u[2]);
-            const Vec3 yx = s - y;
-            const double d2 = length2(yx);
-            if (d2 <= 0) continue;
-            const double gk = std::max(0.0, dot(yx, n)) * std::max(0.0, -dot(yx, g.normal)) / (d2 * d2) * span / (kPi * rays);
-            if (gk <= 0) continue;
-            ++t.cast;
-            t.F_unoccluded += gk;
-            if (!vis.occluded(y, s + g.normal * lift)) {
-                ++clear;
-                t.F += gk;
-                samples.push_back({h.leaf_at(g.root, s), float(gk)});
-            }
+            tally(g.poly.sample(g.share, u[1], u[2]), g.normal, g.root, span, 1.0);
         }
-        t.partial = clear > 0 && clear < t.cast;
+        t.partial = clear_draws > 0 && clear_draws < t.cast;
     } else if (length(x - P.center) < 2.0 * P.radius) {
         // The point is near the cluster, or inside it (a floor point and the room around it):
         // no single direction says which of its surfaces face the point, and drawing them by
@@ -674,70 +679,40 @@ PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int s
                                        samples);
         }
         return sum;
-    } else if (P.surf_end - P.surf_begin > kTreeSampleSurfaces && !h.has_facing_summary(src)) {
-        // A large cluster of many normals (a bevelled, subdivided sofa): drawn down its tree.
-        Vec3 d = x - P.center;
-        const double r0 = length(d);
-        if (!(r0 > 1e-9 * h.scene_diag)) return t;
-        d = d / r0;
-        const TreeSampler tree(h, src, d, kGatherMinCos);
-        const LatinHypercube strata(rng, rays, 3);
-        int clear = 0;
-        for (int k = 0; k < rays; ++k) {
-            const double* u = strata.at(k);
-            double prob = 0;
-            const int root = tree.draw(u[0], &prob);
-            if (root < 0) break;
-            const Node& g = h.nodes[size_t(root)];
-            if (g.pocket != R.pocket || !(prob > 0)) continue;
-            const Vec3 s = g.poly.sample(u[1], u[2]);
-            const Vec3 yx = s - y;
-            const double d2 = length2(yx);
-            if (d2 <= 0) continue;
-            // Kernel cos cos / (pi r^2) over the density prob / area.
-            const double gk = std::max(0.0, dot(yx, n)) * std::max(0.0, -dot(yx, g.normal)) / (d2 * d2) * g.area /
-                              (kPi * prob * rays);
-            if (gk <= 0) continue;
-            ++t.cast;
-            t.F_unoccluded += gk;
-            if (!vis.occluded(y, s + g.normal * lift)) {
-                ++clear;
-                t.F += gk;
-                samples.push_back({h.leaf_at(root, s), float(gk)});
-            }
-        }
-        t.partial = clear > 0 && clear < t.cast;
     } else {
         Vec3 d = x - P.center;
         const double r0 = length(d);
         if (!(r0 > 1e-9 * h.scene_diag)) return t;
         d = d / r0;
-        thread_local FacingSampler::Buffers buf;
-        FacingSampler ps(h, src, d, rcv_leaf, buf, kGatherMinCos);
-        const double total = ps.total();
-        if (!(total > 0)) return t;
         const LatinHypercube strata(rng, rays, 3);
-        int clear = 0;
-        for (int k = 0; k < rays; ++k) {
-            Vec3 ny;
-            int sroot = -1;
-            const Vec3 s = ps.sample(rng, strata.at(k), &ny, &sroot);
-            const Vec3 yx = s - y;
-            const double d2 = length2(yx);
-            const double pdf = ps.weight(dot(ny, d));  // the sampler's density over area, times total
-            if (d2 <= 0 || pdf <= 0) continue;
-            // Irradiance / pi estimator: kernel cos cos / (pi r^2) over the density weight(cos_d) / total.
-            const double g = std::max(0.0, dot(yx, n)) * std::max(0.0, -dot(yx, ny)) / (d2 * d2) * total / (kPi * pdf * rays);
-            if (g <= 0) continue;
-            ++t.cast;
-            t.F_unoccluded += g;
-            if (!vis.occluded(y, s + ny * lift)) {
-                ++clear;
-                t.F += g;
-                samples.push_back({h.leaf_at(sroot, s), float(g)});
+        if (P.surf_end - P.surf_begin > kTreeSampleSurfaces && !h.has_facing_summary(src)) {
+            // A large cluster of many normals (a bevelled, subdivided sofa): drawn down its
+            // tree, the density the surface's probability over its area.
+            const TreeSampler tree(h, src, d, kGatherMinCos);
+            for (int k = 0; k < rays; ++k) {
+                const double* u = strata.at(k);
+                double prob = 0;
+                const int root = tree.draw(u[0], &prob);
+                if (root < 0) break;
+                const Node& g = h.nodes[size_t(root)];
+                if (g.pocket != R.pocket || !(prob > 0)) continue;
+                tally(g.poly.sample(u[1], u[2]), g.normal, root, g.area, prob);
+            }
+        } else {
+            thread_local FacingSampler::Buffers buf;
+            FacingSampler ps(h, src, d, rcv_leaf, buf, kGatherMinCos);
+            const double total = ps.total();
+            if (!(total > 0)) return t;
+            for (int k = 0; k < rays; ++k) {
+                Vec3 ny;
+                int sroot = -1;
+                const Vec3 s = ps.sample(rng, strata.at(k), &ny, &sroot);
+                const double pdf = ps.weight(dot(ny, d));  // the sampler's density over area, times total
+                if (pdf <= 0) continue;
+                tally(s, ny, sroot, total, pdf);
             }
         }
-        t.partial = clear > 0 && clear < t.cast;
+        t.partial = clear_draws > 0 && clear_draws < t.cast;
     }
     // Same leaf twice: one sample (fewer to keep per point).
     std::vector<std::pair<int, float>> mine(samples.begin() + std::ptrdiff_t(first), samples.end());

@@ -363,6 +363,31 @@ TEST(FinalGather, MovingABottomlessBlockSealsTheFloorItComesToCover) {
     EXPECT_LE(e, 0.005);
 }
 
+namespace {
+
+// Over `trials` 8-ray estimates (seeds seed0, seed0 + 1, ...) of the coupling from cluster src
+// to the point x (normal n, receiving leaf rcv): the worst and the mean estimate over `exact`.
+struct Estimates {
+    double worst = 0, mean = 0;
+};
+Estimates coupling_estimates(const Solver& s, int src, const Vec3& x, const Vec3& n, int rcv, double exact, int trials,
+                             uint64_t seed0) {
+    Estimates e;
+    double sum = 0;
+    std::vector<std::pair<int, float>> samples;
+    for (int k = 0; k < trials; ++k) {
+        PointRayStream rays(s.visibility());
+        samples.clear();
+        const PointTransfer t = point_transfer(s.hierarchy(), rays, src, x, n, rcv, 8, seed0 + uint64_t(k), samples);
+        e.worst = std::max(e.worst, t.F_unoccluded / exact);
+        sum += t.F_unoccluded;
+    }
+    e.mean = sum / trials / exact;
+    return e;
+}
+
+}  // namespace
+
 TEST(FinalGather, ClusterSenderWeightsStayBoundedForAFaceEdgeOnToTheCentre) {
     // A cluster of a gridded floor plate (normal +z) and a gridded wall behind it (normal +x),
     // seen from a point 6 m away along +x, 2 cm above the cluster's centre: the plate is nearly
@@ -398,20 +423,11 @@ TEST(FinalGather, ClusterSenderWeightsStayBoundedForAFaceEdgeOnToTheCentre) {
     double exact = 0;
     for (const int o : {plate, wall})
         for (const Node* leaf : front_leaves(s, o)) exact += point_polygon_form_factor(x, n, leaf->poly, leaf->normal);
-    double worst = 0, sum = 0;
-    const int trials = 400;
-    std::vector<std::pair<int, float>> samples;
-    for (int k = 0; k < trials; ++k) {
-        PointRayStream rays(s.visibility());
-        samples.clear();
-        const PointTransfer t = point_transfer(h, rays, src, x, n, rcv, 8, uint64_t(1000 + k), samples);
-        worst = std::max(worst, t.F_unoccluded / exact);
-        sum += t.F_unoccluded;
-    }
-    std::printf("[ figure ] 8-ray estimates of the cluster's coupling: worst %.3f x exact, mean %.4f x exact\n", worst,
-                sum / trials / exact);
-    EXPECT_LE(worst, 1.6);
-    EXPECT_NEAR(sum / trials / exact, 1.0, 0.02);
+    const Estimates e = coupling_estimates(s, src, x, n, rcv, exact, 400, 1000);
+    std::printf("[ figure ] 8-ray estimates of the cluster's coupling: worst %.3f x exact, mean %.4f x exact\n", e.worst,
+                e.mean);
+    EXPECT_LE(e.worst, 1.6);
+    EXPECT_NEAR(e.mean, 1.0, 0.02);
 }
 
 TEST(FinalGather, AnExcessAtAPointIsTakenFromItsSampledCouplings) {
@@ -506,18 +522,9 @@ TEST(FinalGather, LargeClustersOfManyNormalsAreDrawnDownTheirTreeUnbiased) {
     double exact = 0;
     for (const Node* leaf : front_leaves(s, 0)) exact += point_polygon_form_factor(x, n, leaf->poly, leaf->normal);
     ASSERT_GT(exact, 0.0);
-    double worst = 0, sum = 0;
-    const int trials = 2000;
-    std::vector<std::pair<int, float>> samples;
-    for (int k = 0; k < trials; ++k) {
-        PointRayStream rays(s.visibility());
-        samples.clear();
-        const PointTransfer t = point_transfer(h, rays, src, x, n, rcv, 8, uint64_t(7000 + k), samples);
-        worst = std::max(worst, t.F_unoccluded / exact);
-        sum += t.F_unoccluded;
-    }
+    const Estimates e = coupling_estimates(s, src, x, n, rcv, exact, 2000, 7000);
     std::printf("[ figure ] 8-ray estimates of a sphere cluster's coupling: worst %.3f x exact, mean %.4f x exact\n",
-                worst, sum / trials / exact);
-    EXPECT_NEAR(sum / trials / exact, 1.0, 0.02);
-    EXPECT_LE(worst, 2.0);
+                e.worst, e.mean);
+    EXPECT_NEAR(e.mean, 1.0, 0.02);
+    EXPECT_LE(e.worst, 2.0);
 }

@@ -17,23 +17,6 @@ scene = bpy.context.scene
 scene.radiosity.preset = rt.arg("--preset", "MEDIUM")
 
 
-def colours():
-    out = {}
-    for o in scene.objects:
-        if o.type == "MESH":
-            c = rt.corner_colors(o)
-            if c is not None:
-                out[o.name] = c[:, :3].copy()
-    return out
-
-
-def nrmse(a, b):
-    keys = sorted(set(a) & set(b))
-    x = np.concatenate([a[k] for k in keys])
-    y = np.concatenate([b[k] for k in keys])
-    return float(np.sqrt(np.mean((x - y) ** 2)) / np.sqrt(np.mean(y ** 2)))
-
-
 def worst(a, b):
     per = {k: float(np.sqrt(np.mean((a[k] - b[k]) ** 2)) / max(np.sqrt(np.mean(b[k] ** 2)), 1e-12))
            for k in set(a) & set(b)}
@@ -45,11 +28,11 @@ def step(name):
     """Incremental bake, then a full bake of the same scene; their stats and NRMSE."""
     ok.append(rt.bake()[0])
     out[name] = rt.last_stats()
-    inc = colours()
+    inc = rt.mesh_colours(scene)
     ok.append(rt.bake(full=True)[0])
     out[name + "_full"] = rt.last_stats()
-    full = colours()
-    out[name + "_nrmse"] = nrmse(inc, full)
+    full = rt.mesh_colours(scene)
+    out[name + "_nrmse"] = rt.colours_nrmse(inc, full)
     out[name + "_worst"] = worst(inc, full)
     return inc
 

@@ -210,6 +210,25 @@ def corner_colors(obj, name="Radiosity"):
     return buf.reshape(-1, 4)
 
 
+def mesh_colours(scene, name="Radiosity"):
+    """{object name: (C, 3) baked colours} of every mesh object of the scene that has them."""
+    out = {}
+    for o in scene.objects:
+        if o.type == "MESH":
+            c = corner_colors(o, name)
+            if c is not None:
+                out[o.name] = c[:, :3].copy()
+    return out
+
+
+def colours_nrmse(a, b):
+    """NRMSE of colours `a` against `b` (mesh_colours dicts) over the objects both have."""
+    keys = sorted(set(a) & set(b))
+    x = np.concatenate([a[k] for k in keys])
+    y = np.concatenate([b[k] for k in keys])
+    return float(np.sqrt(np.mean((x - y) ** 2)) / np.sqrt(np.mean(y ** 2)))
+
+
 def color_attr_names(obj):
     return [a.name for a in obj.data.color_attributes]
 

@@ -36,16 +36,6 @@ for name, centre, size in parts:
 bpy.context.view_layer.update()
 
 
-def corners():
-    out = {}
-    for o in scene.objects:
-        if o.type == "MESH":
-            c = rt.corner_colors(o)
-            if c is not None:
-                out[o.name] = c[:, :3].copy()
-    return out
-
-
 def sane(c):
     x = np.concatenate(list(c.values()))
     return bool(np.all(np.isfinite(x)) and np.all(x >= 0)), int(x.shape[0])
@@ -54,7 +44,7 @@ def sane(c):
 ok, out = [], {}
 ok.append(rt.bake()[0])
 out["first"] = rt.last_stats()
-out["first_sane"], out["corners"] = sane(corners())
+out["first_sane"], out["corners"] = sane(rt.mesh_colours(scene))
 
 # 0.5 m toward the +x wall and a turn of 0.6 rad about the vertical through the seat: the
 # right arm ends inside the wall.
@@ -65,15 +55,12 @@ for o in chair.objects:
 bpy.context.view_layer.update()
 ok.append(rt.bake()[0])
 out["move"] = rt.last_stats()
-inc = corners()
+inc = rt.mesh_colours(scene)
 out["move_sane"], _ = sane(inc)
 ok.append(rt.bake(full=True)[0])
 out["move_full"] = rt.last_stats()
-full = corners()
+full = rt.mesh_colours(scene)
 out["full_sane"], _ = sane(full)
-keys = sorted(set(inc) & set(full))
-a = np.concatenate([inc[k] for k in keys])
-b = np.concatenate([full[k] for k in keys])
-out["nrmse"] = float(np.sqrt(np.mean((a - b) ** 2)) / max(np.sqrt(np.mean(b ** 2)), 1e-30))
+out["nrmse"] = rt.colours_nrmse(inc, full)
 out["ok"] = ok
 rt.result(**out)

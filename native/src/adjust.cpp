@@ -643,6 +643,7 @@ void Solver::update(Control* control) {
         return;
     }
 
+    h_.index_emitters();  // can_split: small emitting clusters still split (materials may have changed)
     std::vector<int> recheck_history;
     bool rejudge_all = false;
     std::vector<Aabb> now_boxes;     // moved objects' new boxes (Change::now)

@@ -426,15 +426,54 @@ Rgb FinalGather::radiance_at(const Solution& s, const Config& c, int m_id, const
     thread_local std::vector<std::pair<int, bool>> reaching;
     thread_local std::vector<std::pair<int, float>> nested;
     links_reaching(s, m_id, reaching);
+    // Russian roulette over the links: link l is gathered with probability q_l = min(1, n w_l /
+    // W), w_l what it may bring (an estimate of its coupling at sp times its sender's radiance
+    // plus the mean radiance, so that dark senders still count for the closure and the wall),
+    // and its samples weighted 1 / q_l: unbiased, about n links a point in place of all of them.
+    // A cluster link with no coupling of its own (the ends too close for the point model, at
+    // the resolution limit) has no estimate: always gathered (w < 0).
+    struct Est { double F, L; };
+    thread_local std::vector<Est> est;
+    thread_local std::vector<double> weight;
+    est.clear();
+    weight.clear();
+    double F_all = 0, FL_all = 0;
+    for (const auto& r : reaching) {
+        const Link& l = s.links[size_t(r.first)];
+        const Node& P = h.nodes[size_t(l.src)];
+        double F = l.K_unoccluded;
+        if (!P.is_cluster()) F = P.pocket == m.pocket ? point_polygon_form_factor(sp, m.normal, P.poly, P.normal) : 0.0;
+        else if (l.must_refine || !(F > 0)) F = -1.0;
+        if (F < 0) {
+            est.push_back({-1.0, 0.0});
+            continue;
+        }
+        const double L = F > 0 ? sender_radiance(h, l).max() : 0.0;
+        est.push_back({F, L});
+        F_all += F;
+        FL_all += F * L;
+    }
+    const double L_mean = F_all > 0 ? FL_all / F_all : 0.0;
+    double W = 0;
+    for (const Est& e : est) {
+        weight.push_back(e.F < 0 ? -1.0 : e.F * (e.L + L_mean));
+        W += std::max(0.0, weight.back());
+    }
+    const double n_links = std::max(8, c.rays / 8);
     PointCouplings couplings;
     Rgb own, all;
-    for (const auto& [li, is_own] : reaching) {
+    for (size_t i = 0; i < reaching.size(); ++i) {
+        const auto& [li, is_own] = reaching[i];
         const Link& l = s.links[size_t(li)];
+        const uint64_t lseed = Hierarchy::mix(seed, uint64_t(li));
+        const double q = W > 0 && weight[i] >= 0 ? std::min(1.0, n_links * weight[i] / W) : 1.0;
+        if (q < 1.0 && !(Rng(Hierarchy::mix(lseed, 0x7217u)).next() < q)) continue;
         nested.clear();
         PointRayStream rs(s.vis);
-        const PointTransfer tr = point_transfer(h, rs, l.src, sp, m.normal, m_id, std::max(2, c.min_rays / 2),
-                                                Hierarchy::mix(seed, uint64_t(li)), nested);
+        const PointTransfer tr = point_transfer(h, rs, l.src, sp, m.normal, m_id, std::max(2, c.min_rays / 2), lseed, nested);
         counts.rays += rs.cast;
+        const double inv_q = 1.0 / q;
+        for (auto& sm : nested) sm.second = float(double(sm.second) * inv_q);
         Rgb e;
         for (const auto& [k, wk] : nested) {
             const Node& nk = h.nodes[size_t(h.live_element(k))];
@@ -443,7 +482,8 @@ Rgb FinalGather::radiance_at(const Solution& s, const Config& c, int m_id, const
         }
         all += e;
         if (is_own) own += e;
-        couplings.add(closing_coupling(h, l.src, tr.F, nested.data(), nested.size()), is_own, h.nodes[size_t(l.src)].is_cluster());
+        couplings.add(closing_coupling(h, l.src, tr.F * inv_q, nested.data(), nested.size()), is_own,
+                      h.nodes[size_t(l.src)].is_cluster());
     }
     ClosureFactors cf;
     if (m.enclosed == 1) cf = couplings.closure();

@@ -11,7 +11,14 @@ namespace radiosity {
 
 bool Solver::can_split(int id) const {
     const Node& n = h_.nodes[id];
-    if (n.is_cluster()) return !n.children.empty();
+    // A cluster smaller than four of the smallest elements the preset resolves, in its
+    // surfaces' area and in its extent, is at the resolution limit, as such an element is: its
+    // links stay cluster links (the final gather reads its surfaces from each output point).
+    // Splitting it went down to pairs of a subdivided Suzanne's polygons. A long thin
+    // one (fan pieces across an n-gon) and an emitting one still split.
+    if (n.is_cluster())
+        return !n.children.empty() && (n.area >= 4.0 * min_area_ || kPi * n.radius * n.radius >= 4.0 * min_area_ ||
+                                       (h_.emit_flags(id) & Hierarchy::kEmitsAny) != 0);
     if (!n.children.empty()) return true;
     if (stats_.element_nodes + 4 > settings_.max_elements) return false;
     return n.area * 0.25 >= min_area_;

@@ -102,6 +102,7 @@ void Solver::solve(Control* control) {
     } else {
         const auto t1 = Clock::now();
         light_initial();  // lights.cpp: lit surfaces get their first-bounce radiance before linking
+        h_.index_emitters();  // can_split: small emitting clusters still split
         link_from({{h_.root, h_.root, -1}});
         lap("link");
         set_progress(0.2);

@@ -192,7 +192,7 @@ def write_md(path, rows, refs, rn, reference):
           "NRMSE = RMS(x−r)/RMS(r) over the same corners. *Covered share*: the covered corners' "
           "part of rRMSE's squared error (Σ over covered / Σ over all; in brackets the same for "
           "NRMSE's). *rRMSE uncovered-only*: the same formula and floor over the uncovered "
-          "corners alone, for comparison with figures from before issue 16 (which left the "
+          "corners alone, for comparison with figures from older tables (which left the "
           "covered corners out), never the headline. *Ref. noise removed*: "
           "√max(0, rRMSE² − n²), n the reference's own noise estimated from its independent "
           "parts (per-corner variance of their mean; see the references below).", "",

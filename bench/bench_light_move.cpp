@@ -1,4 +1,4 @@
-// Light-move benchmark (issue 7): a point light moved in the scene of the Blender light tests
+// Light-move benchmark: a point light moved in the scene of the Blender light tests
 // (scenes::point_light_box_on_floor), updated incrementally and compared with a full solve of
 // the moved scene: NRMSE between them, the update / full time ratio (median over --runs runs,
 // both timed in the same run), and the counts behind it (rays cast, links evaluated, elements,

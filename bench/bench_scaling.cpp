@@ -1,4 +1,4 @@
-// Scaling benchmark (issue 5): full-bake time, peak memory, elements and links of synthetic
+// Scaling benchmark: full-bake time, peak memory, elements and links of synthetic
 // rooms from ~1k to ~1M input triangles, and the log-log least-squares exponent of each.
 //
 //   bench_scaling [--quick] [--preset DRAFT|MEDIUM] [--families furniture,subdivided]

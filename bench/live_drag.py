@@ -1,4 +1,4 @@
-"""Live drag benchmark (issue 19): a scripted drag of an example scene's stored move with Live
+"""Live drag benchmark: a scripted drag of an example scene's stored move with Live
 on, through the add-on in Blender, as a user's drag drives it.
 
     python3 bench/live_drag.py [--blend example_blends/box_room.blend] [--preset MEDIUM]

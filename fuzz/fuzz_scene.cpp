@@ -1,4 +1,4 @@
-// libFuzzer target (issue 6): scene building, a coarse solve, moves, material changes,
+// libFuzzer target: scene building, a coarse solve, moves, material changes,
 // objects added and removed, and incremental updates, all driven by the fuzzer's bytes. A
 // finding is a sanitizer report, a crash, an exception the API does not document, a hang
 // (-timeout) or a non-finite or negative radiance in the output.

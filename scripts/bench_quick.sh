@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# CI smoke run of every benchmark (issue 5): each with --quick, a tiny configuration that goes
+# CI smoke run of every benchmark: each with --quick, a tiny configuration that goes
 # through its whole pipeline (Blender, the add-on, Cycles references, the native module, the
 # report and its plots) in well under a minute. Nothing is judged but that each one finishes
 # without a crash or an exception: no timing, no figure. Results go to temporary directories,

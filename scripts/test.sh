@@ -6,6 +6,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh
+# No session or issue numbers, no cited paths that do not exist (comments say what and why).
+python3 scripts/check_comments.py
 bash scripts/build.sh
 PY=${PYTHON:-python3}
 (cd build && ctest --output-on-failure -j2)

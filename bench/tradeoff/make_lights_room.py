@@ -1,4 +1,4 @@
-"""Build the lights room, the fifth scene of the trade-off (issue 16: presets are judged on the
+"""Build the lights room, the fifth scene of the trade-off (presets are judged on the
 four example scenes and a scene with point, spot, area and sun lights), and save it.
 
     blender -b --factory-startup --python bench/tradeoff/make_lights_room.py -- [OUT.blend]

@@ -217,7 +217,7 @@ def main():
     data = [json.load(open(os.path.join(a.data, f))) for f in files]
     data.sort(key=lambda d: order.get(d["scene"], 99))
     blenders = sorted({str(d["blender"]) for d in data})
-    md = ["# Speed vs accuracy: our bake against Cycles on the example scenes (issue 5)", "",
+    md = ["# Speed vs accuracy: our bake against Cycles on the example scenes", "",
           "Command (from the repository root, after the build; one headless run, Blender "
           f"{', '.join(blenders)}: ours and Cycles in the same process):", "",
           f"    {a.command.strip()}", "",
@@ -240,7 +240,7 @@ def main():
           "(main; mean r over the same corners, zeros included, so at r = 0 the denominator is that "
           "floor), NRMSE = RMS(x−r)/RMS(r); *covered share* = the covered corners' part of rRMSE's "
           "squared error; *rRMSE uncovered-only* = the same over the uncovered corners alone "
-          "(what tables before issue 16 called rRMSE, up to the floor); *ref. noise removed* = "
+          "(what older tables called rRMSE, up to the floor); *ref. noise removed* = "
           "√max(0, rRMSE² − n²), n the reference's own noise measured from its independent parts. "
           "Cycles' errors are medians over its seeds. \"Speed-up\" is Cycles' time at our error (log–log interpolation "
           "on its curve) over ours, both errors with the reference's noise removed (raw errors "

@@ -138,7 +138,7 @@ def main():
     if rows:
         plot(rows, os.path.join(out_dir, "scaling.png"))
     command = "python3 bench/tradeoff/run_scaling.py " + " ".join(sys.argv[1:])
-    md = ["# Scaling of the full bake with scene size (issue 5)", "",
+    md = ["# Scaling of the full bake with scene size", "",
           "Command (from the repository root, after the build):", "", f"    {command.strip()}",
           "", f"{time.strftime('%Y-%m-%d %H:%M')}; machine at the start: {before}; at the end: "
           f"{bt_run.machine()}; {total:.0f} s in all.", "",

@@ -141,7 +141,7 @@ def report(data, out_dir, command):
         lines.append(f"| {name} | " + " | ".join(cells) + " |")
     moves = "; ".join(f"{d['scene']}: {d['move']['object']} → {tuple(d['move']['location'])}, "
                       f"+{d['move'].get('rotation_z_deg', 0)}° about Z" for d in data)
-    md = ["# Table 2 on the example scenes (issue 5)", "",
+    md = ["# Table 2 on the example scenes", "",
           "Command (from the repository root, after the build; one headless run, Debian's Blender "
           "3.4):", "", f"    {command.strip()}", "",
           f"{data[0]['date']}; commit measured: "

@@ -66,7 +66,7 @@ SceneDesc furnace_room_with_box(double rho, double e, int n) {
     SceneDesc s;
     add_box(s, "room", -1, {0, 0, 0}, {3, 3, 2.5}, n, Rgb::all(rho), Rgb::all(e), true);
     int c = s.add_cluster("Furniture");
-    // Lifted off the floor: an object resting on a surface is a contact case (issue 6).
+    // Lifted off the floor: an object resting on a surface is a contact case.
     add_box(s, "box", c, {1, 1, 0.1}, {2, 1.5, 1}, n, Rgb::all(rho), Rgb::all(e));
     return s;
 }

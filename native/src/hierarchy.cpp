@@ -90,7 +90,7 @@ void split_polygon(const ObjectDesc& o, int f, double min_area, const Hierarchy&
     }
     // Fan from the vertex whose fan has only positively oriented triangles, if any. Testing
     // every vertex is O(n^2): a 100k-corner polygon with one reflex corner near its end took
-    // minutes (issue 6), so the tests get a budget of O(n). Small polygons are searched in full
+    // minutes, so the tests get a budget of O(n). Small polygons are searched in full
     // as before; when a large one exhausts the budget, its reflex corners are tried (a polygon
     // with a single notch fans from the notch), then the fan from 0 stands, as when no apex works.
     const int64_t budget0 = 32 * int64_t(n) + 1024;

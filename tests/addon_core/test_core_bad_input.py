@@ -1,4 +1,4 @@
-"""Bad input the core must refuse (issue 6), and what an incremental job reports as its work."""
+"""Bad input the core must refuse, and what an incremental job reports as its work."""
 import math
 
 import numpy as np

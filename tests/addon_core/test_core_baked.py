@@ -1,4 +1,4 @@
-"""core.baked: which bake the meshes show and whether it still fits the scene (issue 17.2)."""
+"""core.baked: which bake the meshes show and whether it still fits the scene."""
 import numpy as np
 
 from radiosity.core import baked

@@ -65,7 +65,7 @@ def _with_crate(si, collection="Crates"):
 
 
 def test_added_and_removed_objects_are_incremental(native):
-    """Issue 4: added -> linked in, deleted -> removed, through the kept solver."""
+    """Added -> linked in, deleted -> removed, through the kept solver."""
     _job(native, scenes_np.room()).prepare().run()
     add = _job(native, _with_crate(scenes_np.room())).prepare()
     assert add.mode == "incremental" and add.full_reason is None

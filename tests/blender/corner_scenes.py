@@ -1,6 +1,6 @@
-"""Scenes of the corner-exact acceptance tests (test_corner_exact.py, issue 16), built
-identically by the tests and by scripts/make_corner_references.py, and the in-Blender runner
-the tests call.
+"""Scenes of the corner-exact acceptance tests (test_corner_exact.py), built identically by the
+tests and by tests/blender/scripts/make_corner_references.py, and the in-Blender runner the tests
+call.
 
 Each corner of our output must hold the radiance at its vertex seen with its face's normal, as a
 Cycles COMBINED bake to a corner colour attribute does (CONTRACT.md, NOTES.md), not an area

@@ -1,8 +1,8 @@
-"""Objects added and deleted between bakes go through the kept solver (issue 4), in real
+"""Objects added and deleted between bakes go through the kept solver, in real
 Blender (both flavours), compared with full bakes of the same scenes."""
 import pytest
 
-# Goal (issue 4): incremental equals a full bake within 0.5 % NRMSE; bounded here at 2 %, as
+# Goal: incremental equals a full bake within 0.5 % NRMSE; bounded here at 2 %, as
 # the move test (test_incremental.py) is; the measured figures are printed.
 TOL = 0.02
 

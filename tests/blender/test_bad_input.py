@@ -1,7 +1,8 @@
-"""(d) Bad input in real Blender (issues 4 and 6): clear reports, the scene unchanged.
+"""(d) Bad input in real Blender: clear reports, the scene unchanged.
 
-All cases run in ONE Blender process per flavour (scripts/bad_input.py; a Blender start costs
-seconds and the machine is shared); the saved-file case opens its file in a second, fresh one.
+All cases run in ONE Blender process per flavour (tests/blender/scripts/bad_input.py; a Blender
+start costs seconds and the machine is shared); the saved-file case opens its file in a second,
+fresh one.
 """
 import pytest
 
@@ -42,7 +43,7 @@ def assert_baked(r):
         assert alpha and lo >= 0.0, (name, lo, hi)
 
 
-# --- issue 4's original cases -------------------------------------------------------------------
+# --- basic bad input ----------------------------------------------------------------------------
 def test_nan_vertex_is_an_error_naming_the_object(run_blender):
     r = case(run_blender, "nan")
     assert_refused(r, "Broken")
@@ -77,7 +78,7 @@ def test_no_emitter_bakes_black_with_warning(run_blender):
     assert r["stats"]["no_emitter"] is True
 
 
-# --- issue 6 ------------------------------------------------------------------------------------
+# --- extremes -----------------------------------------------------------------------------------
 def test_inf_vertex_is_an_error_naming_the_object(run_blender):
     r = case(run_blender, "inf_vertex")
     # Blender stores an infinite coordinate as 3.4e38: refused as too far for the rest of the
@@ -215,7 +216,7 @@ def test_renamed_and_deleted_objects_between_bakes(run_blender):
         assert st["mode"] == "incremental", (step, st.get("full_reason"))
         for k, v in changes.items():
             assert st[k] == v, (step, k, st)
-        # No stale data: equals a full bake of the same scene. Goal (issue 4) 0.5 % NRMSE;
+        # No stale data: equals a full bake of the same scene. Goal 0.5 % NRMSE;
         # measured 0.0007-0.03 % here.
         assert r[step + "_nrmse"] < 0.005, (step, r[step + "_nrmse"])
         assert r[step + "_full"]["ok"]

@@ -1,5 +1,5 @@
-"""Headless, both flavours: which bake the meshes show and the panel's words (issues 17.2 and
-17.4; the interactive side is in test_undo.py, test_live.py and test_ui.py)."""
+"""Headless, both flavours: which bake the meshes show and the panel's words (the interactive side
+is in test_undo.py, test_live.py and test_ui.py)."""
 
 
 def test_bake_state_and_panel_words(run_blender):

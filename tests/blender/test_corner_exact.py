@@ -1,12 +1,13 @@
-"""Issue 16 acceptance tests: every corner holds the radiance at its vertex, seen with its face's
+"""Corner-exact tests: every corner holds the radiance at its vertex, seen with its face's
 normal, as Cycles bakes it (CONTRACT.md "Output"), not the average of the element around it.
 
 Each test bakes a scene of corner_scenes.py with the add-on in real Blender (both conftest
 flavours: Debian's Blender 3.4 and PyPI's bpy 5.0) and compares every corner with a converged
-Cycles bake cached in tests/blender/data (scripts/make_corner_references.py: 16,384 spp as two
-independent 8,192-spp halves with seeds 1 and 2; stored as [mean, |a-b|/2], the second being the
-reference's per-corner noise; one reference per Blender generation, v3 = 3.x, v4 = 4.0+, as the
-area/spot light units and the Principled BSDF differ), or, for the lamp, with the closed form.
+Cycles bake cached in tests/blender/data (tests/blender/scripts/make_corner_references.py: 16,384
+spp as two independent 8,192-spp halves with seeds 1 and 2; stored as [mean, |a-b|/2], the second
+being the reference's per-corner noise; one reference per Blender generation, v3 = 3.x, v4 = 4.0+,
+as the area/spot light units and the Principled BSDF differ), or, for the lamp, with the closed
+form.
 
 Metric (NOTES.md): rRMSE = sqrt(mean(((x - r) / max(r, 0.05 mean r))^2)) over every corner and
 channel of the set named, emitters' corners left out, covered corners (r = 0) kept. Where a

@@ -1,4 +1,4 @@
-"""Issue 17.5: the example files open looking through their camera (the factory viewport faced a
+"""The example files open looking through their camera (the factory viewport faced a
 bare wall inside the rooms). The window itself is checked under Xvfb in test_ui_panel.py."""
 import glob
 import os

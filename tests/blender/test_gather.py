@@ -6,14 +6,14 @@ def test_gather_rules(run_blender):
     assert r["ok"], r["_log"]
     w = r["written"]
     # Subdivided: a modifier changes its corner layout; its corners take the evaluated
-    # corners' values (issue 18).
+    # corners' values.
     for name in ("Floor", "Light", "Box", "Displaced", "Tex1", "Tex2", "TwoColls", "Nested",
                  "Subdivided"):
         assert w[name], name
     for name in ("Hidden", "NoRender", "InExcluded", "InRenderOff"):
         assert not w[name], name
     warnings = [m for level, m in r["reports"] if level == "WARNING"]
-    # A textured material is evaluated by Cycles (textures.py, issue 18): no fallback warning,
+    # A textured material is evaluated by Cycles (textures.py): no fallback warning,
     # both objects that use it are evaluated.
     assert not any("Checker" in m for m in warnings), warnings
     assert r["stats"].get("textured_objects") == 2, r["stats"]

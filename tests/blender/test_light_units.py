@@ -1,7 +1,8 @@
 """Cycles' light unit conversions, measured in the Blender under test (both flavours) and checked
 against the conversions the add-on uses (addon/radiosity/core/lights.py): a lone rho = 0.5 floor
 lit by one light, a COMBINED vertex bake (no interreflection: exactly rho E / pi) against the
-analytic irradiance of our conversion. scripts/measure_light_units.py makes the bake."""
+analytic irradiance of our conversion. tests/blender/scripts/measure_light_units.py makes the
+bake."""
 import importlib.util
 import json
 import math

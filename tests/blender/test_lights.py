@@ -1,9 +1,9 @@
 """Blender lights and world against converged Cycles, incremental light changes, adaptive mesh.
 
 References: tests/blender/data/lights_<case>_<v3|v4>.npy, 8192 spp, made by
-scripts/make_light_references.py (v3 with Debian's Blender 3.4, v4 with PyPI bpy 5.0; the area
-and spot units differ between them, see addon/radiosity/core/lights.py). A flavour whose Blender
-generation has no reference skips.
+tests/blender/scripts/make_light_references.py (v3 with Debian's Blender 3.4, v4 with PyPI bpy
+5.0; the area and spot units differ between them, see addon/radiosity/core/lights.py). A flavour
+whose Blender generation has no reference skips.
 """
 import os
 
@@ -47,7 +47,7 @@ def test_light_change_is_incremental(run_blender, case):
     print(f"\n[{r['_flavour']}] {case}: incremental vs full NRMSE {r['nrmse']:.4f} (the change "
           f"itself {r['changed']:.3f}); seconds inc {r['inc']['seconds']:.2f} full {r['full']['seconds']:.2f}")
     assert r["changed"] > 0.05           # the change did change the lighting
-    # Issue 7: 0.5 % for both. Measured (3.4 and 5.0): area dimming 0.00 %, point-light move
+    # Goal: 0.5 % for both. Measured (3.4 and 5.0): area dimming 0.00 %, point-light move
     # 0.24 % (the rest at the box's foot, where the link refinement of an update and of a
     # full solve still differ a little; 0.68 % before the update judged a lit scene's first
     # links on the lamps' first bounce, as a full solve does).

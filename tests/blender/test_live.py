@@ -25,7 +25,7 @@ def test_live_rebake_equals_full_bake(run_blender):
 
 
 def test_live_update_is_visible_and_explained(run_ui_window):
-    """Issue 17.3 (and 17.4's progress) in Blender 3.4's window under Xvfb: screenshots compared
+    """The live update and its progress in Blender 3.4's window under Xvfb: screenshots compared
     region by region (status bar, sidebar) before, during and after."""
     r = run_ui_window("ui_live.py")
     assert "exception" not in r, r["exception"]
@@ -39,7 +39,7 @@ def test_live_update_is_visible_and_explained(run_ui_window):
     # and the panel then describes the update the user watched.
     if not r.get("live_too_fast"):
         assert r["live_status_text"].startswith("Radiosity: live update after a move"), r
-        # The window's timer showed the move's preview before the update started (issue 19).
+        # The window's timer showed the move's preview before the update started.
         assert r["previews_at_job_start"] >= 1 and r["last_preview"]["rays"] > 0, \
             {k: r.get(k) for k in ("previews_at_job_start", "last_preview", "preview_skipped")}
         assert r["running_statusbar_shown"] and r["running_panel_shown"], r
@@ -56,7 +56,7 @@ def test_live_update_is_visible_and_explained(run_ui_window):
 
 
 def test_drag_steps_show_a_preview_and_the_pause_equals_a_full_bake(run_blender):
-    """Issue 19's live drag: every step is shown at once (preview), the update waits for the
+    """The live drag: every step is shown at once (preview), the update waits for the
     pause, and what it leaves equals a full bake."""
     r = run_blender("live_drag.py")
     assert r["ok"], r["_log"]

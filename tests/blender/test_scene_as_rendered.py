@@ -1,14 +1,14 @@
-"""Issue 18, parts 1 and 2: the scene as Blender renders it (modifiers, instances), against a
-converged Cycles bake of the same scene.
+"""The scene as Blender renders it (modifiers, instances), against a converged Cycles bake of the
+same scene.
 
 References: tests/blender/data/rendered_<scene>_cycles.npy (+ .json: samples, Blender), made by
-scripts/make_rendered_reference.py (the command is in its docstring) from
-scripts/scenes_rendered.py. Error: bench/corner_metric.py's rRMSE over every compared corner
-(the written objects; the emitter is not compared; instances have no corners of their own).
+tests/blender/scripts/make_rendered_reference.py (the command is in its docstring) from
+tests/blender/scripts/scenes_rendered.py. Error: bench/corner_metric.py's rRMSE over every compared
+corner (the written objects; the emitter is not compared; instances have no corners of their own).
 
 Three kinds of check:
-- the issue's acceptance (HIGH as shipped within 5 % rRMSE of Cycles; 2 % once issue 16 is
-  resolved): with the final gather on in the presets, subsurf 0.92 %, instances 1.45 % (3.4;
+- the acceptance target (HIGH as shipped within 5 % rRMSE of Cycles; 2 % once the corner-exact
+  output is in): with the final gather on in the presets, subsurf 0.92 %, instances 1.45 % (3.4;
   2.1 % before the gather's deep-penumbra rays, final_gather.cpp). With the old leaf-average output (gather_rays = 0) they measured 8.2 % and 11.6 %:
   that was the corner output's error, not the geometry's;
 - the add-on's own share, which must hold now: with the native final gather (every corner
@@ -23,7 +23,7 @@ import os
 import pytest
 
 DATA = os.path.join(os.path.dirname(__file__), "data")
-# Issue 18's acceptance bound once the corner-exact output is in (issue 16's final gather;
+# The acceptance bound once the corner-exact output is in (the final gather;
 # 5 % before it): subsurf 0.92 %, instances 1.45 % measured.
 RRMSE_BOUND = 0.02
 # Measured at HIGH with the leaf-average output (gather_rays = 0; Blender 3.4, bpy 5.0 and 5.2
@@ -32,7 +32,7 @@ MEASURED = {"subsurf": 0.082, "instances": 0.116}
 
 
 # Scenes whose Cycles bake differs between Blender 3.x and 5.x (Bevel's face order: see
-# scripts/make_rendered_reference.py): a reference per generation.
+# tests/blender/scripts/make_rendered_reference.py): a reference per generation.
 PER_VERSION = {"modifiers"}
 
 
@@ -127,7 +127,7 @@ def test_instances_update_incrementally(run_blender):
           f"{r['live_nrmse']:.4f}, add {r['add_nrmse']:.4f}")
     # Measured (MEDIUM): move 0.033, live 0.023, add 0.029. The native update's own accuracy
     # on this scene, not the instances': moving the Rail, a real object, the same way measures
-    # 0.028 / 0.042 / 0.023 (issue 19 is about the update's accuracy and cost).
+    # 0.028 / 0.042 / 0.023.
     for key in ("move_nrmse", "live_nrmse", "add_nrmse"):
         assert r[key] < 0.05, (key, r[key])
 

@@ -1,4 +1,4 @@
-"""The optional sRGB byte copy with exposure (issue 4, game export), in real Blender."""
+"""The optional sRGB byte copy with exposure (for game export), in real Blender."""
 
 
 def test_furnace_byte_copy(run_blender):

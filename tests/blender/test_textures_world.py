@@ -1,13 +1,13 @@
-"""Issue 18, parts 3 and 4: textured materials and the world, in real Blender, against converged
-Cycles bakes at HIGH.
+"""Textured materials and the world, in real Blender, against converged Cycles bakes at HIGH.
 
 References (tests/blender/data/tex_*.npy, 16384 spp, made by
-scripts/make_tex_world_references.py with the command in its docstring), per version: _v3 for
-3.4, _v5_0 / _v5_2 for bpy 5.0 / 5.2. The floors' 5.0 and 5.2 bakes are identical; the sky's
-models differ between them. Cycles' own noise at 16384 spp: 0.3 % rRMSE (2048 against 16384 spp: 0.8 %).
+tests/blender/scripts/make_tex_world_references.py with the command in its docstring), per version:
+_v3 for 3.4, _v5_0 / _v5_2 for bpy 5.0 / 5.2. The floors' 5.0 and 5.2 bakes are identical; the
+sky's models differ between them. Cycles' own noise at 16384 spp: 0.3 % rRMSE (2048 against 16384
+spp: 0.8 %).
 
 The error is bench/corner_metric.py's over every corner but the emitter's, covered ones
-included. With the final gather on (issue 16) it is, on 3.4 at HIGH: checker 1.98 %, image 1.7 %,
+included. With the final gather on it is, on 3.4 at HIGH: checker 1.98 %, image 1.7 %,
 sky 1.8 % (bpy 5.x: sky 1.3 %; before the gather: 1.26, 1.32, 0.20). The tests below judge what the textures and
 the world decide: the texture followed corner by corner (median error), the energy and the
 colour bled onto the cube (means), NRMSE, and the rRMSE of the uncovered corners.
@@ -60,7 +60,7 @@ def test_textured_floor_matches_cycles(run_blender, kind):
     print("\n" + _figures(r) + f"; texture evaluation {st['texture_seconds']} s "
           f"({st['texture_pieces']} pieces)")
     assert st["textured_objects"] == 1, st
-    # Measured on 3.4 with the final gather on (issue 16; dbda0eb): checker NRMSE 0.0095,
+    # Measured on 3.4 with the final gather on (dbda0eb): checker NRMSE 0.0095,
     # median 0.0026, uncovered rRMSE 0.061, all corners 0.090; image 0.0065, 0.0017, 0.035,
     # 0.081. (Before the gather, 366281d: NRMSE 0.049 / 0.043, rRMSE 1.26 / 1.32.)
     assert e["nrmse"] <= 0.015
@@ -73,7 +73,7 @@ def test_textured_floor_matches_cycles(run_blender, kind):
     ours, ref = r["per_object"]["Cube"]["ours_mean"], r["per_object"]["Cube"]["ref_mean"]
     assert ref[0] / ref[1] > 1.03
     assert abs((ours[0] / ours[1]) / (ref[0] / ref[1]) - 1.0) <= 0.01, (ours, ref)
-    # Every corner within the issue's 2 %: at HIGH (session 14), checker 0.0181 / 0.0173, image
+    # Every corner within the 2 % goal: at HIGH, checker 0.0181 / 0.0173, image
     # 0.0156 / 0.0144 (3.4 / bpy 5.x, each against its own Cycles); 0.0198 / 0.0170 on 3.4 at
     # dbda0eb. With 16 rays a link or 512 gather rays the checker reads 2.4-2.7 % against either
     # Blender's reference (bench/results/presets_sweep.md): HIGH keeps 32 and 1024. Before

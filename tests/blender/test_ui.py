@@ -27,7 +27,7 @@ def test_modal_bake_undo_and_escape(run_blender_ui):
 
 
 def test_panel_in_a_1600x1000_window(run_ui_window):
-    """Issues 17.4 and 17.5 in Blender 3.4's window under Xvfb (screenshots in the run's shots
+    """The panel in Blender 3.4's window under Xvfb (screenshots in the run's shots
     folder: the opened file, the panel after a bake, the tooltips, the restored shading)."""
     r = run_ui_window("ui_panel.py")
     assert "exception" not in r, r["exception"]

@@ -23,7 +23,7 @@ def _close(a, b, tol=1e-3):
 
 # "translate": the Move operator; Blender's undo then re-reads the meshes (the colours go back
 # with the box). "location": the box moved by a script after an undo push of its own; undo then
-# keeps the colours the live re-bake wrote after the move (issue 17.2: the box went back, its
+# keeps the colours the live re-bake wrote after the move (the box went back, its
 # colours did not), and the add-on has to re-bake.
 @pytest.mark.parametrize("move", ["translate", "location"])
 def test_undo_redo_colours_match_the_scene(run_ui_window, move):

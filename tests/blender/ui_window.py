@@ -1,5 +1,5 @@
-"""Fixture: interactive Blender 3.x+ in a 1600x1000 window under Xvfb (the window issue 17 was
-reported in), binary flavour only. Tests import `run_ui_window` from here.
+"""Fixture: interactive Blender 3.x+ in a 1600x1000 window under Xvfb (the window the UI problems
+were reported in), binary flavour only. Tests import `run_ui_window` from here.
 
 run_ui_window(script, *args) runs tests/blender/scripts/<script> with `--zip Z --shots DIR`
 and returns its RESULT dict ("_log" holds the output). Screenshots go to DIR:

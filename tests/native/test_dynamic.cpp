@@ -1,4 +1,4 @@
-// Dynamic environments: AdjustSystem after rigid moves and attribute changes (issue 3).
+// Dynamic environments: AdjustSystem after rigid moves and attribute changes.
 #include <gtest/gtest.h>
 
 #include "radiosity/parallel.h"
@@ -239,7 +239,7 @@ TEST(Dynamic, DimmingUnrefinesAndBrighteningRefinesBack) {
     dim.set_emission(1, {Rgb::all(2.0)});  // before a solve: used by it
     dim.solve();
     EXPECT_GT(inc.stats().history_reactivated, 0);
-    // Goal (issue 3): elements within 10 % of a fresh dimmed solve. Measured: +5.3 % (links
+    // Goal: elements within 10 % of a fresh dimmed solve. Measured: +5.3 % (links
     // +0.5 %, NRMSE 0.13 %; +10.7 % earlier: the refinement path differs); bounded here at 15 %.
     std::printf("[ figure ] dimming: elements %lld vs fresh %lld, links %lld vs fresh %lld\n",
                 (long long)inc.stats().elements, (long long)dim.stats().elements, (long long)inc.stats().links,

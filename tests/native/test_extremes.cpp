@@ -1,4 +1,4 @@
-// Numerical stability at the extremes and bad input (issue 6). Every case either gives the
+// Numerical stability at the extremes and bad input. Every case either gives the
 // right answer or a clear error: never a crash, a hang, or a NaN/inf in the output.
 #include <gtest/gtest.h>
 
@@ -993,7 +993,7 @@ TEST(Extremes, HundredThousandVertexConcaveNgon) {
 }
 
 TEST(Extremes, HundredThousandVertexNgonNotchedBeforeItsFirstCorner) {
-    // Issue 6, found through the add-on's 100k n-gon case: the reflex corner is the LAST one, so
+    // Found through the add-on's 100k n-gon case: the reflex corner is the LAST one, so
     // every apex before it fails only at the end of its fan and testing all of them was O(n^2)
     // (20k corners: 20 s, 100k: minutes). The apex search has an O(n) budget, then tries the
     // reflex corners. (No timed assertion: a regression shows as this test running for minutes.)

@@ -140,7 +140,7 @@ TEST(Lights, MovingAPointLightIncrementallyEqualsAFullSolve) {
 }
 
 TEST(Lights, MovingAPointLightBesideABoxEqualsAFullSolve) {
-    // The scene of tests/blender/test_lights.py. Issue 7: a moved point light goes through
+    // The scene of tests/blender/test_lights.py: a moved point light goes through
     // the incremental path and equals a full solve within 0.5 % NRMSE. The error used to sit
     // at the box's foot, where the update kept the link and light refinement made for the old
     // light position (0.68 % on the first move, 0.84 % on the second, before settled links

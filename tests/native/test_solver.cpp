@@ -214,7 +214,7 @@ TEST(Solver, EnergyBalanceInAnOpenScene) {
     }
     std::printf("[ figure ] energy: emitted %.5f absorbed %.5f escaped %.5f, imbalance %.3f %%\n", emitted, absorbed,
                 escaped, 100 * (absorbed + escaped - emitted) / emitted);
-    // Issue 2: within 0.5 %. Measured -0.07 % (clustered), +0.42 % unclustered
+    // Goal: within 0.5 %. Measured -0.07 % (clustered), +0.42 % unclustered
     // (RADIOSITY_TEST_NOCLUSTER=1). The escape estimate itself has ~0.1 % noise at 2048
     // rays per leaf.
     EXPECT_NEAR(absorbed + escaped, emitted, 0.005 * emitted);

@@ -1,4 +1,4 @@
-// Objects added to and removed from a solved scene (issue 4: "added -> linked in; deleted ->
+// Objects added to and removed from a solved scene (the goal: "added -> linked in; deleted ->
 // removed, not by silently re-solving everything"): the incremental result against a fresh
 // full solve of the same scene, the work it takes, and bad input.
 #include <gtest/gtest.h>
@@ -87,7 +87,7 @@ const std::vector<std::string> kAll = {"room", "light", "Box1", "Box2"};
 
 }  // namespace
 
-// Goal (issue 4): incremental equals a full solve within 0.5 % NRMSE. Bounded here at 2 %,
+// Goal: incremental equals a full solve within 0.5 % NRMSE. Bounded here at 2 %,
 // as the move tests are (test_dynamic.cpp); the measured figure is printed.
 constexpr double kTol = 0.02;
 

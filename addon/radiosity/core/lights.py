@@ -2,7 +2,7 @@
 
 Cycles' conversions, measured with tests/blender/scripts/measure_light_units.py (a lone
 rho = 0.5 floor, COMBINED vertex-colour bake against the analytic irradiance; ratios within
-0.1 %; Blender 3.4.1 and PyPI bpy 5.0.1; tests/python/test_light_units.py keeps the figures):
+0.1 %; Blender 3.4.1 and PyPI bpy 5.0.1; tests/blender/test_light_units.py keeps the figures):
 
 * point, spot: radiant intensity I = power x colour / (4 pi) W/sr in both versions, irradiance
   I cos / d^2; with a radius, the light is a disk of that radius facing the shaded point

@@ -102,7 +102,7 @@ public:
     // rays it cast; see costs.cpp for the rest). Every such ray has an
     // end on the object, so an update that moves it casts them all again: their share of a
     // full solve's rays is a floor under any update that re-computes what a full solve would
-    // (bench/update_floor.py). A link between two parts of one object belongs to none (a
+    // (bench/update_examples.py). A link between two parts of one object belongs to none (a
     // rigid move keeps it), and an end at a cluster of several objects to no object.
     struct ObjectCost {
         int64_t point_rays = 0;

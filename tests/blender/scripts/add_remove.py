@@ -1,4 +1,4 @@
-"""Objects added and deleted between bakes (issue 4: "added -> linked in; deleted -> removed"):
+"""Objects added and deleted between bakes (the goal: "added -> linked in; deleted -> removed"):
 bake the diffuse scene; add a cube in a new collection and bake (incremental), then bake in
 full and compare; move the added cube (incremental, relative to where it was added); scale it
 and put it in another collection (replaced: removed and added again); delete the Box

@@ -1,4 +1,4 @@
-"""(d) Bad input (issues 4 and 6), many cases in ONE Blender process (each start costs seconds).
+"""(d) Bad input, many cases in ONE Blender process (each start costs seconds).
 
 Every case starts from an empty file (read_homefile: load_post drops the kept solutions, the
 add-on stays enabled), builds its scene, bakes and reports. A failing bake must return
@@ -92,7 +92,7 @@ def update():
     bpy.context.view_layer.update()
 
 
-# --- issue 4's original cases -------------------------------------------------------------------
+# --- basic bad input ----------------------------------------------------------------------------
 def case_empty():
     return attempt()
 
@@ -127,7 +127,7 @@ def case_only_nonmesh():
     return attempt()
 
 
-# --- issue 6 ------------------------------------------------------------------------------------
+# --- extremes -----------------------------------------------------------------------------------
 def case_inf_vertex():
     scenes.build_diffuse_scene()
     verts, faces = rt.grid((0, 0, 1), (1, 0, 0), (0, 1, 0), 2)

@@ -1,6 +1,6 @@
-"""Headless (both flavours): which bake the meshes show and the panel's words (issues 17.2,
-17.4): tokens in the meshes, out of date after a move with Live off, fresh again after a bake,
-a cached rewrite naming the bake it repeats, records saved with the file, the tooltips."""
+"""Headless (both flavours): which bake the meshes show and the panel's words: tokens in the meshes,
+out of date after a move with Live off, fresh again after a bake, a cached rewrite naming the bake
+it repeats, records saved with the file, the tooltips."""
 import json
 import os
 import sys

@@ -1,4 +1,4 @@
-"""Every kind of instance takes part (issue 18, part 2), counted in last_stats: particles
+"""Every kind of instance takes part, counted in last_stats: particles
 (render as object), instancing vertices, a collection linked from a library .blend and
 instanced by an Empty, a text object (its own surface is no instance). Also: a hidden-in-render
 instancer contributes nothing, and an object with hide_render inside an instanced collection is

@@ -10,8 +10,8 @@ rendered_modifiers_cycles_v3.npy with the 3.4 binary and _v5.npy with bpy 5.0 (p
 
 Writes the corner colours (RGB, float32) of the scene's compared objects concatenated in order
 (Cycles' bake to the original meshes' corners through its original-index mapping), plus a .json
-beside it with the settings used. Cycles settings follow shared/NOTES.md (scripts/cycles_ref.py).
-Needs no add-on.
+beside it with the settings used. Cycles settings follow shared/NOTES.md
+(tests/blender/scripts/cycles_ref.py). Needs no add-on.
 """
 import json
 import os

@@ -1,4 +1,4 @@
-"""Our bake of a scenes_rendered scene against its stored converged Cycles bake (issue 18).
+"""Our bake of a scenes_rendered scene against its stored converged Cycles bake.
 
 Args: --scene NAME --ref PATH [--preset HIGH] [--gather-rays N] [--realize 1]. Errors as
 bench/corner_metric.py (every compared corner; the emitter is not compared). Also reports what

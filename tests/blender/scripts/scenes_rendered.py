@@ -1,4 +1,4 @@
-"""Scenes of issue 18 (parts 1 and 2): the scene as Blender renders it, modifiers and instances.
+"""Scenes of test_scene_as_rendered.py: the scene as Blender renders it, modifiers and instances.
 
 Built from data (no operators, no version-dependent primitives) so Blender 3.4 and bpy 5.x make
 the same meshes, corner for corner; the geometry-nodes tree is built by Python in either API.

@@ -1,4 +1,4 @@
-"""Scenes of issue 18 parts 3 and 4 (tests/blender/test_textures_world.py): a floor with an
+"""Scenes of tests/blender/test_textures_world.py: a floor with an
 image texture or a procedural (checker) texture under a white cube lit by an emitting quad, and
 a floor and a cube lit only by a Sky Texture world. Objects in ORDER; no add-on needed."""
 import bpy

@@ -1,4 +1,4 @@
-"""Issues 17.3 and 17.4 (progress) in interactive Blender (Xvfb, 1600x1000): what the user sees
+"""Live re-bakes and progress in interactive Blender (Xvfb, 1600x1000): what the user sees
 while a bake or a live re-bake runs, and why a live re-bake solved from scratch.
 
 Part A, box_room.blend at MEDIUM: the modal bake's status bar moves while the native progress

@@ -1,4 +1,4 @@
-"""Issues 17.4 and 17.5 in interactive Blender (Xvfb, 1600x1000): box_room.blend opens looking
+"""The panel in interactive Blender (Xvfb, 1600x1000): box_room.blend opens looking
 through its camera; the panel's words, tooltips and buttons; Show Baked Colours shows the bake
 with Flat lighting and the user can go back.
 """

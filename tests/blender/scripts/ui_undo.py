@@ -1,5 +1,5 @@
-"""Issue 17.2 in interactive Blender (Xvfb): undo and redo after a live re-bake leave colours
-that match the scene, and keep the kept solution.
+"""Undo in interactive Blender (Xvfb): undo and redo after a live re-bake leave colours that
+match the scene, and keep the kept solution.
 
 The user's path: open box_room.blend, Live on, Bake, move Box1 with the Move operator (an undo
 step, as a drag makes), let Live re-bake, Ctrl+Z, Ctrl+Shift+Z; then with Live off: move, Bake,

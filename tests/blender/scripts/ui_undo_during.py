@@ -1,4 +1,4 @@
-"""Issue 17.2, Ctrl+Z pressed while the live re-bake still runs (interactive, Xvfb): the job
+"""Undo: Ctrl+Z pressed while the live re-bake still runs (interactive, Xvfb): the job
 ends and writes the colours of the undone move, then the add-on re-bakes for where undo put the
 box. box_room.blend at MEDIUM, so that the update takes seconds."""
 import os

@@ -186,9 +186,3 @@ def colours(names=None, attribute="Radiosity"):
                 res[o.name] = c[:, :3].copy()
     return res
 
-
-def nrmse(a, b):
-    keys = sorted(set(a) & set(b))
-    x = np.concatenate([a[k] for k in keys])
-    y = np.concatenate([b[k] for k in keys])
-    return float(np.sqrt(np.mean((x - y) ** 2)) / max(np.sqrt(np.mean(y ** 2)), 1e-30))

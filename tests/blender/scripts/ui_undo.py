@@ -161,7 +161,7 @@ def record(name, against):
             "live_runs": ui.live_runs() - S["runs_before_undo"],
             "mode": stats and stats["mode"], "cached": stats and stats.get("cached"),
             "full_reason": stats and stats.get("full_reason"),
-            "nrmse": {k: ui.nrmse(ui.colours(), S[k]) for k in against},
+            "nrmse": {k: rt.colours_nrmse(ui.colours(), S[k]) for k in against},
         }
         ui.screenshot(name)
     return step
@@ -189,7 +189,7 @@ def bake_again(name):
 
 
 def compare_rebake():
-    out["rebake_vs_C2"] = ui.nrmse(ui.colours(), S["C2"])
+    out["rebake_vs_C2"] = rt.colours_nrmse(ui.colours(), S["C2"])
 
 
 def undo_to_start():

@@ -51,7 +51,7 @@ def record():
     stats = rt.last_stats()
     out["after"] = {"location": tuple(box().location), "stale": st.stale, "kept": kept(),
                     "runs": ui.live_runs() - S["runs"], "mode": stats["mode"],
-                    "cached": stats.get("cached"), "nrmse_C0": ui.nrmse(ui.colours(), S["C0"])}
+                    "cached": stats.get("cached"), "nrmse_C0": rt.colours_nrmse(ui.colours(), S["C0"])}
     out["P0"] = S["P0"]
     ui.screenshot("undo_during_live")
 

@@ -434,9 +434,7 @@ Rgb FinalGather::radiance_at(const Solution& s, const Config& c, int m_id, const
     // the resolution limit) has no estimate: always gathered (w < 0).
     struct Est { double F, L; };
     thread_local std::vector<Est> est;
-    thread_local std::vector<double> weight;
     est.clear();
-    weight.clear();
     double F_all = 0, FL_all = 0;
     for (const auto& r : reaching) {
         const Link& l = s.links[size_t(r.first)];
@@ -454,11 +452,9 @@ Rgb FinalGather::radiance_at(const Solution& s, const Config& c, int m_id, const
         FL_all += F * L;
     }
     const double L_mean = F_all > 0 ? FL_all / F_all : 0.0;
+    auto weight = [&](const Est& e) { return e.F < 0 ? -1.0 : e.F * (e.L + L_mean); };
     double W = 0;
-    for (const Est& e : est) {
-        weight.push_back(e.F < 0 ? -1.0 : e.F * (e.L + L_mean));
-        W += std::max(0.0, weight.back());
-    }
+    for (const Est& e : est) W += std::max(0.0, weight(e));
     const double n_links = std::max(8, c.rays / 8);
     PointCouplings couplings;
     Rgb own, all;
@@ -466,7 +462,8 @@ Rgb FinalGather::radiance_at(const Solution& s, const Config& c, int m_id, const
         const auto& [li, is_own] = reaching[i];
         const Link& l = s.links[size_t(li)];
         const uint64_t lseed = Hierarchy::mix(seed, uint64_t(li));
-        const double q = W > 0 && weight[i] >= 0 ? std::min(1.0, n_links * weight[i] / W) : 1.0;
+        const double w = weight(est[i]);
+        const double q = W > 0 && w >= 0 ? std::min(1.0, n_links * w / W) : 1.0;
         if (q < 1.0 && !(Rng(Hierarchy::mix(lseed, 0x7217u)).next() < q)) continue;
         nested.clear();
         PointRayStream rs(s.vis);

@@ -29,9 +29,13 @@ class Settings:
     crease_angle_deg: float         # gather_rays = 0 only: corners average across faces within this angle, default 35
     # Final gather at every corner (the point and normal Cycles bakes): rays per output point;
     # 0 = the leaf element's average at the corner (a default-constructed Settings); the presets
-    # give DRAFT 64, MEDIUM 256, HIGH 1024.
+    # give DRAFT 64, MEDIUM 512, HIGH 1024.
     gather_rays: int
     gather_min_rays: int            # at least this many rays for every link that reaches a point
+    # Shared gathers: a corner within this fraction of a gathered neighbour's reach (its harmonic
+    # mean distance to what it sees) takes that neighbour's bounced light and gathers only its
+    # lamps and emitting surfaces; 0 = every corner gathers all. DRAFT 0.3, MEDIUM 0.08, HIGH 0.
+    gather_share: float
     cycles_corner_points: bool      # corner points where Cycles bakes them (world-space step); False: scale-relative
     seed: int
     def __init__(self) -> None: ...

@@ -47,7 +47,8 @@ def main():
           f"({sum(written)} written)")
     keys = ("input_surfaces", "elements", "links", "cluster_links", "surface_links", "obj_obj_links",
             "history_links", "occluded_links", "capped", "iterations", "refine_rounds", "rays",
-            "gather_points", "gather_corners", "gather_links", "gather_rays", "gather_near")
+            "gather_points", "gather_corners", "gather_links", "gather_rays", "gather_near", "gather_near_rays",
+            "gather_lamp_rays", "gather_shared")
     print("  " + ", ".join(f"{k} {stats[k]:,}" if isinstance(stats[k], int) and not isinstance(stats[k], bool)
                             else f"{k} {stats[k]}" for k in keys if k in stats))
     if stats.get("gather_points"):

@@ -4,6 +4,7 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <unordered_map>
 
@@ -78,6 +79,15 @@ int corner_covered(const FinalGather::Solution& s, const Primitive& p, const Vec
     return s.h.leaf_at(s.h.surfaces[size_t(other)].root, inside);
 }
 
+// Whether a sender emits or holds a surface that does (a cluster whose emission is not
+// indexed yet counts as emitting).
+bool sender_emits(const Hierarchy& h, int src) {
+    const Node& n = h.nodes[size_t(src)];
+    if (!n.is_cluster()) return n.emission.max() > 0;
+    const int f = h.emit_flags(src);
+    return f < 0 || (f & Hierarchy::kEmitsAny) != 0;
+}
+
 }  // namespace
 
 // The closure at an output point: its couplings must sum to 1 where the point sees no open
@@ -133,17 +143,6 @@ double closing_coupling(const Hierarchy& h, int src, double F, const std::pair<i
 
 }  // namespace
 
-// One output point to trace: a corner, or the corners of one vertex sharing a normal and a
-// contact state (when kShareVertexPoints).
-struct FinalGather::Job {
-    int object = -1, prim = -1, k = 0;
-    Vec3 x, n;
-    int leaf = -1, surface = -1;
-    bool covered = false;
-    int beyond = -1;  // corner_covered
-    uint64_t seed = 0;
-};
-
 void FinalGather::clear() {
     traced_ = false;
     points_.clear();
@@ -154,7 +153,8 @@ void FinalGather::clear() {
 size_t FinalGather::bytes() const {
     size_t b = points_.capacity() * sizeof(Point);
     for (const Point& p : points_)
-        b += p.samples.capacity() * sizeof(std::pair<int, float>) + p.records.capacity() * sizeof(Record);
+        b += (p.samples.capacity() + p.borrow.capacity()) * sizeof(std::pair<int, float>) +
+             p.records.capacity() * sizeof(Record);
     for (const auto& v : corner_point_) b += v.capacity() * sizeof(int);
     return b;
 }
@@ -191,7 +191,9 @@ int FinalGather::ray_share(int budget, double weight, double total, int lo, int 
 }
 
 void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, const Point* old, const Moves* moves,
-                              Counts& counts) const {
+                              Counts& counts, bool emitters_only) const {
+    pt.gathered = !emitters_only;
+    pt.reach = 0;
     pt.samples.clear();
     pt.records.clear();
     pt.direct = Rgb{};
@@ -235,6 +237,7 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
         const PointLight lamp = direct_light_at(s.scene, h, s.vis, x, n, false, c.light_samples, pt.seed);
         pt.direct = lamp.E;
         counts.rays += lamp.rays;
+        counts.lamp_rays += lamp.rays;
     }
 
     // The links that bring the leaf its light: at the leaf itself (its own), at its element
@@ -252,14 +255,29 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
         // unoccluded, times the sender's brightest leaf.
         use.push_back({li, own, l.K_unoccluded * std::max(src.Lmax.max(), src.L.max())});
     }
-    const bool enclosed = L.enclosed == 1;
+    // (A shared point's closure and near field are its lenders'.)
+    const bool enclosed = L.enclosed == 1 && !emitters_only;
     double total = 0;
     for (const Use& u : use) total += u.weight;
+    // The nearest sender that brings no light (no samples tell where it is): a black sofa
+    // beside a floor point shades the floor near it all the same. (A cluster around the
+    // point says nothing of where its surfaces are.)
+    double dark = std::numeric_limits<double>::infinity();
+    if (c.share > 0 && !emitters_only)
+        for (const Use& u : use) {
+            const Link& l = s.links[size_t(u.link)];
+            if (u.weight > 0 || !(l.K_unoccluded > 0)) continue;  // lit, or out of sight
+            const Node& src = h.nodes[size_t(l.src)];
+            // (An element's centre, not its polygon: the faces beside the point's own, dark or
+            // not, meet it at distance 0 and shade it little.)
+            if (!src.is_cluster()) dark = std::min(dark, length(src.center - x));
+            else if (!src.box.contains(x)) dark = std::min(dark, distance_to_box(src.box, x));
+        }
 
     // Whether the near-field correction and the escape answer of the point are kept (below).
     // (Also when every ray is cast again, Settings::replay_rays off: that mode checks that
     // replayed rays are exact, not this.)
-    bool unchanged = old != nullptr && !old->sealed && !moves->lights_changed && !moves->materials_changed;
+    bool unchanged = old != nullptr && old->gathered && !old->sealed && !moves->lights_changed && !moves->materials_changed;
     if (unchanged) {
         // Nothing moved within 5 % of the scene's size of the point.
         const double r = 0.05 * h.scene_diag;
@@ -275,6 +293,10 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
         // toward the closure (below).
         if (!(u.weight > 0) && !enclosed) continue;
         const Link& l = s.links[size_t(u.link)];
+        // A shared point traces these alone, with the budget of a full trace, so that the
+        // two draw the same rays.
+        const bool emits = sender_emits(h, l.src);
+        if (emitters_only && !emits) continue;
         // Seeded by the point and the sender alone: what the point's rays find of a sender does
         // not depend on which receiver node holds the link, so when an update splits a link on
         // the receiver side (a closure split), the link that now reaches the point from the
@@ -283,6 +305,7 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
         Record rec;
         rec.src = l.src;
         rec.own = u.own;
+        rec.emits = emits;
         rec.begin = uint32_t(pt.samples.size());
         const Record* was = nullptr;
         // The link's share of the budget, in powers of two: a small change of the light (an
@@ -309,6 +332,7 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
             // No ray of this transfer can meet a moved box: as it was.
             pt.samples.insert(pt.samples.end(), old->samples.begin() + was->begin, old->samples.begin() + was->end);
             rec.F = was->F;
+            rec.inv_dist = was->inv_dist;
             rec.rays = was->rays;
             rec.refined = was->refined;
             rec.outcome = was->outcome;
@@ -319,6 +343,7 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
             PointRayStream rs(s.vis, moves->cast_all ? nullptr : &was->outcome, &moves->clips);
             const PointTransfer t = point_transfer(h, rs, l.src, x, n, pt.leaf, was->rays, lseed + (was->refined ? 1 : 0), pt.samples);
             rec.F = float(t.F);
+            rec.inv_dist = float(t.inv_dist);
             rec.rays = was->rays;
             rec.refined = was->refined;
             rec.outcome = rs.out;
@@ -352,6 +377,7 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
                 rays < kDeepRays * c.rays)
                 retrace_with(std::min(kDeepRays * c.rays, 65535), 2);
             rec.F = float(t.F);
+            rec.inv_dist = float(t.inv_dist);
             rec.rays = uint16_t(std::min(rays, 65535));
         }
         ++counts.links;
@@ -360,6 +386,8 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
                       h.nodes[size_t(l.src)].is_cluster());
         pt.records.push_back(rec);
     }
+    if (emitters_only) return;
+    if (c.share > 0) pt.reach = lend_reach(pt, dark);
     // Closure at the point, as the solver's at the leaf: where no escape ray of the leaf found
     // open space, the point's couplings must sum to 1 -- unless the point itself sees out.
     // A ceiling leaf over a lamp hung 1 mm below it finds no way out with its 32 rays, but its
@@ -378,8 +406,11 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
     // the two (L(s*) - the average), so keeping it errs by the difference of the changes.
     if (unchanged && old->leaf == pt.leaf)  // (the correction reads the leaf's own values)
         pt.near = old->near;
-    else
+    else {
+        const int64_t before = counts.rays;
         near_field(s, c, pt, counts);  // after the closure: it reads the point's full irradiance
+        counts.near_rays += counts.rays - before;
+    }
 }
 
 namespace {
@@ -914,57 +945,64 @@ void FinalGather::run(const Solution& s, const Config& c, std::vector<Job>& jobs
     old_at.reserve(old.size());
     for (size_t i = 0; i < old.size(); ++i) old_at.emplace(key_of(old[i].object, old[i].prim, old[i].k), i);
     points_.assign(jobs.size(), Point{});
-    std::atomic<int64_t> n_links{0}, n_rays{0}, n_refined{0}, n_samples{0}, n_kept{0}, n_replayed{0}, n_fresh{0}, n_near{0}, n_sealed{0};
+    std::atomic<int64_t> n_links{0}, n_rays{0}, n_refined{0}, n_samples{0}, n_kept{0}, n_replayed{0}, n_fresh{0}, n_near{0}, n_sealed{0}, n_near_rays{0}, n_lamp_rays{0};
     {
         Counts guard;
         sealed_rule_ = c.sealed_solids && s.tri_prim != nullptr && !light_sealed_in(s, guard);
         n_rays += guard.rays;
     }
     std::vector<std::atomic<int64_t>> object_rays(s.scene.objects().size());
-    const size_t block = 512;
-    for (size_t b = 0; b < jobs.size(); b += block) {
-        if (progress) progress(double(b) / double(jobs.size()));
-        const size_t e = std::min(jobs.size(), b + block);
-        parallel_for(e - b, c.threads, [&](size_t i) {
-            const Job& j = jobs[b + i];
-            Point& pt = points_[b + i];
-            pt.object = j.object;
-            pt.prim = j.prim;
-            pt.k = j.k;
-            pt.x = j.x;
-            pt.n = j.n;
-            pt.seed = j.seed;
-            pt.leaf = j.leaf;
-            pt.covered = j.covered;
-            pt.beyond = j.beyond;
-            // The same corner, unmoved: re-traced from what it had. Also when the update split
-            // or merged its leaf: its links are matched one by one (a link at an ancestor or a
-            // cluster above still reaches it; what the point's rays met does not depend on
-            // which leaf of its surface holds it), and the rest is traced anew.
-            const Point* was = nullptr;
-            // Found by its corner, not its index: points before it may have been added or
-            // dropped (a vertex that comes onto a contact line shares no point any more).
-            const auto at = moves ? old_at.find(key_of(j.object, j.prim, j.k)) : old_at.end();
-            if (at != old_at.end()) {
-                const Point& o = old[at->second];
-                if (o.object == j.object && o.prim == j.prim && o.k == j.k && o.covered == j.covered &&
-                    !moves->moved[size_t(j.object)] && o.x.x == j.x.x && o.x.y == j.x.y && o.x.z == j.x.z)
-                    was = &o;
-            }
-            Counts local;
-            trace_point(s, c, pt, was, moves, local);
-            pt.samples.shrink_to_fit();
-            n_links += local.links;
-            n_rays += local.rays;
-            object_rays[size_t(j.object)] += local.rays;
-            n_refined += local.refined;
-            n_near += local.near;
-            n_sealed += pt.sealed;
-            n_kept += local.kept;
-            n_replayed += local.replayed;
-            n_fresh += was == nullptr;
-            n_samples += int64_t(pt.samples.size());
-        }, 4);
+    auto trace_one = [&](size_t idx, bool emitters_only) {
+        const Job& j = jobs[idx];
+        Point& pt = points_[idx];
+        pt.object = j.object;
+        pt.prim = j.prim;
+        pt.k = j.k;
+        pt.x = j.x;
+        pt.n = j.n;
+        pt.seed = j.seed;
+        pt.leaf = j.leaf;
+        pt.covered = j.covered;
+        pt.beyond = j.beyond;
+        // The same corner, unmoved: re-traced from what it had. Also when the update split
+        // or merged its leaf: its links are matched one by one (a link at an ancestor or a
+        // cluster above still reaches it; what the point's rays met does not depend on
+        // which leaf of its surface holds it), and the rest is traced anew.
+        const Point* was = nullptr;
+        // Found by its corner, not its index: points before it may have been added or
+        // dropped (a vertex that comes onto a contact line shares no point any more).
+        const auto at = moves ? old_at.find(key_of(j.object, j.prim, j.k)) : old_at.end();
+        if (at != old_at.end()) {
+            const Point& o = old[at->second];
+            if (o.object == j.object && o.prim == j.prim && o.k == j.k && o.covered == j.covered &&
+                !moves->moved[size_t(j.object)] && o.x.x == j.x.x && o.x.y == j.x.y && o.x.z == j.x.z)
+                was = &o;
+        }
+        Counts local;
+        trace_point(s, c, pt, was, moves, local, emitters_only);
+        pt.samples.shrink_to_fit();
+        n_links += local.links;
+        n_rays += local.rays;
+        object_rays[size_t(j.object)] += local.rays;
+        n_refined += local.refined;
+        n_near += local.near;
+        n_near_rays += local.near_rays;
+        n_lamp_rays += local.lamp_rays;
+        n_sealed += pt.sealed;
+        n_kept += local.kept;
+        n_replayed += local.replayed;
+        n_fresh += was == nullptr;
+        n_samples += int64_t(pt.samples.size());
+    };
+    if (c.share > 0) {
+        n_rays += share_gathers(s, c, jobs, trace_one, progress);
+    } else {
+        const size_t block = 512;
+        for (size_t b = 0; b < jobs.size(); b += block) {
+            if (progress) progress(double(b) / double(jobs.size()));
+            const size_t e = std::min(jobs.size(), b + block);
+            parallel_for(e - b, c.threads, [&](size_t i) { trace_one(b + i, false); }, 4);
+        }
     }
     if (progress) progress(1.0);
     occluded_ = OccludedLinks{};
@@ -979,6 +1017,10 @@ void FinalGather::run(const Solution& s, const Config& c, std::vector<Job>& jobs
     counts_.replayed = n_replayed;
     counts_.fresh_points = n_fresh;
     counts_.near = n_near;
+    counts_.near_rays = n_near_rays;
+    counts_.lamp_rays = n_lamp_rays;
+    counts_.shared = 0;
+    for (const Point& p : points_) counts_.shared += !p.gathered;
     counts_.sealed = n_sealed;
     counts_.object_rays.assign(object_rays.size(), 0);
     for (size_t o = 0; o < object_rays.size(); ++o) counts_.object_rays[o] = object_rays[o];
@@ -995,7 +1037,7 @@ void FinalGather::trace(const Solution& s, const Config& c, const std::function<
 
 void FinalGather::retrace(const Solution& s, const Config& c, const Moves& moves,
                           const std::function<void(double)>& progress) {
-    const bool same_config = config_.rays == c.rays && config_.min_rays == c.min_rays &&
+    const bool same_config = config_.rays == c.rays && config_.share == c.share && config_.min_rays == c.min_rays &&
                              config_.light_samples == c.light_samples && config_.seed == c.seed &&
                              config_.cycles_points == c.cycles_points;
     if (!traced_ || !same_config || moves.moved.size() != s.scene.objects().size()) {
@@ -1015,9 +1057,10 @@ std::vector<float> FinalGather::values(const Hierarchy& h, int object, bool irra
     if (!traced_ || object < 0 || size_t(object) >= corner_point_.size()) return {};
     const std::vector<int>& cp = corner_point_[size_t(object)];
     std::vector<float> out(cp.size() * 3, 0.f);
+    std::vector<std::pair<bool, Rgb>> bounced;  // lenders' bounced light, each made once
     for (size_t ci = 0; ci < cp.size(); ++ci) {
         if (cp[ci] < 0) continue;  // no face of this vertex has an area: 0
-        const Rgb v = point_value(h, points_[size_t(cp[ci])], irradiance);
+        const Rgb v = point_value(h, points_[size_t(cp[ci])], irradiance, Rgb{}, &bounced);
         out[3 * ci] = float(v.r);
         out[3 * ci + 1] = float(v.g);
         out[3 * ci + 2] = float(v.b);
@@ -1025,10 +1068,19 @@ std::vector<float> FinalGather::values(const Hierarchy& h, int object, bool irra
     return out;
 }
 
-Rgb FinalGather::point_value(const Hierarchy& h, const Point& p, bool irradiance, const Rgb& change) const {
+Rgb FinalGather::point_value(const Hierarchy& h, const Point& p, bool irradiance, const Rgb& change,
+                             std::vector<std::pair<bool, Rgb>>* bounced) const {
     const Node& leaf = h.nodes[size_t(h.live_element(p.leaf))];
     Rgb e;
-    if (!p.covered) {
+    if (!p.gathered) {
+        // A shared point: its own lamps and emitting senders, its lenders' bounced light.
+        e = emitted_part(h, p);
+        for (const auto& [q, w] : p.borrow) {
+            if (bounced && bounced->empty()) bounced->assign(points_.size(), {false, Rgb{}});
+            if (bounced && !(*bounced)[size_t(q)].first) (*bounced)[size_t(q)] = {true, bounced_part(h, points_[size_t(q)])};
+            e += (bounced ? (*bounced)[size_t(q)].second : bounced_part(h, points_[size_t(q)])) * double(w);
+        }
+    } else if (!p.covered) {
         Rgb own, all;
         for (const Record& r : p.records) {
             Rgb g;

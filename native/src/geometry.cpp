@@ -231,6 +231,15 @@ double point_polygon_form_factor(const Vec3& x, const Vec3& nx, const Vec3* v, i
     return std::fabs(sum) / (2.0 * kPi);
 }
 
+double distance_to_box(const Aabb& b, const Vec3& x) {
+    double d2 = 0;
+    for (int a = 0; a < 3; ++a) {
+        const double o = std::max({b.lo[a] - x[a], 0.0, x[a] - b.hi[a]});
+        d2 += o * o;
+    }
+    return std::sqrt(d2);
+}
+
 double distance_outside(const Poly& poly, const Vec3& n, const Vec3& x) {
     double o = 0;
     for (int k = 0; k < poly.n; ++k) {

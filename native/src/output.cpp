@@ -69,6 +69,7 @@ void Solver::final_gather(double from, double to, const FinalGather::Moves* move
     FinalGather::Config c;
     c.rays = settings_.gather_rays;
     c.min_rays = settings_.gather_min_rays;
+    c.share = settings_.gather_share;
     c.light_samples = std::max(4, settings_.gather_rays / 8);
     c.threads = settings_.threads;
     c.seed = settings_.seed;
@@ -104,6 +105,9 @@ void Solver::final_gather(double from, double to, const FinalGather::Moves* move
     stats_.gather_replayed = k.replayed;
     stats_.gather_fresh_points = k.fresh_points;
     stats_.gather_near = k.near;
+    stats_.gather_near_rays = k.near_rays;
+    stats_.gather_lamp_rays = k.lamp_rays;
+    stats_.gather_shared = k.shared;
 }
 
 std::vector<float> Solver::corner_values(int object, const std::function<Rgb(int)>& leaf_value) const {

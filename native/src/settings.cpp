@@ -15,6 +15,10 @@ Settings Settings::preset(const std::string& name) {
         s.tolerance = 2e-4;
         s.gather_rays = 64;
         s.gather_min_rays = 2;
+        // Corners within 0.3 of a gathered neighbour's reach share its bounced light
+        // (bench/results/interior_native.md: the 0.25 M flat's output 3x faster, the example
+        // rooms' errors as without).
+        s.gather_share = 0.3;
     } else if (name == "MEDIUM") {
         // Chosen against Blender 5.x references (bench/results/presets_sweep.md, last
         // section): a threshold that follows the receiver's light (threshold_floor) refines
@@ -30,6 +34,9 @@ Settings Settings::preset(const std::string& name) {
         // Every link at least 8 rays: the many small links are the gather's noise (two full
         // solves with other seeds: box room 0.70 % NRMSE apart with 2, 0.31 % with 8).
         s.gather_min_rays = 8;
+        // Shared gathers within 0.08 of a neighbour's reach: at 0.1 the Cornell box's error
+        // grows a fifth, at 0.08 the rooms' by under 5 % (interior_native.md).
+        s.gather_share = 0.08;
     } else if (name == "HIGH") {
         // Half MEDIUM's threshold, with the visibility and the gather that a cube's foot on a
         // checker floor needs (tests/blender/test_textures_world.py, bound 2 %: 16 rays a link
@@ -66,6 +73,7 @@ void Settings::validate() const {
     if (!(crease_angle_deg >= 0 && crease_angle_deg <= 180)) bad("crease_angle_deg must be in [0, 180]");
     if (gather_rays < 0 || gather_rays > 65536) bad("gather_rays must be in [0, 65536] (0 = no final gather)");
     if (gather_min_rays < 1 || gather_min_rays > 4096) bad("gather_min_rays must be in [1, 4096]");
+    if (!(std::isfinite(gather_share) && gather_share >= 0 && gather_share <= 1)) bad("gather_share must be in [0, 1]");
     if (closure_rays < 0) bad("closure_rays must be >= 0");
     if (!(std::isfinite(closure_refine_tolerance) && closure_refine_tolerance >= 0))
         bad("closure_refine_tolerance must be >= 0");

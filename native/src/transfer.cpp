@@ -573,6 +573,10 @@ PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int s
     constexpr int kExactClusterSurfaces = 12;
     constexpr size_t kDescendChildren = 16;
     constexpr double kGatherMinCos = 0.1;  // FacingSampler's min_cos
+    // inv_dist leaves out surfaces turned less than 60 degrees from the point's own (the
+    // faces beyond a gentle concave bend of a curved mesh, met a hair away): the light they
+    // bring changes slowly along the surface, not over their distance.
+    constexpr double kGentle = 0.5;
     // Beyond this many surfaces (and without a facing summary) a cluster is drawn down its tree.
     constexpr int kTreeSampleSurfaces = 256;
     PointTransfer t;
@@ -598,6 +602,7 @@ PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int s
         if (!vis.occluded(y, s + ns * lift)) {
             ++clear_draws;
             t.F += g;
+            if (dot(n, ns) < kGentle) t.inv_dist += g / std::sqrt(d2);
             samples.push_back({h.leaf_at(root, s), float(g)});
         }
     };
@@ -612,7 +617,7 @@ PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int s
         const LatinHypercube strata(rng, rays, 2);
         thread_local std::vector<std::pair<int, double>> hits;
         hits.clear();
-        double wsum = 0, wclear = 0;
+        double wsum = 0, wclear = 0, winv = 0;
         int clear = 0, counted = 0;
         for (int r = 0; r < rays; ++r) {
             const double u1 = strata.at(r)[0], u2 = strata.at(r)[1];
@@ -627,6 +632,7 @@ PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int s
             if (!vis.occluded(y, s + P.normal * lift)) {
                 ++clear;
                 wclear += w;
+                if (dot(n, P.normal) < kGentle) winv += w / std::sqrt(d2);
                 hits.push_back({P.children.empty() ? src : h.leaf_at(src, s), w});
             }
         }
@@ -637,6 +643,7 @@ PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int s
         } else {
             for (const auto& hx : hits) samples.push_back({hx.first, float(F * hx.second / wsum)});
             t.F = F * wclear / wsum;
+            t.inv_dist = F * winv / wsum;
         }
     } else if (length(x - P.center) < 2.0 * P.radius && P.children.size() > kDescendChildren) {
         // Near a cluster of many children (the pieces of a fanned n-gon hang side by side):

@@ -56,6 +56,11 @@ public:
         // step relative to the scene's size (the same at any scale): final_gather.cpp.
         bool cycles_points = true;
         bool sealed_solids = true;  // Settings::gather_sealed_solids
+        // Shared gathers (Settings::gather_share): a point within `share` x R of a fully
+        // gathered point of its object, R that point's distance to the nearest surface it
+        // sees, takes that point's bounced light and gathers only its lamps and emitting
+        // senders itself. 0: every point gathers everything.
+        double share = 0;
     };
     struct Counts {
         int64_t points = 0, corners = 0, covered = 0;
@@ -67,6 +72,9 @@ public:
         int64_t replayed = 0;    // ... replayed (rays through a moved box cast again)
         int64_t fresh_points = 0;  // retrace: points traced anew
         int64_t near = 0;        // near-field corrections (a sender a hair from the point)
+        int64_t near_rays = 0;   // of `rays`: cast by the near-field corrections
+        int64_t lamp_rays = 0;   // of `rays`: the output points' own lamp shadow rays
+        int64_t shared = 0;      // points that took their bounced light from gathered points near them
         int64_t sealed = 0;      // points inside a closed solid (no light)
         std::vector<int64_t> object_rays;  // per object: the rays its points cast (of `rays`)
     };
@@ -149,6 +157,8 @@ private:
         uint16_t rays = 0;            // ray budget it was traced with
         bool own = false;             // a link at the leaf itself (not inherited)
         bool refined = false;         // traced again with more rays (a shadow edge)
+        bool emits = false;           // its sender emits, or holds a surface that does
+        float inv_dist = 0;           // PointTransfer::inv_dist
         PointRays outcome;            // for replay after a move
     };
     struct Point {
@@ -175,11 +185,30 @@ private:
         double c_own = 1, c_inherited = 1, fill = 0;
         std::vector<std::pair<int, float>> samples;  // (node, weight): irradiance / pi = sum w L
         std::vector<Record> records;
+        // A shared point (Config::share) traced only its lamps and emitting senders; its
+        // bounced light is that of gathered points near it: (point, weight), weights summing
+        // to 1. A gathered point lends within share x `reach` (0: lends nothing).
+        bool gathered = true;
+        float reach = 0;
+        std::vector<std::pair<int, float>> borrow;
     };
-    struct Job;
+    // One output point to trace: a corner, or the corners of one vertex sharing a normal and
+    // a contact state (final_gather.cpp make_jobs).
+    struct Job {
+        int object = -1, prim = -1, k = 0;
+        Vec3 x, n;
+        int leaf = -1, surface = -1;
+        bool covered = false;
+        int beyond = -1;  // corner_covered
+        uint64_t seed = 0;
+    };
     std::vector<Job> make_jobs(const Solution& s);
     std::vector<float> values(const Hierarchy& h, int object, bool irradiance) const;
-    Rgb point_value(const Hierarchy& h, const Point& p, bool irradiance, const Rgb& change = Rgb{}) const;
+    // `bounced` (values()'s cache, per point): a lender's bounced light, made when first read.
+    Rgb point_value(const Hierarchy& h, const Point& p, bool irradiance, const Rgb& change = Rgb{},
+                    std::vector<std::pair<bool, Rgb>>* bounced = nullptr) const;
+    // A gathered point's irradiance / pi without what emitted_part gives: what it lends.
+    Rgb bounced_part(const Hierarchy& h, const Point& p) const;
     // preview(): irradiance / pi at a point gathered afresh from the active links reaching its
     // leaf and the lamps, without retraces, closure or near field (a footprint uncovered).
     Rgb fresh_irradiance(const Solution& s, const Point& pt, int64_t& rays) const;
@@ -191,9 +220,21 @@ private:
     // A transfer's share of a point's ray budget: `budget` x weight / total in powers of two,
     // within [lo, hi] (lo when it brings nothing).
     static int ray_share(int budget, double weight, double total, int lo, int hi);
-    // A point traced afresh, or (with `old` and `moves`) re-traced after moves.
+    // A point traced afresh, or (with `old` and `moves`) re-traced after moves; with
+    // `emitters_only`, only its lamps and the links from emitting senders (a shared point).
     void trace_point(const Solution& s, const Config& c, Point& pt, const Point* old, const Moves* moves,
-                     Counts& counts) const;
+                     Counts& counts, bool emitters_only = false) const;
+    // A gathered point's reach: the harmonic mean distance of what its rays found, or the
+    // distance to the nearest dark sender (`dark`, found by trace_point) when that is less;
+    // 0 when it lends nothing (covered, sealed, nothing seen).
+    static float lend_reach(const Point& pt, double dark);
+    // Decides, level by level, which points gather fully and which share (Config::share);
+    // `trace(i, emitters_only)` traces point i. Fills the shared points' borrow lists; returns
+    // the rays it cast itself (probes of the points' surroundings).
+    int64_t share_gathers(const Solution& s, const Config& c, const std::vector<Job>& jobs,
+                       const std::function<void(size_t, bool)>& trace, const std::function<void(double)>& progress);
+    // What a point's lamps and emitting senders bring (irradiance / pi, through its closure).
+    Rgb emitted_part(const Hierarchy& h, const Point& p) const;
     // The links that reach a leaf: at it (own), at its element ancestors and at the clusters
     // above its surface, fully occluded ones included.
     void links_reaching(const Solution& s, int leaf, std::vector<std::pair<int, bool>>& out) const;

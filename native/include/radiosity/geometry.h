@@ -50,6 +50,8 @@ FrontPart front_part(const Poly& poly, const Vec3& x, const Vec3& nx);
 // How far x (a point in the polygon's plane) lies outside `poly`, whose unit normal is n: the
 // largest distance beyond one of its edges, 0 inside.
 double distance_outside(const Poly& poly, const Vec3& n, const Vec3& x);
+// Distance from x to a box (0 inside).
+double distance_to_box(const Aabb& b, const Vec3& x);
 // Whether x (a point in the polygon's plane) lies inside `poly` (unit normal n) or at most
 // `tol` beyond any of its edges.
 bool within_edges(const Poly& poly, const Vec3& n, const Vec3& x, double tol);

@@ -36,6 +36,10 @@ struct Settings {
     // Settings has it off.
     int gather_rays = 0;
     int gather_min_rays = 8;  // ... and at least this many for every link that reaches the point
+    // Shared gathers (final_gather.h Config::share): a corner within this fraction of a
+    // gathered neighbour's distance to the nearest surface takes that neighbour's bounced
+    // light and gathers only its lamps and emitting surfaces. 0 = every corner gathers all.
+    double gather_share = 0.0;
     // Gathered corners at the points Cycles bakes (the vertex moved 1e-4 x max(|world
     // coordinate|, 1) into the corner's first triangle): the same values where light changes
     // within a millimetre. Off: a step of 3e-5 of the scene's size, so that the output, as the

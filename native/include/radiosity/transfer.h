@@ -41,9 +41,14 @@ struct PointTransfer {
     double F_unoccluded = 0;
     int cast = 0;            // rays that count (cast or replayed; PointRayStream::cast: cast)
     bool partial = false;    // some rays blocked, some clear
+    // Over the clear rays, their weight over the distance they went: F / inv_dist is the
+    // harmonic mean distance to what the point sees of the sender (surfaces turned more than
+    // 60 degrees from the point's own only: transfer.cpp).
+    double inv_dist = 0;
     // Parts of one sender (a cluster's children or surfaces) add up.
     PointTransfer& operator+=(const PointTransfer& o) {
         F += o.F;
+        inv_dist += o.inv_dist;
         F_unoccluded += o.F_unoccluded;
         cast += o.cast;
         partial |= o.partial;

@@ -1,0 +1,240 @@
+// Shared gathers (FinalGather::Config::share): the output's bounced light gathered at some
+// points and taken by the points near them, as an irradiance cache does (Ward, Rubinstein
+// and Clear, 1988). A gathered point lends within share x R, R its distance to the nearest
+// surface it sees: bounced light changes over distances like that one, so a floor point 2 m
+// from anything lends to a wide disc and one beside a box's foot to nobody. Normals must
+// agree as well (the error term adds sqrt(1 - n.n')). What changes over shorter distances
+// still comes to every point itself: its lamps and its emitting senders (a lamp's shadow
+// edge crosses a floor wherever the occluder is).
+//
+// Which points gather is decided level by level, coarse to fine, the same way in a trace and
+// in a retrace: at each level every open point first takes what the last level's gathered
+// points lend it, then one open point per grid cell (of each object and normal direction)
+// gathers; the cells halve each level, and at the last one every open point gathers.
+#include <algorithm>
+#include <atomic>
+#include <limits>
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
+
+#include "radiosity/final_gather.h"
+#include "radiosity/parallel.h"
+
+namespace radiosity {
+
+namespace {
+
+// A cell of a uniform grid of one object: (object, size level, ix, iy, iz).
+struct CellKey {
+    int object, level;
+    int64_t ix, iy, iz;
+    bool operator==(const CellKey& o) const {
+        return object == o.object && level == o.level && ix == o.ix && iy == o.iy && iz == o.iz;
+    }
+};
+struct CellHash {
+    size_t operator()(const CellKey& k) const {
+        uint64_t v = Hierarchy::mix(uint64_t(uint32_t(k.object)), uint64_t(uint32_t(k.level)));
+        v = Hierarchy::mix(v, uint64_t(k.ix));
+        v = Hierarchy::mix(v, uint64_t(k.iy));
+        return size_t(Hierarchy::mix(v, uint64_t(k.iz)));
+    }
+};
+
+// The dominant axis and sign of a normal: points of one cell that face different ways (a
+// box's corner) are not one another's neighbours.
+int facing(const Vec3& n) {
+    const double ax = std::fabs(n.x), ay = std::fabs(n.y), az = std::fabs(n.z);
+    if (ax >= ay && ax >= az) return n.x >= 0 ? 0 : 1;
+    if (ay >= az) return n.y >= 0 ? 2 : 3;
+    return n.z >= 0 ? 4 : 5;
+}
+
+// The harmonic mean distance of what a point's own hemisphere sees, by a few cosine rays
+// (misses count as infinitely far): a point may lie beside an occluder its would-be lender
+// 1 cm away does not see (a chair leg's foot), and then shares with nobody.
+double probe_reach(const FinalGather::Solution& s, const Vec3& x, const Vec3& n, uint64_t seed, int64_t& rays) {
+    constexpr int kSide = 4;
+    const double diag = s.h.scene_diag;
+    const Vec3 o = x + n * (1e-6 * diag);
+    Vec3 u, v;
+    frame(n, u, v);
+    Rng rng(seed);
+    double inv = 0;
+    for (int i = 0; i < kSide * kSide; ++i) {
+        const double r1 = (i % kSide + rng.next()) / kSide, r2 = (i / kSide + rng.next()) / kSide;
+        const Vec3 d = cosine_direction(u, v, n, r1, r2);
+        Vec3 at;
+        ++rays;
+        if (s.vis.hit_object(o, o + d * (2.0 * diag), 0.0, &at) < 0) continue;
+        inv += 1.0 / std::max(length(at - o), 1e-9 * diag);
+    }
+    return inv > 0 ? kSide * kSide / inv : std::numeric_limits<double>::infinity();
+}
+
+}  // namespace
+
+float FinalGather::lend_reach(const Point& pt, double dark) {
+    if (pt.covered || pt.sealed) return 0.f;
+    double F = 0, inv = 0;
+    for (const Record& r : pt.records)
+        if (r.inv_dist > 0) F += double(r.F), inv += double(r.inv_dist);
+    const double R = std::min(inv > 0 ? F / inv : 0.0, dark);
+    return std::isfinite(R) ? float(R) : 0.f;
+}
+
+int64_t FinalGather::share_gathers(const Solution& s, const Config& c, const std::vector<Job>& jobs,
+                                   const std::function<void(size_t, bool)>& trace,
+                                   const std::function<void(double)>& progress) {
+    const Hierarchy& h = s.h;
+    const size_t n = jobs.size();
+    enum : char { kOpen = 0, kGathered = 1, kShared = 2 };
+    std::vector<char> state(n, kOpen);
+    std::vector<double> probed(n, -1.0);  // probe_reach, made when first asked
+    std::atomic<int64_t> probe_rays{0};
+    size_t done = 0;
+    auto trace_all = [&](const std::vector<size_t>& batch, bool emitters_only) {
+        const size_t block = 512;
+        for (size_t b = 0; b < batch.size(); b += block) {
+            if (progress) progress(double(done) / double(std::max<size_t>(n, 1)));
+            const size_t e = std::min(batch.size(), b + block);
+            parallel_for(e - b, c.threads, [&](size_t i) { trace(batch[b + i], emitters_only); }, 4);
+            done += e - b;
+        }
+    };
+    // Covered points read what lies beyond their contact, no links: gathered, lending nothing.
+    std::vector<size_t> batch;
+    for (size_t i = 0; i < n; ++i)
+        if (jobs[i].covered) batch.push_back(i), state[i] = kGathered;
+    trace_all(batch, false);
+
+    const double a = c.share;
+    const double diag = h.scene_diag > 0 ? h.scene_diag : 1.0;
+    const double base = 1e-6 * diag;  // the finest lending grid's cell
+    constexpr int kLevels = 12;       // cells from 1/16 of the scene down to 1/65536
+    constexpr size_t kMaxLenders = 8;
+    std::vector<size_t> lenders;
+    double cell = diag / 16.0;
+    for (int level = 0; level <= kLevels; ++level) {
+        // 1. Open points take what the last level's gathered points lend them.
+        if (!lenders.empty()) {
+            std::unordered_map<CellKey, std::vector<int>, CellHash> grid;
+            uint64_t levels_used = 0;
+            for (size_t i : lenders) {
+                const Point& p = points_[i];
+                const double r = a * double(p.reach);
+                if (!(r > 0)) continue;
+                const int l = std::clamp(int(std::ceil(std::log2(r / base))), 0, 63);
+                const double size = base * std::ldexp(1.0, l);
+                grid[{p.object, l, int64_t(std::floor(p.x.x / size)), int64_t(std::floor(p.x.y / size)),
+                      int64_t(std::floor(p.x.z / size))}]
+                    .push_back(int(i));
+                levels_used |= uint64_t(1) << l;
+            }
+            batch.clear();
+            for (size_t i = 0; i < n; ++i)
+                if (state[i] == kOpen) batch.push_back(i);
+            parallel_for(batch.size(), c.threads, [&](size_t k) {
+                const size_t i = batch[k];
+                const Job& j = jobs[i];
+                thread_local std::vector<std::pair<int, double>> found;
+                found.clear();
+                for (int l = 0; l < 64; ++l) {
+                    if (!((levels_used >> l) & 1)) continue;
+                    const double size = base * std::ldexp(1.0, l);
+                    const int64_t cx = int64_t(std::floor(j.x.x / size)), cy = int64_t(std::floor(j.x.y / size)),
+                                  cz = int64_t(std::floor(j.x.z / size));
+                    for (int dx = -1; dx <= 1; ++dx)
+                        for (int dy = -1; dy <= 1; ++dy)
+                            for (int dz = -1; dz <= 1; ++dz) {
+                                const auto it = grid.find({j.object, l, cx + dx, cy + dy, cz + dz});
+                                if (it == grid.end()) continue;
+                                for (int q : it->second) {
+                                    const Point& p = points_[size_t(q)];
+                                    const Vec3 dx = j.x - p.x;
+                                    const double dist = length(dx);
+                                    const double e = dist / double(p.reach) + std::sqrt(std::max(0.0, 1.0 - dot(j.n, p.n)));
+                                    // (Not across a step: both on one tangent plane, within
+                                    // a tenth of their distance.)
+                                    if (e < a && std::fabs(dot(dx, p.n)) <= 0.1 * dist) found.push_back({q, 0.0});
+                                }
+                            }
+                }
+                if (found.empty()) return;
+                if (probed[i] < 0) {
+                    int64_t r = 0;
+                    probed[i] = probe_reach(s, j.x, j.n, Hierarchy::mix(j.seed, 0x9b0eu), r);
+                    probe_rays += r;
+                }
+                // Each lender again, within the point's own reach as well.
+                size_t m = 0;
+                for (const auto& f : found) {
+                    const Point& p = points_[size_t(f.first)];
+                    const double e = length(j.x - p.x) / std::min(double(p.reach), probed[i]) +
+                                     std::sqrt(std::max(0.0, 1.0 - dot(j.n, p.n)));
+                    if (e < a) found[m++] = {f.first, 1.0 / std::max(e, 1e-9) - 1.0 / a};
+                }
+                found.resize(m);
+                if (found.empty()) return;
+                // The nearest few (by weight, ties by index: the same choice in every run).
+                std::sort(found.begin(), found.end(), [](const auto& u, const auto& v) {
+                    return u.second != v.second ? u.second > v.second : u.first < v.first;
+                });
+                if (found.size() > kMaxLenders) found.resize(kMaxLenders);
+                double W = 0;
+                for (const auto& f : found) W += f.second;
+                if (!(W > 0)) return;
+                std::vector<std::pair<int, float>>& borrow = points_[i].borrow;
+                borrow.clear();
+                for (const auto& f : found) borrow.push_back({f.first, float(f.second / W)});
+                state[i] = kShared;
+            }, 64);
+        }
+        // 2. One open point per cell gathers (all of them at the last level).
+        batch.clear();
+        if (level == kLevels) {
+            for (size_t i = 0; i < n; ++i)
+                if (state[i] == kOpen) batch.push_back(i);
+        } else {
+            std::unordered_map<CellKey, size_t, CellHash> first;
+            for (size_t i = 0; i < n; ++i) {
+                if (state[i] != kOpen) continue;
+                const Job& j = jobs[i];
+                first.emplace(CellKey{j.object, facing(j.n), int64_t(std::floor(j.x.x / cell)),
+                                      int64_t(std::floor(j.x.y / cell)), int64_t(std::floor(j.x.z / cell))},
+                              i);
+            }
+            for (const auto& f : first) batch.push_back(f.second);
+            std::sort(batch.begin(), batch.end());
+        }
+        for (size_t i : batch) state[i] = kGathered;
+        trace_all(batch, false);
+        lenders = batch;
+        cell *= 0.5;
+    }
+    // The shared points' own lamps and emitting senders.
+    batch.clear();
+    for (size_t i = 0; i < n; ++i)
+        if (state[i] == kShared) batch.push_back(i);
+    trace_all(batch, true);
+    return probe_rays;
+}
+
+Rgb FinalGather::emitted_part(const Hierarchy& h, const Point& p) const {
+    Rgb e = p.direct;
+    for (const Record& r : p.records) {
+        if (!r.emits) continue;
+        Rgb g;
+        for (uint32_t i = r.begin; i < r.end; ++i)
+            g += h.nodes[size_t(h.live_element(p.samples[i].first))].L * double(p.samples[i].second);
+        e += g * (r.own ? p.c_own : p.c_inherited);
+    }
+    return e;
+}
+
+Rgb FinalGather::bounced_part(const Hierarchy& h, const Point& p) const {
+    return point_value(h, p, true) - emitted_part(h, p);
+}
+
+}  // namespace radiosity

@@ -1,0 +1,103 @@
+// Shared gathers (Settings::gather_share): corners near a gathered neighbour take its bounced
+// light and gather only their lamps and emitting senders. A finely gridded room shares most of
+// its corners at a fraction of the rays, with the same output within the preset's noise, and
+// the corners at the foot of a box -- where bounced light changes within centimetres -- keep
+// their own gathers.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "test_util.h"
+
+using namespace radiosity;
+using namespace radiosity::testing;
+
+namespace {
+
+// A 4 x 4 x 2.5 m room of 24 x 24 quads a face, an emitting panel under its ceiling and a
+// 0.6 m box standing on its floor.
+SceneDesc gridded_room() {
+    SceneDesc s;
+    scenes::add_box(s, "room", -1, {0, 0, 0}, {4, 4, 2.5}, 24, Rgb::all(0.6), {}, true);
+    scenes::add_grid(s, "lamp", -1, {Vec3{1.5, 1.5, 2.49}, Vec3{1.5, 2.5, 2.49}, Vec3{2.5, 2.5, 2.49}, Vec3{2.5, 1.5, 2.49}}, 1,
+                     1, {}, Rgb::all(10.0), false);
+    scenes::add_box(s, "box", -1, {1.0, 1.0, 0.0}, {1.6, 1.6, 0.6}, 2, Rgb{0.7, 0.4, 0.3}, {});
+    return s;
+}
+
+struct Bake {
+    std::vector<float> room;  // corner radiance, RGB
+    Stats stats;
+};
+
+Bake bake(const char* preset, double share) {
+    Settings st = Settings::preset(preset);
+    st.gather_share = share;
+    Solver s(gridded_room(), st);
+    s.solve();
+    return {s.corner_radiance(0), s.stats()};
+}
+
+}  // namespace
+
+TEST(SharedGather, GriddedRoomSharesMostCornersAsAccuratelyAsItGathersThem) {
+    const Bake own = bake("DRAFT", 0.0);
+    const Bake shared = bake("DRAFT", 0.3);
+    const Bake ref = bake("HIGH", 0.0);  // the yardstick: every corner gathered, 16x the rays
+    ASSERT_EQ(own.room.size(), shared.room.size());
+    ASSERT_EQ(own.room.size(), ref.room.size());
+    EXPECT_EQ(own.stats.gather_shared, 0);
+    const double share = double(shared.stats.gather_shared) / double(shared.stats.gather_points);
+    const double rays = double(shared.stats.gather_rays) / double(own.stats.gather_rays);
+    // Relative error per corner (green) against the reference, over every lit corner.
+    auto rms = [&](const std::vector<float>& x, double* worst, size_t* at) {
+        double sum2 = 0;
+        size_t n = 0;
+        for (size_t k = 1; k < x.size(); k += 3) {
+            EXPECT_TRUE(std::isfinite(x[k]));
+            const double r = ref.room[k];
+            if (!(r > 1e-4)) continue;
+            const double d = (double(x[k]) - r) / r;
+            sum2 += d * d;
+            if (std::fabs(d) > *worst) *worst = std::fabs(d), *at = k / 3;
+            ++n;
+        }
+        return std::sqrt(sum2 / double(std::max<size_t>(n, 1)));
+    };
+    double worst_own = 0, worst_shared = 0;
+    size_t at_own = 0, at_shared = 0;
+    const double e_own = rms(own.room, &worst_own, &at_own), e_shared = rms(shared.room, &worst_shared, &at_shared);
+    std::printf("[ figure ] %.0f %% of %lld points shared, %.2fx the gather rays; error against HIGH %.2f %% gathered, "
+                "%.2f %% shared (worst corner %.1f %% at %zu, %.1f %% at %zu)\n",
+                100 * share, (long long)shared.stats.gather_points, rays, 100 * e_own, 100 * e_shared, 100 * worst_own, at_own,
+                100 * worst_shared, at_shared);
+    EXPECT_GT(share, 0.5);
+    EXPECT_LT(rays, 0.6);
+    EXPECT_LT(e_shared, 1.15 * e_own);
+}
+
+TEST(SharedGather, CornersAtTheFootOfABoxKeepTheirOwnGather) {
+    // The floor's corners within 12 cm of the box's foot: their bounced light changes within
+    // centimetres (the box hides half of what they see), so none may share.
+    const Bake own = bake("DRAFT", 0.0);
+    const Bake shared = bake("DRAFT", 0.3);
+    const SceneDesc scene = gridded_room();
+    const ObjectDesc& room = scene.objects()[0];
+    const size_t floor_corners = 24 * 24 * 4;  // add_box's first face is the floor (-z)
+    double worst = 0;
+    int near = 0;
+    for (size_t c = 0; c < floor_corners; ++c) {
+        const Vec3 v = room.vertices[size_t(room.corner_verts[c])];
+        const double dx = std::max({1.0 - v.x, 0.0, v.x - 1.6}), dy = std::max({1.0 - v.y, 0.0, v.y - 1.6});
+        if (std::hypot(dx, dy) > 0.12) continue;
+        const double a = own.room[3 * c + 1], b = shared.room[3 * c + 1];
+        if (!(a > 1e-4)) continue;  // covered by the box: 0 in both
+        worst = std::max(worst, std::fabs(b - a) / a);
+        ++near;
+    }
+    std::printf("[ figure ] %d floor corners at the box's foot: worst %.1f %% apart\n", near, 100 * worst);
+    EXPECT_GT(near, 8);
+    EXPECT_LT(worst, 0.05);
+}

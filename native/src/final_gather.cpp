@@ -1072,7 +1072,7 @@ Rgb FinalGather::point_value(const Hierarchy& h, const Point& p, bool irradiance
                              std::vector<std::pair<bool, Rgb>>* bounced) const {
     const Node& leaf = h.nodes[size_t(h.live_element(p.leaf))];
     Rgb e;
-    if (!p.gathered) {
+    if (!p.gathered && !p.sealed) {  // (a sealed one reads nothing, below)
         // A shared point: its own lamps and emitting senders, its lenders' bounced light.
         e = emitted_part(h, p);
         for (const auto& [q, w] : p.borrow) {

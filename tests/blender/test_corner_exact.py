@@ -143,7 +143,7 @@ def test_contact_under_box_and_on_contact_line(run_blender):
     assert rel[lit].max() <= CONTACT_TOL, rel[lit].max()
     # The box's corner vertex (-0.3, 0.3) is the hard one: 0.05 mm from the -x face and 0.1 mm
     # from its end, in the box's shadow, with the lamp's penumbra on the floor in front of the
-    # same face a tenth of a millimetre away. The near field (final_gather.cpp near_field)
+    # same face a tenth of a millimetre away. The near field (near_field.cpp)
     # reads the face's first millimetre, which sees that penumbra: read as the point's own
     # (dark) floor it left the vertex 25-30 % dark (a strict xfail until the near field took
     # the floor's direct light at the spots the face sees, direct_variation). Natively, HIGH,

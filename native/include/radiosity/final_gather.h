@@ -173,7 +173,7 @@ private:
         // what the point gathers; -1 when the covering polygon is one-sided.
         int beyond = -1;
         Rgb direct;          // lamps' irradiance / pi
-        // Near-field correction (final_gather.cpp near_field), irradiance / pi: the senders a
+        // Near-field correction (near_field.cpp), irradiance / pi: the senders a
         // hair from the point read at a point of theirs instead of their leaf's average.
         Rgb near;
         // Inside a closed solid (point_sealed): no light reaches it; a covered point so

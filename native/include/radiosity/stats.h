@@ -68,7 +68,7 @@ struct Stats {
     // After an update: point-link transfers kept as they were, replayed (only rays through a
     // moved box cast), and points traced anew.
     int64_t gather_kept = 0, gather_replayed = 0, gather_fresh_points = 0;
-    int64_t gather_near = 0;  // near-field corrections at output points (final_gather.cpp near_field)
+    int64_t gather_near = 0;  // near-field corrections at output points (near_field.cpp)
     int64_t gather_near_rays = 0;  // of gather_rays: cast by those corrections
     int64_t gather_lamp_rays = 0;  // of gather_rays: the output points' own lamp shadow rays
     int64_t gather_shared = 0;  // output points that took their bounced light from gathered ones (Settings::gather_share)

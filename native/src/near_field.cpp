@@ -1,0 +1,352 @@
+// The final gather's near field (FinalGather::near_field): a point a hair from another surface
+// reads that surface's part near it at points gathered there (radiance_at, one level of the
+// gather, nested), the two sides of the contact solved together (NearPlane).
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <vector>
+
+#include "radiosity/final_gather.h"
+#include "radiosity/lights.h"
+#include "radiosity/point_couplings.h"
+#include "radiosity/transfer.h"
+
+namespace radiosity {
+
+namespace {
+
+// The part of a convex polygon inside an axis-aligned box (Sutherland-Hodgman over its six
+// planes); n = 0 when nothing is left. At most 4 + 6 vertices.
+int clip_to_box(const Poly& p, const Aabb& b, Vec3* out) {
+    Vec3 buf[2][12];
+    int n = p.n;
+    for (int i = 0; i < n; ++i) buf[0][i] = p.v[size_t(i)];
+    int cur = 0;
+    for (int axis = 0; axis < 3 && n > 0; ++axis)
+        for (int side = 0; side < 2 && n > 0; ++side) {
+            const double lim = side ? b.hi[axis] : b.lo[axis];
+            auto inside = [&](const Vec3& v) { return side ? v[axis] <= lim : v[axis] >= lim; };
+            const Vec3* in = buf[cur];
+            Vec3* o = buf[1 - cur];
+            int m = 0;
+            for (int i = 0; i < n && m < 11; ++i) {
+                const Vec3& a = in[i];
+                const Vec3& c = in[(i + 1) % n];
+                const bool ia = inside(a), ic = inside(c);
+                if (ia) o[m++] = a;
+                if (ia != ic && m < 12) o[m++] = a + (c - a) * ((lim - a[axis]) / (c[axis] - a[axis]));
+            }
+            n = m;
+            cur = 1 - cur;
+        }
+    for (int i = 0; i < n; ++i) out[i] = buf[cur][i];
+    return n >= 3 ? n : 0;
+}
+
+}  // namespace
+
+Rgb FinalGather::radiance_at(const Solution& s, const Config& c, int m_id, const Vec3& sp, uint64_t seed,
+                             Counts& counts, NearPlane* wall) const {
+    // One level of the gather at a point of leaf m: its lamps and its links, a few rays each.
+    const Hierarchy& h = s.h;
+    const Node& m = h.nodes[size_t(m_id)];
+    Rgb g;
+    const PointLight lamp = direct_light_at(s.scene, h, s.vis, sp, m.normal, false, std::max(4, c.light_samples / 8), seed);
+    g += lamp.E;
+    counts.rays += lamp.rays;
+    thread_local std::vector<std::pair<int, bool>> reaching;
+    thread_local std::vector<std::pair<int, float>> nested;
+    links_reaching(s, m_id, reaching);
+    // Russian roulette over the links: link l is gathered with probability q_l = min(1, n w_l /
+    // W), w_l what it may bring (an estimate of its coupling at sp times its sender's radiance
+    // plus the mean radiance, so that dark senders still count for the closure and the wall),
+    // and its samples weighted 1 / q_l: unbiased, about n links a point in place of all of them.
+    // A cluster link with no coupling of its own (the ends too close for the point model, at
+    // the resolution limit) has no estimate: always gathered (w < 0).
+    struct Est { double F, L; };
+    thread_local std::vector<Est> est;
+    est.clear();
+    double F_all = 0, FL_all = 0;
+    for (const auto& r : reaching) {
+        const Link& l = s.links[size_t(r.first)];
+        const Node& P = h.nodes[size_t(l.src)];
+        double F = l.K_unoccluded;
+        if (!P.is_cluster()) F = P.pocket == m.pocket ? point_polygon_form_factor(sp, m.normal, P.poly, P.normal) : 0.0;
+        else if (l.must_refine || !(F > 0)) F = -1.0;
+        if (F < 0) {
+            est.push_back({-1.0, 0.0});
+            continue;
+        }
+        const double L = F > 0 ? sender_radiance(h, l).max() : 0.0;
+        est.push_back({F, L});
+        F_all += F;
+        FL_all += F * L;
+    }
+    const double L_mean = F_all > 0 ? FL_all / F_all : 0.0;
+    auto weight = [&](const Est& e) { return e.F < 0 ? -1.0 : e.F * (e.L + L_mean); };
+    double W = 0;
+    for (const Est& e : est) W += std::max(0.0, weight(e));
+    const double n_links = std::max(8, c.rays / 8);
+    PointCouplings couplings;
+    Rgb own, all;
+    for (size_t i = 0; i < reaching.size(); ++i) {
+        const auto& [li, is_own] = reaching[i];
+        const Link& l = s.links[size_t(li)];
+        const uint64_t lseed = Hierarchy::mix(seed, uint64_t(li));
+        const double w = weight(est[i]);
+        const double q = W > 0 && w >= 0 ? std::min(1.0, n_links * w / W) : 1.0;
+        if (q < 1.0 && !(Rng(Hierarchy::mix(lseed, 0x7217u)).next() < q)) continue;
+        nested.clear();
+        PointRayStream rs(s.vis);
+        const PointTransfer tr = point_transfer(h, rs, l.src, sp, m.normal, m_id, std::max(2, c.min_rays / 2), lseed, nested);
+        counts.rays += rs.cast;
+        const double inv_q = 1.0 / q;
+        for (auto& sm : nested) sm.second = float(double(sm.second) * inv_q);
+        Rgb e;
+        for (const auto& [k, wk] : nested) {
+            const Node& nk = h.nodes[size_t(h.live_element(k))];
+            e += nk.L * double(wk);
+            if (wall && !nk.is_cluster() && nk.surface >= 0) wall->read(h, nk, double(wk));
+        }
+        all += e;
+        if (is_own) own += e;
+        couplings.add(closing_coupling(h, l.src, tr.F * inv_q, nested.data(), nested.size()), is_own,
+                      h.nodes[size_t(l.src)].is_cluster());
+    }
+    ClosureFactors cf;
+    if (m.enclosed == 1) cf = couplings.closure();
+    g += closure_gathered(own, all, cf.c_own, cf.c_inherited, cf.fill, m.L);
+    if (wall) wall->couple(h, sp, m.normal);
+    return m.emission + h.rho_at(m_id, sp) * g;  // a texture's value at sp, not the leaf's mean
+}
+
+static Vec3 cmax3(const Vec3& a, const Vec3& b) { return {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)}; }
+static Vec3 cmin3(const Vec3& a, const Vec3& b) { return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)}; }
+
+void FinalGather::NearPlane::read(const Hierarchy& h, const Node& k, double w) {
+    const Node& g = h.nodes[size_t(h.surfaces[size_t(k.surface)].root)];
+    if (dot(g.normal, n) < 1.0 - 1e-9 || std::abs(dot(g.poly.v[0], n) - offset) > tol) return;
+    auto it = std::find_if(seen.begin(), seen.end(), [&](const std::pair<int, std::pair<double, Rgb>>& e) { return e.first == k.surface; });
+    if (it == seen.end()) seen.push_back({k.surface, {w, k.L * w}});
+    else it->second.first += w, it->second.second += k.L * w;
+}
+
+int FinalGather::NearPlane::surface_at(const Hierarchy& h, const Vec3& q) const {
+    for (int sf : surfaces) {
+        const Node& g = h.nodes[size_t(h.surfaces[size_t(sf)].root)];
+        if (distance_outside(g.poly, g.normal, q) <= 1e-9 * h.scene_diag) return sf;
+    }
+    return -1;
+}
+
+void FinalGather::NearPlane::couple(const Hierarchy& h, const Vec3& sp, const Vec3& sn) {
+    const double d = dot(sp, n) - offset;
+    F = F_all = 0;
+    WL = WL_all = Rgb{};
+    if (!(d > 0)) return;
+    const double R = kNearReach * d;
+    Aabb all;
+    all.lo = sp - Vec3{R, R, R};
+    all.hi = sp + Vec3{R, R, R};
+    Aabb in;
+    in.lo = cmax3(all.lo, region.lo);
+    in.hi = cmin3(all.hi, region.hi);
+    const bool any_in = in.lo.x <= in.hi.x && in.lo.y <= in.hi.y && in.lo.z <= in.hi.z;
+    for (const auto& [surface, wl] : seen) {
+        const Node& g = h.nodes[size_t(h.surfaces[size_t(surface)].root)];
+        Vec3 part[12];
+        for (int pass = 0; pass < 2; ++pass) {
+            if (pass == 1 && !any_in) break;
+            const int np = clip_to_box(g.poly, pass == 0 ? all : in, part);
+            if (np == 0) continue;
+            const double f = std::min(point_polygon_form_factor(sp, sn, part, np, g.normal), wl.first);
+            if (!(f > 0)) continue;
+            (pass == 0 ? F_all : F) += f;
+            (pass == 0 ? WL_all : WL) += wl.second * (f / wl.first);
+        }
+        if (std::find(surfaces.begin(), surfaces.end(), surface) == surfaces.end()) surfaces.push_back(surface);
+    }
+    F = std::min(F, F_all);
+}
+
+void FinalGather::near_field(const Solution& s, const Config& c, Point& pt, Counts& counts) const {
+    // A point a hair from another surface (a floor corner 0.1 mm from a wall standing on it,
+    // a cube's foot corner over the floor) takes most of what it sees of that surface from its
+    // first millimetres: at distance d from the wall's plane, 90 % of the wall's form factor
+    // comes from within 10 d. The light there is not the wall leaf's average: on the shadow
+    // side of an object both sides of the contact go dark toward the edge (each sees mostly
+    // the other), on the lit side the floor right at a cube's foot has the floor's direct light
+    // at that spot. So the part of such a sender within R = 20 d of the point reads the
+    // radiance gathered at points s* of it (drawn as the kernel weighs them, a few d from the
+    // contact), from the sender leaf's own links -- one level of the gather, nested -- in
+    // place of the leaf's average; and since s* sees the point's own plane near it as much as
+    // the point sees the sender, the two are solved together (below). Kept as a correction,
+    // F_near x (L(s*) - L_leaf), so that the samples stay what the rays found (a retrace keeps
+    // or replays them). Measured on the checker floor's cube (tests/blender/
+    // test_textures_world.py, HIGH): 4 points of 4 rays, unstratified and one-sided, left its
+    // foot corners 1.5-2.3x Cycles' value (the floor's light at the foot is a shadow's edge
+    // that needs many points); rRMSE 5.8 % -> 2.2 %.
+    constexpr double kReach = kNearReach;  // R / d
+    // Points s* per near sender: the light there can change within a hair (the shadow's edge
+    // that starts at a box's foot), so they are many, each gathered with few rays: a share
+    // of the point's own budget (DRAFT 4, MEDIUM 8, HIGH 32).
+    const int kNearPoints = std::max(4, c.rays / 32);
+    const int side = int(std::ceil(std::sqrt(2.0 * kNearPoints)));
+    constexpr double kLeafShare = 0.05;  // R must be under this share of the sender polygon's size
+    constexpr double kGapLeaf = 4.0;     // ... or the leaves read at least this many times wider than d
+    constexpr double kGapShare = 0.05;   //     and its coupling to the point at least this
+    const Hierarchy& h = s.h;
+    const Vec3& x = pt.x;
+    const Vec3& n = pt.n;
+    const int own_surface = h.nodes[size_t(pt.leaf)].surface;
+    // What the point's samples read of each surface: (surface, visible weight, weighted radiance).
+    // (WS: the weighted sum of the sizes of the leaves read.)
+    struct Seen { int surface; double W; Rgb WL; double WS; };
+    thread_local std::vector<Seen> seen;
+    seen.clear();
+    for (const auto& [node, w] : pt.samples) {
+        const Node& m = h.nodes[size_t(h.live_element(node))];
+        if (m.is_cluster() || m.surface < 0) continue;
+        const double size = std::sqrt(m.area);
+        auto it = std::find_if(seen.begin(), seen.end(), [&](const Seen& e) { return e.surface == m.surface; });
+        if (it == seen.end()) seen.push_back({m.surface, double(w), m.L * double(w), size * double(w)});
+        else it->W += double(w), it->WL += m.L * double(w), it->WS += size * double(w);
+    }
+    // S: the point's irradiance / pi without this correction, as values() makes it (lamps,
+    // samples, closure; exact in a furnace, where the correction must then vanish).
+    const Node& own = h.nodes[size_t(pt.leaf)];
+    Rgb S_own, S_all;
+    for (const Record& r : pt.records)
+        for (uint32_t i = r.begin; i < r.end; ++i) {
+            const Rgb e = h.nodes[size_t(h.live_element(pt.samples[i].first))].L * double(pt.samples[i].second);
+            S_all += e;
+            if (r.own) S_own += e;
+        }
+    const Rgb S = pt.direct + closure_gathered(S_own, S_all, pt.c_own, pt.c_inherited, pt.fill, own.L);
+    thread_local NearPlane wall;
+    std::optional<DirectVariation> direct;  // made for the first near sender
+    thread_local std::vector<int> coplanar;
+    wall.n = n;
+    wall.tol = 1e-9 * h.scene_diag;
+    for (const Seen& sn : seen) {
+        if (sn.surface == own_surface || !(sn.W > 0)) continue;
+        const Node& root = h.nodes[size_t(h.surfaces[size_t(sn.surface)].root)];
+        const double d = dot(x - root.poly.v[0], root.normal);
+        if (!(d > 0)) continue;
+        // Near: a hair from the sender's polygon, or in a narrow gap in front of a sender whose
+        // leaves are much wider than the gap (a cabinet's back 2 cm from the wall: the wall's
+        // leaves there average the lit wall beside the cabinet with the dark wall behind it,
+        // and the point sees the dark part; the back read 3x Cycles' value) and that brings
+        // the point a real share of its light.
+        const bool hair = kReach * d <= kLeafShare * std::sqrt(root.area);
+        const bool gap = kGapLeaf * d < sn.WS / sn.W && sn.W >= kGapShare;
+        if (!hair && !gap) continue;
+        const double R = kReach * d;
+        Aabb box;
+        box.lo = x - Vec3{R, R, R};
+        box.hi = x + Vec3{R, R, R};
+        Vec3 part[12];
+        const int np = clip_to_box(root.poly, box, part);
+        if (np == 0) continue;
+        const double F_near = std::min(point_polygon_form_factor(x, n, part, np, root.normal), sn.W);
+        if (!(F_near > 0)) continue;
+        // Points s* of the near part, drawn as the kernel weighs it: cosine-distributed
+        // directions from x that meet the sender's plane within the box (the light there can
+        // change within the near part: a shadow's edge at a leg's foot). Each gathers anew.
+        const int surface_root = h.surfaces[size_t(sn.surface)].root;
+        const uint64_t seed = Hierarchy::mix(pt.seed, Hierarchy::mix(root.key, 0x4ea7u));
+        Rng rng(seed);
+        Vec3 u, v;
+        frame(n, u, v);
+        Rgb B0, C, Cout, Bout;
+        wall.offset = dot(n, own.poly.v[0]);
+        wall.surfaces.clear();
+        // The point stands for its own plane only in front of the sender's plane as far as the
+        // point sees it (the sender's polygons there, all of a cabinet's back in a 2 cm gap):
+        // past the sender's edge (a box's corner, 0.1 mm away) the floor may be lit where the
+        // point is in the box's shadow, and s* reads it at points gathered there (below).
+        wall.region.lo = root.poly.v[0];
+        wall.region.hi = root.poly.v[0];
+        const double sender_offset = dot(root.normal, root.poly.v[0]);
+        coplanar.clear();
+        for (const Seen& other : seen) {
+            const Node& g = h.nodes[size_t(h.surfaces[size_t(other.surface)].root)];
+            if (dot(g.normal, root.normal) < 1.0 - 1e-9 || std::abs(dot(g.poly.v[0], root.normal) - sender_offset) > wall.tol)
+                continue;
+            coplanar.push_back(h.surfaces[size_t(other.surface)].root);
+            for (int k = 0; k < g.poly.n; ++k) {
+                wall.region.lo = cmin3(wall.region.lo, g.poly.v[size_t(k)]);
+                wall.region.hi = cmax3(wall.region.hi, g.poly.v[size_t(k)]);
+            }
+        }
+        const Vec3 reach{R * std::abs(root.normal.x), R * std::abs(root.normal.y), R * std::abs(root.normal.z)};
+        wall.region.lo = wall.region.lo - reach;
+        wall.region.hi = wall.region.hi + reach;
+        // The plane's own direct light near x (near_direct.cpp), where a shadow's edge is near.
+        if (!direct) direct.emplace(s, c, pt, kNearPoints, counts);
+        const bool vary = direct->applies(coplanar, R);
+        direct->clear_stars();
+        int got = 0;
+        // Stratified over the whole hemisphere (the near part takes a share of it, half for a
+        // sender at right angles); every direction that meets the near part is a point.
+        for (int tries = 0; tries < side * side; ++tries) {
+            const double r1 = (tries % side + rng.next()) / side, r2 = (tries / side + rng.next()) / side;
+            const Vec3 w = cosine_direction(u, v, n, r1, r2);
+            const double dn = -dot(w, root.normal);
+            if (!(dn > 1e-6)) continue;
+            const double t = d / dn;
+            if (t > 1.7 * R) continue;
+            const Vec3 sp = x + w * t;
+            if (distance_outside(root.poly, root.normal, sp) > 1e-9 * h.scene_diag) continue;
+            const int m_id = h.leaf_at(surface_root, sp);
+            if (m_id < 0) continue;
+            wall.seen.clear();
+            const Rgb Ls = radiance_at(s, c, m_id, sp, Hierarchy::mix(seed, uint64_t(tries)), counts, &wall);
+            const Rgb rho_s = h.rho_at(m_id, sp);
+            B0 += Ls - rho_s * wall.WL_all;
+            if (vary) direct->add_star(sp, rho_s, kReach * (dot(sp, n) - wall.offset));
+            Cout += rho_s * (wall.F_all - wall.F);
+            Bout += rho_s * (wall.WL_all - wall.WL);
+            C += rho_s * wall.F;
+            ++got;
+        }
+        if (got == 0) continue;
+        if (vary) B0 += direct->sum(root, sn.WL / sn.W, d, wall, seed);
+        // The plane near s* but outside the point's neighbourhood: its radiance at a few
+        // points of its own (a lit floor past a box's corner), not its leaves' average.
+        if (Cout.max() > 0) {
+            Rgb aq;
+            int gq = 0;
+            const int nq = std::max(4, kNearPoints / 4);
+            for (int t = 0; t < 8 * nq && gq < nq; ++t) {
+                Vec3 p{box.lo.x + rng.next() * (box.hi.x - box.lo.x), box.lo.y + rng.next() * (box.hi.y - box.lo.y),
+                       box.lo.z + rng.next() * (box.hi.z - box.lo.z)};
+                p = p - n * (dot(p, n) - wall.offset);
+                if (wall.region.contains(p)) continue;
+                const int q_surface = wall.surface_at(h, p);
+                if (q_surface < 0) continue;
+                const int q_id = h.leaf_at(h.surfaces[size_t(q_surface)].root, p);
+                aq += radiance_at(s, c, q_id, p, Hierarchy::mix(seed, uint64_t(1000 + t)), counts);
+                ++gq;
+            }
+            if (gq > 0) B0 += Cout * (aq / double(gq));
+            else B0 += Bout;
+        }
+        B0 = B0 / double(got);
+        C = C / double(got);
+        // s* sees the point's own plane near it too, and that part is what the point's
+        // neighbourhood sends: L(s*) = B0 + C a, with a = e + rho E(x) the radiance at x.
+        // E(x) = S - F_near Lbar + F_near L(s*) (S what the samples and lamps give, Lbar the
+        // average they read of this sender), solved for E(x): the two sides of a contact light
+        // each other, bounce after bounce (the shadow side of a box's foot goes dark on both
+        // faces, as each sees mostly the other).
+        const Rgb Lbar = sn.WL / sn.W;
+        const Rgb corr = F_near * (B0 + C * (own.emission + own.rho * S) - Lbar);
+        // (Reflectances are under 1 and F_near, C under 1: den > 0; the floor is for safety.)
+        const Rgb den = cmax(Rgb{1, 1, 1} - F_near * C * own.rho, Rgb{1e-3, 1e-3, 1e-3});
+        pt.near += Rgb{corr.r / den.r, corr.g / den.g, corr.b / den.b};
+        ++counts.near;
+    }
+}
+
+}  // namespace radiosity

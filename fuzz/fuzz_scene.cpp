@@ -229,6 +229,15 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         }
     }
 
+    // The final gather (the corner output) half the time, its gathers shared or not. Read after
+    // the scene, so that an input keeps its scene.
+    if (in.flag()) {
+        static const int rays[] = {4, 8, 16};
+        static const double share[] = {0.0, 0.3, 1.0};
+        st.gather_rays = in.pick(rays);
+        st.gather_min_rays = 1 + in.below(2);
+        st.gather_share = in.pick(share);
+    }
     Solver solver(std::move(scene), st);  // the settings above always validate
     solver.solve();
     check_output(solver);

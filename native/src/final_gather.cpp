@@ -734,6 +734,9 @@ Rgb FinalGather::point_value(const Hierarchy& h, const Point& p, bool irradiance
         e = p.beyond >= 0 ? h.nodes[size_t(h.live_element(p.beyond))].L : Rgb{};
     }
     e += change;
+    // Irradiance is not negative: differences (a shared point's lenders' bounced light, a near
+    // field's correction) may round a dark point below 0 by ~1e-11.
+    e = cmax(e, Rgb{});
     return irradiance ? e : leaf.emission + leaf.rho * e;
 }
 

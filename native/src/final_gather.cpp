@@ -80,11 +80,9 @@ int corner_covered(const FinalGather::Solution& s, const Primitive& p, const Vec
     return s.h.leaf_at(s.h.surfaces[size_t(other)].root, inside);
 }
 
-// Whether a sender emits or holds a surface that does (a cluster whose emission is not
-// indexed yet counts as emitting).
+// Whether a sender emits or holds a surface that does (a node not indexed yet counts as
+// emitting).
 bool sender_emits(const Hierarchy& h, int src) {
-    const Node& n = h.nodes[size_t(src)];
-    if (!n.is_cluster()) return n.emission.max() > 0;
     const int f = h.emit_flags(src);
     return f < 0 || (f & Hierarchy::kEmitsAny) != 0;
 }
@@ -707,6 +705,13 @@ std::vector<float> FinalGather::values(const Hierarchy& h, int object, bool irra
     return out;
 }
 
+Rgb FinalGather::record_light(const Hierarchy& h, const Point& p, const Record& r) {
+    Rgb g;
+    for (uint32_t i = r.begin; i < r.end; ++i)
+        g += h.nodes[size_t(h.live_element(p.samples[i].first))].L * double(p.samples[i].second);
+    return g;
+}
+
 Rgb FinalGather::point_value(const Hierarchy& h, const Point& p, bool irradiance, const Rgb& change,
                              std::vector<std::pair<bool, Rgb>>* bounced) const {
     const Node& leaf = h.nodes[size_t(h.live_element(p.leaf))];
@@ -722,9 +727,7 @@ Rgb FinalGather::point_value(const Hierarchy& h, const Point& p, bool irradiance
     } else if (!p.covered) {
         Rgb own, all;
         for (const Record& r : p.records) {
-            Rgb g;
-            for (uint32_t i = r.begin; i < r.end; ++i)
-                g += h.nodes[size_t(h.live_element(p.samples[i].first))].L * double(p.samples[i].second);
+            const Rgb g = record_light(h, p, r);
             all += g;
             if (r.own) own += g;
         }

@@ -347,7 +347,10 @@ void Hierarchy::index_emitters() {
         stack.pop_back();
         const Node& n = nodes[size_t(id)];
         if (!n.is_cluster()) {
+            // An element, and the elements it was split into (links reach those too).
             emits_[size_t(id)] = n.emission.max() > 0 ? kEmitsAny | kEmitsAll : 0;
+            for (int c : n.children)
+                if (!nodes[size_t(c)].dead) stack.push_back({c, false});
             continue;
         }
         if (!expanded) {

@@ -198,9 +198,7 @@ std::vector<Rgb> FinalGather::preview(const Solution& s, const Preview& p, Previ
             const bool src_moved = (src.object >= 0 && size_t(src.object) < p.moved.size() && p.moved[size_t(src.object)]) ||
                                    (size_t(r.src) < p.moved_nodes.size() && p.moved_nodes[size_t(r.src)]);
             if (!moved && !src_moved && !hull_meets(x, src.box, p.clips)) continue;
-            Rgb was;
-            for (uint32_t k = r.begin; k < r.end; ++k)
-                was += h.nodes[size_t(h.live_element(pt.samples[k].first))].L * double(pt.samples[k].second);
+            const Rgb was = record_light(h, pt, r);
             // trace_point's seed for this transfer (a shadow edge's retrace: +1, a deep
             // penumbra's, with more rays than the budget: +2), so that the rays through no moved
             // box are the ones recorded and replay their outcomes.

@@ -25,7 +25,7 @@ namespace radiosity {
 
 namespace {
 
-// A cell of a uniform grid of one object: (object, size level, ix, iy, iz).
+// A cell of a uniform grid of one object: (object, size level or facing, ix, iy, iz).
 struct CellKey {
     int object, level;
     int64_t ix, iy, iz;
@@ -41,6 +41,16 @@ struct CellHash {
         return size_t(Hierarchy::mix(v, uint64_t(k.iz)));
     }
 };
+
+// The cell of a grid of cells `size` wide that holds x.
+CellKey cell_of(int object, int level, const Vec3& x, double size) {
+    return {object, level, int64_t(std::floor(x.x / size)), int64_t(std::floor(x.y / size)), int64_t(std::floor(x.z / size))};
+}
+
+// Ward's error term of a lender at p (normal pn, reach R) for a point at x (normal n).
+double error_term(const Vec3& x, const Vec3& n, const Vec3& p, const Vec3& pn, double R) {
+    return length(x - p) / R + std::sqrt(std::max(0.0, 1.0 - dot(n, pn)));
+}
 
 // The dominant axis and sign of a normal: points of one cell that face different ways (a
 // box's corner) are not one another's neighbours.
@@ -127,9 +137,7 @@ int64_t FinalGather::share_gathers(const Solution& s, const Config& c, const std
                 if (!(r > 0)) continue;
                 const int l = std::clamp(int(std::ceil(std::log2(r / base))), 0, 63);
                 const double size = base * std::ldexp(1.0, l);
-                grid[{p.object, l, int64_t(std::floor(p.x.x / size)), int64_t(std::floor(p.x.y / size)),
-                      int64_t(std::floor(p.x.z / size))}]
-                    .push_back(int(i));
+                grid[cell_of(p.object, l, p.x, size)].push_back(int(i));
                 levels_used |= uint64_t(1) << l;
             }
             batch.clear();
@@ -142,22 +150,20 @@ int64_t FinalGather::share_gathers(const Solution& s, const Config& c, const std
                 found.clear();
                 for (int l = 0; l < 64; ++l) {
                     if (!((levels_used >> l) & 1)) continue;
-                    const double size = base * std::ldexp(1.0, l);
-                    const int64_t cx = int64_t(std::floor(j.x.x / size)), cy = int64_t(std::floor(j.x.y / size)),
-                                  cz = int64_t(std::floor(j.x.z / size));
+                    const CellKey at = cell_of(j.object, l, j.x, base * std::ldexp(1.0, l));
                     for (int dx = -1; dx <= 1; ++dx)
                         for (int dy = -1; dy <= 1; ++dy)
                             for (int dz = -1; dz <= 1; ++dz) {
-                                const auto it = grid.find({j.object, l, cx + dx, cy + dy, cz + dz});
+                                const auto it = grid.find({j.object, l, at.ix + dx, at.iy + dy, at.iz + dz});
                                 if (it == grid.end()) continue;
                                 for (int q : it->second) {
                                     const Point& p = points_[size_t(q)];
-                                    const Vec3 dx = j.x - p.x;
-                                    const double dist = length(dx);
-                                    const double e = dist / double(p.reach) + std::sqrt(std::max(0.0, 1.0 - dot(j.n, p.n)));
+                                    const Vec3 d = j.x - p.x;
                                     // (Not across a step: both on one tangent plane, within
                                     // a tenth of their distance.)
-                                    if (e < a && std::fabs(dot(dx, p.n)) <= 0.1 * dist) found.push_back({q, 0.0});
+                                    if (error_term(j.x, j.n, p.x, p.n, double(p.reach)) < a &&
+                                        std::fabs(dot(d, p.n)) <= 0.1 * length(d))
+                                        found.push_back({q, 0.0});
                                 }
                             }
                 }
@@ -171,8 +177,7 @@ int64_t FinalGather::share_gathers(const Solution& s, const Config& c, const std
                 size_t m = 0;
                 for (const auto& f : found) {
                     const Point& p = points_[size_t(f.first)];
-                    const double e = length(j.x - p.x) / std::min(double(p.reach), probed[i]) +
-                                     std::sqrt(std::max(0.0, 1.0 - dot(j.n, p.n)));
+                    const double e = error_term(j.x, j.n, p.x, p.n, std::min(double(p.reach), probed[i]));
                     if (e < a) found[m++] = {f.first, 1.0 / std::max(e, 1e-9) - 1.0 / a};
                 }
                 found.resize(m);
@@ -201,9 +206,7 @@ int64_t FinalGather::share_gathers(const Solution& s, const Config& c, const std
             for (size_t i = 0; i < n; ++i) {
                 if (state[i] != kOpen) continue;
                 const Job& j = jobs[i];
-                first.emplace(CellKey{j.object, facing(j.n), int64_t(std::floor(j.x.x / cell)),
-                                      int64_t(std::floor(j.x.y / cell)), int64_t(std::floor(j.x.z / cell))},
-                              i);
+                first.emplace(cell_of(j.object, facing(j.n), j.x, cell), i);
             }
             for (const auto& f : first) batch.push_back(f.second);
             std::sort(batch.begin(), batch.end());
@@ -224,11 +227,7 @@ int64_t FinalGather::share_gathers(const Solution& s, const Config& c, const std
 Rgb FinalGather::emitted_part(const Hierarchy& h, const Point& p) const {
     Rgb e = p.direct;
     for (const Record& r : p.records) {
-        if (!r.emits) continue;
-        Rgb g;
-        for (uint32_t i = r.begin; i < r.end; ++i)
-            g += h.nodes[size_t(h.live_element(p.samples[i].first))].L * double(p.samples[i].second);
-        e += g * (r.own ? p.c_own : p.c_inherited);
+        if (r.emits) e += record_light(h, p, r) * (r.own ? p.c_own : p.c_inherited);
     }
     return e;
 }

@@ -207,6 +207,8 @@ private:
     // `bounced` (values()'s cache, per point): a lender's bounced light, made when first read.
     Rgb point_value(const Hierarchy& h, const Point& p, bool irradiance, const Rgb& change = Rgb{},
                     std::vector<std::pair<bool, Rgb>>* bounced = nullptr) const;
+    // What one record's samples read of the current solution (irradiance / pi, before closure).
+    static Rgb record_light(const Hierarchy& h, const Point& p, const Record& r);
     // A gathered point's irradiance / pi without what emitted_part gives: what it lends.
     Rgb bounced_part(const Hierarchy& h, const Point& p) const;
     // preview(): irradiance / pi at a point gathered afresh from the active links reaching its

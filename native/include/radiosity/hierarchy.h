@@ -113,8 +113,8 @@ public:
     void subdivide(int node);
     // Cluster bookkeeping after geometry changed (center, box, radius, bins).
     void refresh_cluster_geometry(int node);
-    // Per node, whether some (kEmitsAny) and every (kEmitsAll) surface below it emits (a
-    // surface root: itself), from the surface roots' emission now. Set before a final gather,
+    // Per node, whether some (kEmitsAny) and every (kEmitsAll) surface below it emits (an
+    // element, the surface roots and their quadtrees: itself), from the emission now. Set before a final gather,
     // which asks it per point; nodes made since count as unknown (emit_flags returns -1).
     static constexpr uint8_t kEmitsAny = 1, kEmitsAll = 2;
     void index_emitters();

@@ -11,7 +11,10 @@ error: every corner but emitters', covered corners (the reference reads 0: under
 contact) included, rRMSE = sqrt(mean(((x-r)/max(r, 0.05 mean r))^2)) the headline, NRMSE, the
 covered corners' share of the squared error, rRMSE over uncovered corners only, and, when the
 reference stores its own noise (several independent Cycles bakes), the error with that noise
-removed in quadrature.
+removed in quadrature. Per surface (each written object) it prints the mean ours / reference,
+so that a bias shows where it is; with two or more --seeds it splits the error into the
+solver's own noise (from the seeds' differences) and its bias (the seeds' mean against the
+reference, both noises removed): a bias that more rays cannot take away.
 
     python3 bench/accuracy_native.py [--native-dir DIR] [--presets DRAFT,MEDIUM] [--seeds 1,2,3]
                                      [--set rays_per_link=64 ...] [--md OUT.md] [--save DIR]
@@ -128,6 +131,8 @@ def main():
         emit = np.concatenate([np.repeat(np.any(si.objects[i].emission > 0, axis=1),
                                          si.objects[i].loop_totals) for i in order])
         refs[name] = (meta, cm.corner_error(ref, ref, emitter=emit, ref_var=ref_var))
+        counts = [len(si.objects[i].corner_verts) for i in order]
+        by_preset = {}
         for preset, seed in [(p, sd) for p in a.presets.split(",")
                              for sd in (a.seeds.split(",") if a.seeds else [None])]:
             st = rn.Settings.preset(preset)
@@ -167,12 +172,43 @@ def main():
                   f"rRMSE uncovered-only {e['rrmse_uncovered']:.4f}, mean ratio {e['mean_ratio']:.4f}; "
                   f"links {stats['links']} elements {stats['elements']} rays {row['rays']} "
                   f"solve {stats['seconds_total']:.2f} s", flush=True)
+            surfaces = cm.per_object(x, ref, meta["objects"], counts, emitter=emit,
+                                     floor=cm.scene_floor(ref, emit), keys=("rrmse",))
+            print("   ours/ref per surface: " + ", ".join(
+                f"{k} {np.mean(v['ours_mean']) / np.mean(v['ref_mean']):.4f}"
+                for k, v in surfaces.items() if np.mean(v["ref_mean"]) > 0), flush=True)
+            by_preset.setdefault(preset, []).append(x)
             if a.phases:
                 rays = dict(stats.get("phase_rays", {}))
                 print("   phases: " + ", ".join(f"{k} {v:.2f} s ({rays.get(k, 0):,} rays)"
                                                for k, v in stats.get("phases", {}).items()), flush=True)
+        for preset, xs in by_preset.items():
+            if len(xs) >= 2:
+                b = bias_and_noise(xs, ref, ref_var, emit)
+                print(f"{name} {preset} over {len(xs)} seeds: one bake's rRMSE {b['single']:.4f} = "
+                      f"bias {b['bias']:.4f} (+) solver noise {b['noise']:.4f} (+) reference noise "
+                      f"{b['ref_noise']:.4f}, in quadrature", flush=True)
     if a.md:
         write_md(a.md, rows, refs, rn, a.reference)
+
+
+def bias_and_noise(xs, ref, ref_var, emit):
+    """Splits a bake's squared rRMSE (reference noise included) into the solver's bias, its
+    noise and the reference's noise, from bakes xs with different seeds: the noise from their
+    spread about their mean, the bias from that mean's error less the noises left in it."""
+    judged = ~np.asarray(emit, bool)
+    r = np.asarray(ref, dtype=np.float64)[judged]
+    den = np.maximum(r, cm.FLOOR_FRACTION * r.mean())
+    stack = np.stack([np.asarray(x, dtype=np.float64)[judged] for x in xs])
+    k = len(xs)
+    mean = stack.mean(axis=0)
+    noise2 = float(np.mean(((stack - mean) / den) ** 2) * k / (k - 1))     # one bake's variance
+    ref2 = float(np.mean(np.asarray(ref_var, dtype=np.float64)[judged] / den ** 2)) if ref_var is not None else 0.0
+    single2 = float(np.mean(((stack - r) / den) ** 2))
+    mean_err2 = float(np.mean(((mean - r) / den) ** 2))
+    bias2 = max(0.0, mean_err2 - noise2 / k - ref2)
+    return {"single": np.sqrt(single2), "bias": np.sqrt(bias2), "noise": np.sqrt(noise2),
+            "ref_noise": np.sqrt(ref2)}
 
 
 def write_md(path, rows, refs, rn, reference):

@@ -260,6 +260,10 @@ Rgb Solver::light_direct(int id) const {
     return size_t(id) < lights_.have.size() && lights_.have[id] ? lights_.direct[id] : Rgb{};
 }
 
+double Solver::light_spread(int id) const {
+    return size_t(id) < lights_.have.size() && lights_.have[id] ? double(lights_.spread[id]) : 0.0;
+}
+
 void Solver::light_invalidate() {
     // Placements changed since the cache was made (an update moved objects): every shadow may
     // have changed.

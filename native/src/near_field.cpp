@@ -226,6 +226,7 @@ void FinalGather::near_field(const Solution& s, const Config& c, Point& pt, Coun
     thread_local NearPlane wall;
     std::optional<DirectVariation> direct;  // made for the first near sender
     thread_local std::vector<int> coplanar;
+    thread_local std::vector<Vec3> stars;  // the s* of one sender
     wall.n = n;
     wall.tol = 1e-9 * h.scene_diag;
     for (const Seen& sn : seen) {
@@ -286,6 +287,7 @@ void FinalGather::near_field(const Solution& s, const Config& c, Point& pt, Coun
         if (!direct) direct.emplace(s, c, pt, kNearPoints, counts);
         const bool vary = direct->applies(coplanar, R);
         direct->clear_stars();
+        stars.clear();
         int got = 0;
         // Stratified over the whole hemisphere (the near part takes a share of it, half for a
         // sender at right angles); every direction that meets the near part is a point.
@@ -308,24 +310,33 @@ void FinalGather::near_field(const Solution& s, const Config& c, Point& pt, Coun
             Cout += rho_s * (wall.F_all - wall.F);
             Bout += rho_s * (wall.WL_all - wall.WL);
             C += rho_s * wall.F;
+            stars.push_back(sp);
             ++got;
         }
         if (got == 0) continue;
         if (vary) B0 += direct->sum(root, sn.WL / sn.W, d, wall, seed);
         // The plane near s* but outside the point's neighbourhood: its radiance at a few
-        // points of its own (a lit floor past a box's corner), not its leaves' average.
+        // points of its own (a lit floor past a box's corner), not its leaves' average. The
+        // points are where cosine directions from the s* meet the plane, so that they stand
+        // for what the s* see of it (a slab's underside near its shadowed edge sees the dark
+        // floor there, not the lit floor across the slab).
         if (Cout.max() > 0) {
+            Vec3 su, sv;
+            frame(root.normal, su, sv);
             Rgb aq;
             int gq = 0;
-            const int nq = std::max(4, kNearPoints / 4);
-            for (int t = 0; t < 8 * nq && gq < nq; ++t) {
-                Vec3 p{box.lo.x + rng.next() * (box.hi.x - box.lo.x), box.lo.y + rng.next() * (box.hi.y - box.lo.y),
-                       box.lo.z + rng.next() * (box.hi.z - box.lo.z)};
-                p = p - n * (dot(p, n) - wall.offset);
-                if (wall.region.contains(p)) continue;
+            const int nq = std::max(8, kNearPoints / 2);
+            for (int t = 0; t < 32 * nq && gq < nq; ++t) {
+                const Vec3& sp = stars[size_t(t) % stars.size()];
+                const Vec3 w = cosine_direction(su, sv, root.normal, rng.next(), rng.next());
+                const double dn = dot(w, n);
+                if (!(dn < -1e-6)) continue;
+                const Vec3 p = sp + w * ((wall.offset - dot(sp, n)) / dn);
+                if (!box.contains(p) || wall.region.contains(p)) continue;
                 const int q_surface = wall.surface_at(h, p);
                 if (q_surface < 0) continue;
                 const int q_id = h.leaf_at(h.surfaces[size_t(q_surface)].root, p);
+                if (q_id < 0) continue;
                 aq += radiance_at(s, c, q_id, p, Hierarchy::mix(seed, uint64_t(1000 + t)), counts);
                 ++gq;
             }

@@ -102,7 +102,12 @@ Solver::Judgement Solver::judge(const Link& l) const {
     Judgement j;
     const double rho = Q.is_cluster() ? Q.rho_max : Q.rho.max();
     const double Lp = sender_radiance(h_, l).max();
-    const double dLp = (P.Lmax - P.Lmin).max();
+    // The sender's radiance range below it; a leaf's own is its direct light's spread over
+    // its children (a floor leaf straddling a shadow's edge): a receiver close by reads that
+    // leaf's average as if it were uniform (a slab's underside 15 cm over the floor lit
+    // through the average of the shadowed floor under it and the lit floor past its edge).
+    double dLp = (P.Lmax - P.Lmin).max();
+    if (!P.is_cluster() && P.children.empty()) dLp = std::max(dLp, P.rho.max() * light_spread(l.src));
     double err_rcv = 0, err_src = 0;
     if (l.must_refine) {
         err_rcv = err_src = 1e300;

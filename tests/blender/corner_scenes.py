@@ -17,6 +17,21 @@ average of the element around it. The scenes put corners where the two differ mo
   room     an open room (floor, back and left walls; no ceiling, open to the front and right so
            the sun gets in) with a cube, lit by a point, a spot, an area and a sun light.
 
+and gaps under objects (test_gaps.py), where the floor under an object gets only what comes in
+through the gap:
+
+  gap_cube           a 2 m cube 1 mm over a gridded floor under a uniform sky-blue world.
+  gap_slab           a 3.2 x 3.2 x 0.5 m slab 15 cm over a gridded floor, lit by Blender's
+                     default point light (1000 W at (4.08, 1, 5.9)) from one side.
+  gap_slab_instance  the same slab as a collection instance (only the floor is baked).
+  gap_slab_1cm       the slab 1 cm over the floor.
+
+and a closed box (test_gaps.py: no excess light where nothing leaves the scene):
+
+  closed_box         a 5.5 m Cornell-type box closed on all six sides (gridded walls, a red and
+                     a green one, two white blocks) lit by a two-sided emitting square 1 mm
+                     under its gridded ceiling.
+
 Runner (what the tests call, in either flavour; conftest's run_blender passes --zip/--tmp):
 
     ... corner_scenes.py -- --zip Z --tmp T --case contact --preset HIGH --out T/contact.npz
@@ -35,7 +50,8 @@ import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "scripts"))
 import rt_common as rt  # noqa: E402
 
-CASES = ("contact", "lamp", "leg", "factory", "room")
+CASES = ("contact", "lamp", "leg", "factory", "room", "gap_cube", "gap_slab", "gap_slab_instance", "gap_slab_1cm",
+         "closed_box")
 
 # Objects whose corners are compared, in the order of the stored references.
 ORDER = {
@@ -44,13 +60,23 @@ ORDER = {
     "leg": ("Floor", "Leg"),
     "factory": ("Cube",),
     "room": ("Floor", "BackWall", "LeftWall", "Cube"),
+    "gap_cube": ("Floor", "Cube"),
+    "gap_slab": ("Floor", "Slab"),
+    "gap_slab_instance": ("Floor",),
+    "gap_slab_1cm": ("Floor", "Slab"),
+    "closed_box": ("Floor", "Ceiling", "Back", "Front", "Left", "Right", "Short", "Tall", "Lamp"),
 }
-EMITTERS = {"contact": ("Lamp",), "lamp": ("Lamp",)}
+EMITTERS = {"contact": ("Lamp",), "lamp": ("Lamp",), "closed_box": ("Lamp",)}
 
 # contact: the box's footprint lies on floor grid lines (floor [-1.5, 1.5]^2 in 15 x 15 quads,
 # lines at odd tenths), so 3 x 3 floor vertices are under it and 4 x 4 - 3 x 3 = 16 on its edge.
 CONTACT_BOX_LO = (-0.3, -0.5, 0.0)
 CONTACT_BOX_HI = (0.5, 0.3, 0.6)
+# gaps: the object's footprint on the floor (the floor's grid lines miss its edges: floor
+# quads straddle them) and its height over the floor.
+GAP_CUBE_HALF, GAP_CUBE_LIFT = 1.0, 0.001
+GAP_SLAB_HALF, GAP_SLAB_LIFT, GAP_SLAB_LIFT_1CM = 1.6, 0.15, 0.01
+GAP_SKY = (0.4, 0.6, 1.0)
 # lamp: ceiling plane, reflectance, lamp outline and radiance (see build_lamp).
 LAMP_CEILING_Z = 2.5
 LAMP_GAP = 0.001
@@ -73,6 +99,18 @@ DESCRIPTION = {
            "light 150 W radius 0.05 at (0.9,-0.7,1.4)",
     "factory": "bpy.ops.wm.read_factory_settings(use_empty=False): Cube (Principled, base 0.8), "
                "Light (point 1000 W, radius 0.1), World (background 0.0509 grey)",
+    "gap_cube": "uniform world (0.4, 0.6, 1.0) strength 1; Floor 8x8 m at z=0 in 20x20 quads, rho 0.6; "
+                "Cube (one quad a side) x,y[-1,1] z[0.001,2.001], rho 0.8",
+    "gap_slab": "black world; Floor 10x10 m at z=0 in 25x25 quads, rho 0.6; Slab (one quad a side) "
+                "x,y[-1.6,1.6] z[0.15,0.65], rho 0.8; point light 1000 W radius 0.1 at (4.08,1,5.9)",
+    "gap_slab_instance": "as gap_slab, the slab in a collection excluded from the view layer and "
+                         "shown by an Empty instancing it",
+    "gap_slab_1cm": "as gap_slab, the slab at z[0.01,0.51]",
+    "closed_box": "black world; box [0,5.5]^3 closed, inward normals: Floor, Back (y=5.5), Front (y=0), "
+                  "Ceiling (10x10 quads) and walls (8x8 quads), rho 0.73, Left (x=0) (0.63,0.06,0.05), "
+                  "Right (x=5.5) (0.14,0.45,0.09); Short block [1.3,2.95]x[0.65,2.3]x[0,1.65] (2x2x2 "
+                  "quads), Tall block [2.65,4.3]x[2.95,4.6]x[0,3.3] (2x2x4), rho 0.73; Lamp: 1.3x1.3 "
+                  "emission quad, radiance 15, centre (2.75,2.75), 1 mm under the ceiling, normal -z",
     "room": "black world; open room: Floor 4x4 m (8x8 quads, rho 0.6), BackWall y=2 and LeftWall "
             "x=-2 (4 m x 2.5 m, 8x5 quads, rho (0.7,0.65,0.6) and (0.5,0.6,0.7)); Cube 0.6 m "
             "(2x2 quads per side, welded) at (0.3,0.4,0.3) turned 20 deg about z, rho "
@@ -217,8 +255,71 @@ def build_room():
     return [floor, back, left, cube], {}
 
 
+def build_closed_box():
+    rt.black_world()
+    w = 5.5
+    white, red, green = (0.73, 0.73, 0.73), (0.63, 0.06, 0.05), (0.14, 0.45, 0.09)
+
+    def wall(name, origin, u, v, n, rho):                         # normal u x v, inward
+        return rt.mesh_object(name, *rt.grid(origin, u, v, n), None, rt.diffuse_material(name, rho))
+    objs = [wall("Floor", (0, 0, 0), (w, 0, 0), (0, w, 0), 8, white),
+            wall("Ceiling", (0, 0, w), (0, w, 0), (w, 0, 0), 10, white),
+            wall("Back", (0, w, 0), (w, 0, 0), (0, 0, w), 8, white),
+            wall("Front", (0, 0, 0), (0, 0, w), (w, 0, 0), 8, white),
+            wall("Left", (0, 0, 0), (0, w, 0), (0, 0, w), 8, red),
+            wall("Right", (w, 0, 0), (0, 0, w), (0, w, 0), 8, green)]
+    objs.append(rt.mesh_object("Short", *welded_box((1.3, 0.65, 0), (2.95, 2.3, 1.65), (2, 2, 2)), None,
+                               rt.diffuse_material("Short", white)))
+    objs.append(rt.mesh_object("Tall", *welded_box((2.65, 2.95, 0), (4.3, 4.6, 3.3), (2, 2, 4)), None,
+                               rt.diffuse_material("Tall", white)))
+    c, h = np.array([2.75, 2.75, w - 0.001]), 0.65
+    objs.append(_quad_mesh("Lamp", [c + (-h, -h, 0), c + (-h, h, 0), c + (h, h, 0), c + (h, -h, 0)],
+                           rt.emission_material("Lamp", (1, 1, 1), 15.0)))        # normal -z
+    return objs, {}
+
+
+def _gap_floor(half, n):
+    return rt.mesh_object("Floor", *rt.grid((-half, -half, 0), (2 * half, 0, 0), (0, 2 * half, 0), n), None,
+                          rt.diffuse_material("Floor", (0.6, 0.6, 0.6)))
+
+
+def build_gap_cube():
+    world = rt.node_world("Sky")
+    bg = world.node_tree.nodes.get("Background")
+    bg.inputs["Color"].default_value = (*GAP_SKY, 1.0)
+    bg.inputs["Strength"].default_value = 1.0
+    bpy.context.scene.world = world
+    floor = _gap_floor(4.0, 20)
+    h, z = GAP_CUBE_HALF, GAP_CUBE_LIFT
+    cube = rt.mesh_object("Cube", *welded_box((-h, -h, z), (h, h, z + 2 * h), (1, 1, 1)), None,
+                          rt.diffuse_material("Cube", (0.8, 0.8, 0.8)))
+    return [floor, cube], {"half": h, "lift": z}
+
+
+def build_gap_slab(lift=GAP_SLAB_LIFT, instance=False):
+    rt.black_world()
+    floor = _gap_floor(5.0, 25)
+    h = GAP_SLAB_HALF
+    coll = rt.new_collection("SlabSet") if instance else None
+    slab = rt.mesh_object("Slab", *welded_box((-h, -h, lift), (h, h, lift + 0.5), (1, 1, 1)), coll,
+                          rt.diffuse_material("Slab", (0.8, 0.8, 0.8)))
+    add_light("Light", "POINT", {"energy": 1000.0, "shadow_soft_size": 0.1}, (4.08, 1.0, 5.9))
+    objs = [floor, slab]
+    if instance:
+        bpy.context.view_layer.layer_collection.children["SlabSet"].exclude = True
+        inst = bpy.data.objects.new("SlabInstance", None)
+        inst.instance_type = "COLLECTION"
+        inst.instance_collection = coll
+        rt.link(inst)
+        objs = [floor]
+    bpy.context.view_layer.update()
+    return objs, {"half": h, "lift": lift}
+
+
 BUILD = {"contact": build_contact, "lamp": build_lamp, "leg": build_leg, "factory": build_factory,
-         "room": build_room}
+         "room": build_room, "gap_cube": build_gap_cube, "gap_slab": build_gap_slab,
+         "gap_slab_instance": lambda: build_gap_slab(instance=True),
+         "gap_slab_1cm": lambda: build_gap_slab(lift=GAP_SLAB_LIFT_1CM), "closed_box": build_closed_box}
 
 
 def build(case):

@@ -265,6 +265,8 @@ private:
     void light_keep(std::vector<int>& refs);     // pruning keeps light-split children
     double light_power(double total_area) const; // for the reference radiance
     Rgb light_direct(int node) const;
+    // The spread of a leaf's direct light over its four children (0 when not computed).
+    double light_spread(int node) const;
     // Per node: emission + rho x lamp light, the radiance a full solve's first linking sees.
     std::vector<float> first_bounce() const;
     // Runs `judge_links` with every node's radiance set to first_bounce's (then restored).

@@ -101,3 +101,44 @@ TEST(SharedGather, CornersAtTheFootOfABoxKeepTheirOwnGather) {
     EXPECT_GT(near, 8);
     EXPECT_LT(worst, 0.05);
 }
+
+TEST(SharedGather, CornersOnAnOpenEdgeGatherTheirOwn) {
+    // A box open at its front (y = 0), lit by a panel under its ceiling: the ceiling's light
+    // falls toward the opening faster than the distance to what its corners see says. A
+    // vertex on an edge of one polygon only neither borrows nor lends: its value is the one
+    // its own gather gives (borrowing, the edge's corners were up to 19 % off it).
+    SceneDesc s;
+    const Rgb rho = Rgb::all(0.7);
+    scenes::add_grid(s, "floor", -1, {Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{1, 1, 0}, Vec3{0, 1, 0}}, 12, 12, rho, {});
+    scenes::add_grid(s, "ceiling", -1, {Vec3{0, 0, 1}, Vec3{0, 1, 1}, Vec3{1, 1, 1}, Vec3{1, 0, 1}}, 12, 12, rho, {});
+    scenes::add_grid(s, "back", -1, {Vec3{0, 1, 0}, Vec3{1, 1, 0}, Vec3{1, 1, 1}, Vec3{0, 1, 1}}, 12, 12, rho, {});
+    scenes::add_grid(s, "left", -1, {Vec3{0, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 1, 1}, Vec3{0, 0, 1}}, 12, 12, rho, {});
+    scenes::add_grid(s, "right", -1, {Vec3{1, 0, 0}, Vec3{1, 0, 1}, Vec3{1, 1, 1}, Vec3{1, 1, 0}}, 12, 12, rho, {});
+    scenes::add_grid(s, "lamp", -1, {Vec3{0.4, 0.4, 0.98}, Vec3{0.4, 0.6, 0.98}, Vec3{0.6, 0.6, 0.98}, Vec3{0.6, 0.4, 0.98}},
+                     1, 1, {}, Rgb::all(10.0), false);
+    auto ceiling = [&](double share, Stats& st) {
+        Settings set = Settings::preset("DRAFT");
+        set.gather_share = share;
+        Solver solver(s, set);
+        solver.solve();
+        st = solver.stats();
+        return solver.corner_radiance(1);
+    };
+    Stats st_own, st_shared;
+    const std::vector<float> own = ceiling(0.0, st_own), shared = ceiling(0.3, st_shared);
+    const ObjectDesc& o = s.objects()[1];
+    double worst = 0;
+    int on_edge = 0;
+    for (size_t c = 0; c < o.corner_count(); ++c) {
+        if (o.vertices[size_t(o.corner_verts[c])].y > 1e-9) continue;
+        const double a = own[3 * c + 1], b = shared[3 * c + 1];
+        ASSERT_GT(a, 0.0);
+        worst = std::max(worst, std::fabs(b - a) / a);
+        ++on_edge;
+    }
+    std::printf("[ figure ] %lld of %lld points shared; %d ceiling corners on the open edge: worst %.2g apart from their "
+                "own gathers\n", (long long)st_shared.gather_shared, (long long)st_shared.gather_points, on_edge, worst);
+    EXPECT_GT(st_shared.gather_shared, st_shared.gather_points / 10);
+    EXPECT_EQ(on_edge, 11 * 2 + 2);
+    EXPECT_LT(worst, 1e-6);
+}

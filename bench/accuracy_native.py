@@ -198,7 +198,7 @@ def bias_and_noise(xs, ref, ref_var, emit):
     spread about their mean, the bias from that mean's error less the noises left in it."""
     judged = ~np.asarray(emit, bool)
     r = np.asarray(ref, dtype=np.float64)[judged]
-    den = np.maximum(r, cm.FLOOR_FRACTION * r.mean())
+    den = np.maximum(r, cm.scene_floor(ref, emit))
     stack = np.stack([np.asarray(x, dtype=np.float64)[judged] for x in xs])
     k = len(xs)
     mean = stack.mean(axis=0)

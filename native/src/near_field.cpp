@@ -120,9 +120,6 @@ Rgb FinalGather::radiance_at(const Solution& s, const Config& c, int m_id, const
     return m.emission + h.rho_at(m_id, sp) * g;  // a texture's value at sp, not the leaf's mean
 }
 
-static Vec3 cmax3(const Vec3& a, const Vec3& b) { return {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)}; }
-static Vec3 cmin3(const Vec3& a, const Vec3& b) { return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)}; }
-
 void FinalGather::NearPlane::read(const Hierarchy& h, const Node& k, double w) {
     const Node& g = h.nodes[size_t(h.surfaces[size_t(k.surface)].root)];
     if (dot(g.normal, n) < 1.0 - 1e-9 || std::abs(dot(g.poly.v[0], n) - offset) > tol) return;
@@ -149,8 +146,8 @@ void FinalGather::NearPlane::couple(const Hierarchy& h, const Vec3& sp, const Ve
     all.lo = sp - Vec3{R, R, R};
     all.hi = sp + Vec3{R, R, R};
     Aabb in;
-    in.lo = cmax3(all.lo, region.lo);
-    in.hi = cmin3(all.hi, region.hi);
+    in.lo = vmax(all.lo, region.lo);
+    in.hi = vmin(all.hi, region.hi);
     const bool any_in = in.lo.x <= in.hi.x && in.lo.y <= in.hi.y && in.lo.z <= in.hi.z;
     for (const auto& [surface, wl] : seen) {
         const Node& g = h.nodes[size_t(h.surfaces[size_t(surface)].root)];
@@ -276,8 +273,8 @@ void FinalGather::near_field(const Solution& s, const Config& c, Point& pt, Coun
                 continue;
             coplanar.push_back(h.surfaces[size_t(other.surface)].root);
             for (int k = 0; k < g.poly.n; ++k) {
-                wall.region.lo = cmin3(wall.region.lo, g.poly.v[size_t(k)]);
-                wall.region.hi = cmax3(wall.region.hi, g.poly.v[size_t(k)]);
+                wall.region.lo = vmin(wall.region.lo, g.poly.v[size_t(k)]);
+                wall.region.hi = vmax(wall.region.hi, g.poly.v[size_t(k)]);
             }
         }
         const Vec3 reach{R * std::abs(root.normal.x), R * std::abs(root.normal.y), R * std::abs(root.normal.z)};

@@ -230,12 +230,7 @@ TEST(Environment, TexturePiecesGiveElementsAndPointsTheirOwnValue) {
     // it, so the corners' leaves lie in one half each): a left corner reflects a quarter of
     // what the mirror-image right corner does (the output reads its leaf's rho); new pieces
     // (set_texture_pieces) swap that at the next update.
-    LightDesc lamp;
-    lamp.name = "lamp";
-    lamp.type = LightDesc::Type::Point;
-    lamp.position = Vec3{0, 0, 1};
-    lamp.intensity = Rgb::all(100);
-    s.add_light(lamp);
+    s.add_light(point_light({0, 0, 1}, 100));
     Solver solver(s, Settings::preset("MEDIUM"));
     solver.solve();
     const ObjectDesc& f = solver.scene().objects()[0];

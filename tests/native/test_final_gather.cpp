@@ -316,12 +316,7 @@ TEST(FinalGather, ALampInsideAClosedBoxKeepsTheBoxLitInside) {
         EXPECT_GT(s.stats().gather_sealed, 0);
         EXPECT_EQ(r.inside_max, 0.0);
     }
-    LightDesc l;
-    l.type = LightDesc::Type::Point;
-    l.position = {2.0, 2.0, 0.5};
-    l.intensity = Rgb::all(50);
-    l.radius = 0.05;
-    sc.add_light(l);
+    sc.add_light(point_light({2.0, 2.0, 0.5}, 50, 0.05));
     Solver s(sc, Settings::preset("DRAFT"));
     s.solve();
     std::printf("[ figure ] a lamp inside the box too: sealed points %lld\n", (long long)s.stats().gather_sealed);

@@ -24,13 +24,7 @@ SceneDesc slab_over_floor(double gap) {
     scenes::add_grid(s, "floor", -1, {Vec3{-5, -5, 0}, Vec3{5, -5, 0}, Vec3{5, 5, 0}, Vec3{-5, 5, 0}}, 25, 25,
                      Rgb::all(0.6), Rgb{});
     scenes::add_box(s, "slab", -1, {-kHalf, -kHalf, gap}, {kHalf, kHalf, gap + 0.5}, 1, Rgb::all(0.8), {});
-    LightDesc l;
-    l.name = "lamp";
-    l.type = LightDesc::Type::Point;
-    l.position = {4.08, 1.0, 5.9};
-    l.radius = 0.1;
-    l.intensity = Rgb::all(80.0);
-    s.add_light(l);
+    s.add_light(point_light({4.08, 1.0, 5.9}, 80.0, 0.1));
     return s;
 }
 

@@ -22,16 +22,6 @@ SceneDesc floor_scene(int n = 8) {
     return s;
 }
 
-LightDesc point_light(Vec3 p, double intensity, double radius = 0) {
-    LightDesc l;
-    l.name = "lamp";
-    l.type = LightDesc::Type::Point;
-    l.position = p;
-    l.radius = radius;
-    l.intensity = Rgb::all(intensity);
-    return l;
-}
-
 // Corner positions of object 0 with their radiance.
 std::vector<std::pair<Vec3, Rgb>> corners(const Solver& s, const std::vector<float>& v, int object = 0) {
     const ObjectDesc& o = s.scene().objects()[object];

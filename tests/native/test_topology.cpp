@@ -337,13 +337,7 @@ TEST(Topology, PointLightSceneAddEqualsFullSolve) {
     // Direct light of Blender lights is cached per leaf: an addition casts new shadows.
     auto scene = [](bool with_box) {
         SceneDesc s = room(true, with_box, true);
-        LightDesc l;
-        l.name = "lamp";
-        l.type = LightDesc::Type::Point;
-        l.position = {150, 150, 200};
-        l.radius = 5;
-        l.intensity = Rgb::all(4e4);
-        s.add_light(l);
+        s.add_light(point_light({150, 150, 200}, 4e4, 5));
         return s;
     };
     Solver inc(scene(false), settings());

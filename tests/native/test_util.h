@@ -15,6 +15,17 @@ namespace radiosity::testing {
 // A move by t, as Solver::move_object takes it (row-major 4 x 4).
 inline std::array<double, 16> translation(Vec3 t) { return {1, 0, 0, t.x, 0, 1, 0, t.y, 0, 0, 1, t.z, 0, 0, 0, 1}; }
 
+// A Blender point light named "lamp" at p: intensity per channel, radius 0 = a true point.
+inline LightDesc point_light(Vec3 p, double intensity, double radius = 0) {
+    LightDesc l;
+    l.name = "lamp";
+    l.type = LightDesc::Type::Point;
+    l.position = p;
+    l.radius = radius;
+    l.intensity = Rgb::all(intensity);
+    return l;
+}
+
 inline Poly quad(Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
     Poly p;
     p.n = 4;

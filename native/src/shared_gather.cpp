@@ -85,8 +85,8 @@ double probe_reach(const FinalGather::Solution& s, const Vec3& x, const Vec3& n,
 
 // Per vertex of a mesh, whether it lies on an open edge (an edge of one polygon only). The
 // surface ends there and its light changes toward the end faster than the distance to what it
-// sees says (a Cornell box's ceiling at its open front reads 15 % less than 3.5 cm inside,
-// where R is 0.8 m): such points neither lend nor borrow.
+// sees says (a Cornell box's ceiling at its open front, darker than just inside it): such
+// points neither lend nor borrow (bench/results/interior_native.md, "Open edges").
 std::vector<char> open_edge_vertices(const ObjectDesc& o) {
     std::vector<char> open(o.vertices.size(), 0);
     std::unordered_map<uint64_t, int> uses;

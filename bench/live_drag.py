@@ -103,7 +103,7 @@ def one_run(args, mod):
         now = colours(attr)
         changed += int(shown > 0 and any(not np.array_equal(now[n], previous[n]) for n in now))
         previous = now
-        st = next(iter(mod.core.live.all_states().values()))
+        st = next(iter(mod.core.session.sessions().values())).live
         counts.append(dict(st.last_preview or {}))
     last_preview = previous
     t = time.perf_counter()

@@ -14,8 +14,7 @@ import numpy as np
 
 from .core import baked
 from .core import job as core_job
-from .core import live as core_live
-from .core import native_files, presets, srgb, stats
+from .core import native_files, presets, session, srgb, stats
 from .core.scene_data import InputError
 from . import baked_state, gather, writer
 
@@ -39,7 +38,7 @@ def load_native():
 
 
 def scene_key(scene):
-    return f"{scene.name_full}@{scene.as_pointer():x}"
+    return session.key_of(scene)
 
 
 def set_last_stats(scene, data):
@@ -147,7 +146,7 @@ class BakeRun:
         except ValueError as exc:
             raise BakeError(str(exc)) from exc
         byte_name = srgb.byte_attribute_name(self.props.attribute_name)
-        st = core_live.state_for(scene_key(self.scene))
+        st = session.session(scene_key(self.scene)).live
         token = baked.new_token()
         st.busy = True          # our writes echo back through depsgraph_update_post
         try:

@@ -2,31 +2,21 @@
 
 Each written mesh carries the bake's token in the ID property TOKEN_KEY; the records live in
 memory per scene (they survive undo, which re-reads data blocks) and the newest few also in the
-scene (so a saved file knows what its colours were baked with).
+scene (so a saved file knows what its colours were baked with). The records in memory are the
+scene's session's (core.session).
 """
 import numpy as np
 
-from .core import baked
-from .core import live as core_live
+from .core import baked, session
 
 TOKEN_KEY = "_radiosity_bake"       # on Mesh data; '_' keeps it out of Custom Properties
 BOOK_KEY = "_bakes"                 # in scene.radiosity, beside _last_stats
-
-_BOOKS = {}         # scene key -> RecordBook
-
-
-def _key(scene):
-    from .bake import scene_key
-    return scene_key(scene)
 
 
 def book_for(scene):
     """The scene's records: memory first, then what its file holds (after a load, or records
     an undo brought back)."""
-    key = _key(scene)
-    book = _BOOKS.get(key)
-    if book is None:
-        book = _BOOKS[key] = baked.RecordBook()
+    book = session.session(session.key_of(scene)).book
     saved = scene.radiosity.get(BOOK_KEY)
     if saved:
         book.merge(baked.RecordBook.from_json(saved))
@@ -69,22 +59,6 @@ def judge(scene, view_layer=None):
 
 def refresh(scene, view_layer=None):
     """Judge what the viewport shows now and hand it to the live state; returns that state."""
-    st = core_live.state_for(_key(scene))
+    st = session.session(session.key_of(scene)).live
     st.show(judge(scene, view_layer))
     return st
-
-
-def keys():
-    return set(_BOOKS)
-
-
-def rekey(old, new):
-    if old in _BOOKS:
-        _BOOKS[new] = _BOOKS.pop(old)
-
-
-def forget(key=None):
-    if key is None:
-        _BOOKS.clear()
-    else:
-        _BOOKS.pop(key, None)

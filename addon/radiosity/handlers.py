@@ -18,6 +18,7 @@ which colours the meshes hold (baked_state judges that): out of date colours are
 Live on and flagged in the panel with Live off. Loading a file drops the kept solution (it
 belongs to the scene that was closed).
 """
+from collections import deque
 import time
 import traceback
 
@@ -28,11 +29,30 @@ from bpy.app.handlers import persistent
 from . import bake, baked_state, eval_cache, writer
 from .core import job as core_job
 from .core import live as core_live
+from .core import session
 from .core import preview as core_preview
 from .core import stats as core_stats
 
 TIMER_STEP = 0.1
-last_errors = []        # messages of failed live re-bakes (no operator to report them to)
+# Messages of failed live re-bakes, newest last, for scripts (no operator reports them; the panel
+# shows a scene's last one until a live update succeeds). Bounded: the latest are kept.
+last_errors = deque(maxlen=64)
+
+
+def _report(st, message, trace=False):
+    """A live failure of the scene whose live state is `st`: printed (with the exception's
+    traceback when `trace`, for failures no one expected), kept in last_errors and shown in
+    the scene's panel."""
+    if trace:
+        traceback.print_exc()
+    print(f"Radiosity: {message}")
+    last_errors.append(message)
+    st.failed = message
+
+
+def _live_states():
+    """{scene key: live state} of every session."""
+    return {key: s.live for key, s in session.sessions().items()}
 
 
 def _scene_by_key(key):
@@ -109,7 +129,7 @@ def on_depsgraph_update(scene, depsgraph=None):
     props = getattr(scene, "radiosity", None)
     if props is None:
         return
-    st = core_live.state_for(bake.scene_key(scene))
+    st = session.session(bake.scene_key(scene)).live
     if st.busy:
         return          # inside our own bake/write
     if st.unjudged:
@@ -152,7 +172,7 @@ def preview_now():
     that follows shows the place anyway); so does one whose matrices are not judged yet after
     an undo or a load (re-read objects read identity until the depsgraph evaluates them)."""
     shown = 0
-    for key, st in core_live.all_states().items():
+    for key, st in _live_states().items():
         if not st.preview_pending:
             continue
         if st.job is not None or st.unjudged:
@@ -169,7 +189,7 @@ def preview_now():
 def _preview(key, st, scene):
     """One preview of `scene` where its objects stand now; never raises (a step it cannot
     show is left to the update after the drag, and LiveState.preview_skipped says why)."""
-    entry = core_job.cache_get(key)
+    entry = session.kept(key)
     why = core_preview.unavailable(entry)
     if why:
         st.preview_skipped = why
@@ -232,14 +252,14 @@ def _drop_preview(key, st):
     back to the kept solution's colours and the status bar clears."""
     st.preview_pending = False
     if st.previewed:
-        entry = core_job.cache_get(key)
+        entry = session.kept(key)
         scene = _scene_by_key(key)
         if entry is not None and scene is not None:
             writes = {n: core_preview.base_radiance(entry, n) for n in st.previewed}
             try:
                 _write_preview(scene, entry, st, {n: r for n, r in writes.items() if r is not None})
-            except Exception:
-                traceback.print_exc()
+            except Exception as exc:    # noqa: BLE001 (a handler must not raise)
+                _report(st, f"could not put the baked colours back: {exc!r}", trace=True)
         st.previewed = set()
     _status(None)
 
@@ -250,15 +270,15 @@ def _finish_live(st, scene, run):
         run.finish()
         ok = True
     except bake.BakeError as exc:
-        last_errors.append(str(exc))
+        _report(st, str(exc))
     except Exception as exc:
         # Printed, kept, and not raised: an exception would unregister the live timer and
         # leave the job in place, so Live would stop for the rest of the session.
-        traceback.print_exc()
-        last_errors.append(f"live re-bake failed: {exc!r}")
+        _report(st, f"live re-bake failed: {exc!r}", trace=True)
     st.runs += 1
     if ok:
         st.previewed = set()    # the update wrote every mesh
+        st.failed = None
     else:
         _drop_preview(bake.scene_key(scene), st)
 
@@ -279,7 +299,7 @@ def _start_live(key, st, synchronous):
     try:
         run = bake.BakeRun(scene, view_layer, depsgraph, live=True).prepare()
     except bake.BakeError as exc:
-        last_errors.append(str(exc))
+        _report(st, str(exc))
         _drop_preview(key, st)
         return
     finally:
@@ -288,7 +308,7 @@ def _start_live(key, st, synchronous):
         try:
             run.run_sync()
         except bake.BakeError as exc:
-            last_errors.append(str(exc))
+            _report(st, str(exc))
             _drop_preview(key, st)
             return
         _finish_live(st, scene, run)
@@ -302,14 +322,15 @@ def _start_live(key, st, synchronous):
 def _step(synchronous):
     """Advance every scene's live state once; returns True while work remains."""
     busy = False
-    for key, st in core_live.all_states().items():
+    for key, st in _live_states().items():
         run = st.job
         if run is not None:
             if synchronous:
                 try:
                     run.job.pump()
-                except Exception:
-                    pass
+                except Exception as exc:    # noqa: BLE001 (a handler must not raise)
+                    if run.job.state != core_job.FAILED:    # a failed solve is reported below
+                        _report(st, f"live re-bake failed while solving: {exc!r}", trace=True)
             else:
                 st.progress = run.job.poll()
             if run.job.state == core_job.RUNNING:
@@ -323,7 +344,7 @@ def _step(synchronous):
             if run.job.state == core_job.DONE and scene is not None:
                 _finish_live(st, scene, run)
             elif run.job.state == core_job.FAILED:
-                last_errors.append(f"solver failed: {run.job.error}")
+                _report(st, f"solver failed: {run.job.error}")
                 _drop_preview(key, st)
             if not synchronous:
                 _status(None)
@@ -346,11 +367,11 @@ def _live_timer():
 def pump(timeout=None):
     """Run pending live re-bakes to completion now (headless scripts, tests). Returns runs."""
     deadline = None if timeout is None else time.monotonic() + timeout
-    before = sum(st.runs for st in core_live.all_states().values())
+    before = sum(st.runs for st in _live_states().values())
     while _step(synchronous=True):
         if deadline is not None and time.monotonic() > deadline:
             break
-    return sum(st.runs for st in core_live.all_states().values()) - before
+    return sum(st.runs for st in _live_states().values()) - before
 
 
 def live_toggled(props, context):
@@ -372,13 +393,10 @@ def _rekey():
     by_name = {}
     for s in bpy.data.scenes:
         by_name.setdefault(s.name_full, []).append(bake.scene_key(s))
-    known = set(core_job.cache_keys()) | set(core_live.all_states()) | baked_state.keys()
-    for old in known - current:
+    for old in set(session.sessions()) - current:
         new = by_name.get(old.rsplit("@", 1)[0], [])
         if len(new) == 1:
-            core_job.cache_rekey(old, new[0])
-            core_live.rekey(old, new[0])
-            baked_state.rekey(old, new[0])
+            session.rekey(old, new[0])
 
 
 def settle(scene, writes=True):
@@ -386,7 +404,7 @@ def settle(scene, writes=True):
     live state. After an undo, last_stats follows the bake shown and, with Live on, an
     out-of-date bake is re-baked (writes=False, from a panel's draw, leaves that to the
     handlers: drawing may not write)."""
-    st = core_live.state_for(bake.scene_key(scene))
+    st = session.session(bake.scene_key(scene)).live
     why = st.unjudged
     if not why or (why == "undo" and not writes):
         return st
@@ -421,7 +439,7 @@ def _settle_all():
 def _unjudge(why):
     for scene in bpy.data.scenes:
         if getattr(scene, "radiosity", None) is not None:
-            core_live.state_for(bake.scene_key(scene)).unjudged = why
+            session.session(bake.scene_key(scene)).live.unjudged = why
     # The depsgraph evaluation that follows settles each scene (on_depsgraph_update); this
     # timer settles any the evaluation did not report.
     if not bpy.app.timers.is_registered(_settle_all):
@@ -435,7 +453,7 @@ def on_undo_post(*_args):
     solution; a live job still running solves what the scene was before the undo, so it is
     followed by another."""
     _rekey()
-    for st in core_live.all_states().values():
+    for st in _live_states().values():
         # Undo put back the meshes' colours of its step: no preview of ours is shown any more.
         st.preview_pending = False
         st.previewed = set()
@@ -443,9 +461,7 @@ def on_undo_post(*_args):
 
 
 def drop_caches():
-    core_live.drop_all()
-    core_job.cache_drop()
-    baked_state.forget()
+    session.drop_all()
     eval_cache.clear()      # textures and worlds Cycles evaluated (keyed by content)
 
 

@@ -6,6 +6,7 @@ from bpy.props import BoolProperty
 
 from . import bake
 from .core import job as core_job
+from .core import session
 
 TIMER_STEP = 0.1
 
@@ -34,7 +35,7 @@ class RADIOSITY_OT_bake(bpy.types.Operator):
     bl_label = "Bake Radiosity"
     bl_options = {"REGISTER", "UNDO"}
 
-    full: BoolProperty(name="Full", default=False,
+    full: BoolProperty(name="From Scratch", default=False,
                        description="Ignore the kept solution and solve from scratch")
 
     @classmethod
@@ -128,10 +129,10 @@ def status_text(run, progress, elapsed):
 
 
 class RADIOSITY_OT_clear(bpy.types.Operator):
-    bl_description = ("Forget the solution kept in memory for incremental re-bakes (the baked "
+    bl_description = ("Free the memory the solver keeps to re-bake moves quickly (the baked "
                       "colours stay); the next bake solves from scratch")
     bl_idname = "radiosity.clear"
-    bl_label = "Forget Kept Solution"
+    bl_label = "Free Solver Memory"
     bl_options = {"REGISTER"}
 
     def execute(self, context):
@@ -139,9 +140,8 @@ class RADIOSITY_OT_clear(bpy.types.Operator):
         return {"FINISHED"}
 
 
-# Shading of each 3D view before Show Baked Colours, by the space's address (UI data: undo does
-# not touch it), so the user can go back.
-_SAVED_SHADING = {}
+# Each 3D view's shading before Show Baked Colours is kept in the scene's session, by the
+# view's address (UI data: undo does not touch it), so the user can go back.
 _BAKED_SHADING = ("SOLID", "VERTEX", "FLAT")     # VERTEX is labelled "Attribute" in the UI
 
 
@@ -190,9 +190,10 @@ class RADIOSITY_OT_show_colors(bpy.types.Operator):
         views = _views_or_warn(self, context)
         if not views:
             return {"CANCELLED"}
+        saved = session.session(bake.scene_key(context.scene)).shading
         for space in views:
             if not shows_bake(space):
-                _SAVED_SHADING[space.as_pointer()] = _shading_of(space)
+                saved[space.as_pointer()] = _shading_of(space)
             sh = space.shading
             sh.type, sh.color_type, sh.light = _BAKED_SHADING
         return {"FINISHED"}
@@ -208,9 +209,10 @@ class RADIOSITY_OT_restore_shading(bpy.types.Operator):
         views = _views_or_warn(self, context)
         if not views:
             return {"CANCELLED"}
+        saved = session.session(bake.scene_key(context.scene)).shading
         for space in views:
             # Unknown (a file opened showing the bake): Blender's default Solid look.
-            kind, color, light = _SAVED_SHADING.pop(space.as_pointer(),
+            kind, color, light = saved.pop(space.as_pointer(),
                                                     ("SOLID", "MATERIAL", "STUDIO"))
             sh = space.shading
             sh.type = kind

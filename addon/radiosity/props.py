@@ -48,7 +48,7 @@ class RadiositySceneSettings(bpy.types.PropertyGroup):
                     "elements (finer where shadows need it) carrying the colours; the original "
                     "is not modified")
     byte_copy: BoolProperty(
-        name="sRGB Byte Copy", default=False,
+        name="8-bit sRGB Copy", default=False,
         description="Also write a BYTE_COLOR corner attribute named <attribute>_sRGB for game "
                     "export: the baked values times 2^exposure, sRGB-encoded and clamped to "
                     "[0, 1] (8 bits per channel)")

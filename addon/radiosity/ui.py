@@ -31,9 +31,8 @@ def draw_settings(layout, context):
     chars = _chars(context)
     col = layout.column()
     col.prop(props, "preset")
-    sub = col.row()
-    sub.enabled = props.preset == "CUSTOM"
-    sub.prop(props, "error_threshold")
+    if props.preset == "CUSTOM":
+        col.prop(props, "error_threshold")
     # The sidebar is narrow: a label beside the text field was cut to 'Attrib...'.
     col.label(text="Colour Attribute:")
     col.prop(props, "attribute_name", text="")
@@ -46,7 +45,7 @@ def draw_settings(layout, context):
     col.prop(props, "live")
     row = layout.row(align=True)
     row.operator("radiosity.bake", text="Bake", icon="RENDER_STILL").full = False
-    row.operator("radiosity.bake", text="Full", icon="FILE_REFRESH").full = True
+    row.operator("radiosity.bake", text="From Scratch", icon="FILE_REFRESH").full = True
     col = layout.column(align=True)
     if operators.any_shows_bake(context):
         col.operator("radiosity.restore_shading", icon="LOOP_BACK")
@@ -65,12 +64,17 @@ def draw_state(layout, st, live, chars=40):
         return
     if st.job is not None:
         elapsed = time.monotonic() - (st.job_started or time.monotonic())
-        layout.box().label(text=f"Live update running: {st.progress * 100:.0f} %, {elapsed:.0f} s",
-                           icon="SORTTIME")
+        _wrapped(layout.box(), f"Live update: {st.progress * 100:.0f} %, {elapsed:.0f} s", chars,
+                 icon="SORTTIME")
         return
     if st.pending and live:
         layout.box().label(text="Live update queued", icon="SORTTIME")
         return
+    if st.failed and live:
+        box = layout.box()
+        box.alert = True
+        box.label(text="Live update failed", icon="ERROR")
+        _wrapped(box, st.failed, chars)
     reason = st.stale
     if reason:
         box = layout.box()

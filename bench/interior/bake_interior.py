@@ -80,8 +80,8 @@ def native_phases():
     and "phase_rays", which last_stats leaves out (dicts); read from the add-on's kept solution
     (its internals, so None when they are not where this expects them)."""
     try:
-        from radiosity.core import job
-        kept = list(job._CACHE.values())
+        from radiosity.core import session
+        kept = [x.kept for x in session.sessions().values() if x.kept is not None]
         stats = kept[-1].solver.stats()
         return {"seconds": dict(stats["phases"]), "rays": dict(stats["phase_rays"])}
     except Exception:       # noqa: BLE001 - an optional figure

@@ -63,7 +63,7 @@ void Solver::move_object(int object, const double m[16]) {
     pending_moves_[object] = pose_of(object, m);
 }
 
-Solver::Pose Solver::pose_of(int object, const double m[16]) const {
+Rigid Solver::pose_of(int object, const double m[16]) const {
     const std::string& name = scene_.objects()[object].name;
     for (int i = 0; i < 16; ++i)
         if (!std::isfinite(m[i])) throw InputError("object '" + name + "': the matrix has a NaN or inf entry");
@@ -83,8 +83,8 @@ Solver::Pose Solver::pose_of(int object, const double m[16]) const {
     // World p = R p0 + m_t; internal p_i = (p - o) / u, so p_i = R p0_i + (R o + m_t - o) / u.
     const Vec3 o = h_.origin, mt{m[3], m[7], m[11]};
     Vec3 Ro{R[0] * o.x + R[1] * o.y + R[2] * o.z, R[3] * o.x + R[4] * o.y + R[5] * o.z, R[6] * o.x + R[7] * o.y + R[8] * o.z};
-    Pose p;
-    std::copy(R, R + 9, p.R);
+    Rigid p;
+    std::copy(R, R + 9, p.R.begin());
     p.t = (Ro + mt - o) / h_.unit;
     // Beyond 1e12 scene diagonals rays to it leave float range: Embree refuses them (an
     // assertion in Debian's build; fuzzer finding with a translation of 1e30).
@@ -227,12 +227,11 @@ void Solver::reopen_settled(const std::vector<int>& ids) {
     // over the receiver's children times that radiance was below the threshold. The radiance
     // a full solve settles on (judging_radiance) grew for their senders, so the settlement
     // may no longer hold; a fresh evaluation (same rays as a full solve, few links) lets the
-    // oracle judge them as new links. Without this, a lamp moved over a floor patch left its
-    // settled links to the box side beside it whole where a full solve splits them (0.7 %
-    // NRMSE at the box's foot). Only growth counts (a settlement holds for less light), and
-    // in a lit scene only of the lamps' first bounce: judged again on interreflected light,
-    // which a full solve's first linking never sees, a bright room refined far beyond a full
-    // solve (an emitter dimmed at rho 0.9: 9x the rays, 0.26 % NRMSE instead of 0.12 %).
+    // oracle judge them as new links (else a lamp moved over a floor patch leaves links to
+    // the box beside it whole where a full solve splits them). Only growth counts (a
+    // settlement holds for less light), and in a lit scene only of the lamps' first bounce:
+    // a full solve's first linking never sees interreflected light, and judging on it
+    // refines a bright room far beyond a full solve (docs/decisions.md, "Updates").
     std::vector<Link> fresh(ids.size());
     parallel_for(ids.size(), settings_.threads, [&](size_t k) { fresh[k] = evaluate(links_[ids[k]].src, links_[ids[k]].rcv); }, 16);
     for (size_t k = 0; k < ids.size(); ++k) refresh(ids[k], fresh[k]);
@@ -262,17 +261,13 @@ bool Solver::unrefine_if_acceptable(int id, const Judgement* first) {
     // Acceptable again means what a full solve would decide for this link now. In a lit
     // scene a full solve first judges on the lamps' first bounce (`first`, see
     // at_first_bounce): a split or a settlement (3.5) made then stands, a link kept then is
-    // judged again on the solved radiance and may settle later. Keep alone (the rule without
-    // `first`) left links refined under a bright sender that is now dim split where a full
-    // solve settles them whole: a point light moved away from the floor beside a box left the
-    // box's foot 7 % dark (0.67 % NRMSE). Without lamps a full solve's rounds judge on
-    // radiance still gaining its interreflection, whose early contrast splits links that the
-    // solved radiance would settle, so there only Keep brings a link back (settling too left
-    // 11 % fewer elements than a full solve after a dimming, against +5 % with Keep).
-    // A sender that reflects nothing (an emitter) has the same radiance in every round of a
-    // full solve, so its links are judged there exactly as here: a settlement stands too. With
-    // Keep alone, a floor patch an old shadow had split under an emissive panel stayed split
-    // where a full solve settles it whole (6 % at the floor's edge after a box move).
+    // judged again on the solved radiance and may settle later (Keep alone left links split
+    // under a sender now dim where a full solve settles them whole). Without lamps a full
+    // solve's rounds judge on radiance still gaining its interreflection, whose early
+    // contrast splits links the solved radiance would settle, so there only Keep brings a
+    // link back. A sender that reflects nothing (an emitter) has the same radiance in every
+    // round of a full solve, so its links are judged there exactly as here: a settlement
+    // stands too. (The measurements: docs/decisions.md, "Updates".)
     if (links_[id].stale) {  // judged where things are now (callers freshen_stale first)
         refresh(id, reevaluate(links_[id]));
         ++stats_.history_links_recomputed;
@@ -397,10 +392,7 @@ void Solver::adjust_links(Change& ch, std::vector<int>& recheck_history) {
             // Obj-obj (both ends inside one moved object): a rigid move keeps its form
             // factor; only the direction turns.
             if (a.object >= 0 && a.object == b.object && ch.moved[a.object]) {
-                const Pose& p = pending_moves_.at(a.object);
-                Vec3 d = l.dir;
-                l.dir = {p.R[0] * d.x + p.R[1] * d.y + p.R[2] * d.z, p.R[3] * d.x + p.R[4] * d.y + p.R[5] * d.z,
-                         p.R[6] * d.x + p.R[7] * d.y + p.R[8] * d.z};
+                l.dir = pending_moves_.at(a.object).dir(l.dir);
                 l.ray_count = -1;  // its rays moved with it: the record is of other segments
                 continue;
             }
@@ -575,35 +567,55 @@ void Solver::adjust_links(Change& ch, std::vector<int>& recheck_history) {
 }
 
 void Solver::update(Control* control) {
+    // The pipeline of an incremental update; each phase is a function below. A phase that
+    // finds the update cannot be incremental solves in full instead and returns false.
     if (!solved_) {
         solve(control);
         return;
     }
-    const bool topology = !pending_adds_.empty() || !pending_removes_.empty();
-    const bool materials_changed = materials_changed_;  // for the output (it is cleared below)
-    if (pending_moves_.empty() && !materials_changed_ && !topology) {
+    UpdateRun u;
+    u.topology = !pending_adds_.empty() || !pending_removes_.empty();
+    u.materials_changed = materials_changed_;
+    if (pending_moves_.empty() && !materials_changed_ && !u.topology) {
         stats_.mode_incremental = true;
         stats_.seconds_adjust = 0;
         return;
     }
-    // A full solve instead (it builds from scene_: additions are in, removals are committed
-    // by solve(), moves go into poses_).
-    auto solve_in_full = [&](const char* why) {
-        poses_.resize(scene_.objects().size());  // a move can name an object added since (fuzzer finding)
-        for (auto& [obj, pose] : pending_moves_) poses_[obj] = pose;
-        pending_moves_.clear();
-        solve(control);
-        if (why) stats_.warnings.push_back(why);
-    };
     if (changes_outgrow_frame()) {  // topology.cpp
-        solve_in_full("objects added or removed changed the scene's size: solved in full (the scene's frame "
-                      "changes)");
+        solve_instead(control, "objects added or removed changed the scene's size: solved in full (the scene's "
+                               "frame changes)");
         return;
     }
     control_ = control;
     solved_ = false;  // a cancel leaves the kept solution inconsistent: the caller re-solves
-    const auto t0 = Clock::now();
-    lap_t_ = t0;
+    // What this update knows holds for its phases only, however it ends (a cancel throws).
+    struct RunScope {
+        Solver* s;
+        ~RunScope() { s->update_run_ = nullptr; }
+    } run_scope{this};
+    update_run_ = &u;
+    update_begin(u);
+    if (!update_materials(control)) return;
+    if (!pending_moves_.empty() || u.topology)
+        if (!update_adjust(u, control)) return;
+    update_history(u);
+    update_resolve(u);
+    update_output(u);
+}
+
+void Solver::solve_instead(Control* control, const char* why) {
+    // A full solve builds from scene_: additions are in, removals are committed by solve(),
+    // moves go into poses_.
+    poses_.resize(scene_.objects().size());  // a move can name an object added since (fuzzer finding)
+    for (auto& [obj, pose] : pending_moves_) poses_[obj] = pose;
+    pending_moves_.clear();
+    solve(control);
+    if (why) stats_.warnings.push_back(why);
+}
+
+void Solver::update_begin(UpdateRun& u) {
+    u.t0 = Clock::now();
+    lap_t_ = u.t0;
     lap_rays_ = int64_t(vis_->rays());
     stats_.phases.clear();
     stats_.phase_rays.clear();
@@ -619,18 +631,12 @@ void Solver::update(Control* control) {
     s.seconds_sweeps = s.seconds_gather_plan = 0;
     s.refine_rounds = 0;
     s.iteration_capped = false;
-    const int64_t links_before = int64_t(links_.size());
-    // The closure focus (below) holds for this update only, however it ends (a cancel throws).
-    struct FocusReset {
-        Solver* s;
-        ~FocusReset() {
-            s->closure_focus_.clear();
-            s->closure_links_before_ = -1;
-        }
-    } focus_reset{this};
+    u.links_before = int64_t(links_.size());
+    u.before = snapshot();
+    u.judged_before = judging_radiance(u.before);
+}
 
-    const std::vector<float> before = snapshot();
-    const std::vector<float> judged_before = judging_radiance(before);
+bool Solver::update_materials(Control* control) {
     if (materials_changed_) {
         apply_materials();
         materials_changed_ = false;
@@ -639,145 +645,143 @@ void Solver::update(Control* control) {
         // Dark now: a zero reference makes the oracle's threshold 0, and the update refined
         // every link to the caps (gigabytes, minutes). Dark before: solve() made no links,
         // so there is nothing to update. solve() handles both.
-        solve_in_full(nullptr);
-        return;
+        solve_instead(control, nullptr);
+        return false;
     }
-
     h_.index_emitters();  // can_split: small emitting clusters still split (materials may have changed)
-    std::vector<int> recheck_history;
-    bool rejudge_all = false;
-    std::vector<Aabb> now_boxes;     // moved objects' new boxes (Change::now)
-    std::vector<char> moved_objects;
-    if (!pending_moves_.empty() || topology) {
-        Change ch;
-        ch.inX.assign(h_.nodes.size(), 0);
-        const size_t known_surfaces = h_.surfaces.size();
-        if (topology) apply_topology(ch);  // topology.cpp
-        // Geometry and Embree instances of moved objects.
-        ch.moved.assign(scene_.objects().size(), 0);
-        for (auto& [obj, pose] : pending_moves_) {
-            ch.clips.push_back(h_.object_box(obj));
-            h_.place_object(obj, pose.R, pose.t);
-            poses_[obj] = pose;
-            double m[12] = {pose.R[0], pose.R[1], pose.R[2], pose.t.x, pose.R[3], pose.R[4],
-                            pose.R[5], pose.t.y, pose.R[6], pose.R[7], pose.R[8], pose.t.z};
-            vis_->set_object_transform(obj, m);
-            ch.clips.push_back(h_.object_box(obj));
-            ch.now.push_back(ch.clips.back());
-            ch.moved[obj] = 1;
-        }
-        vis_->commit();
-        // lights.cpp: which polygons lie on which follows the placements (the lights' code clears
-        // it only when the scene has lights; the output's contact test needs it either way).
-        lights_.contacts.clear();
-        lap("place");
-        for (Aabb& c : ch.clips) {  // ray ends are lifted off surfaces: a hair of margin
-            c.lo -= Vec3{1e-5, 1e-5, 1e-5};
-            c.hi += Vec3{1e-5, 1e-5, 1e-5};
-        }
-        // Moves only: outside the moved objects' old and new boxes every ray meets what it met.
-        // An addition or removal re-orders the surface table the cluster samplers draw from
-        // (Hierarchy::surface_order, area_prefix), which can change a link's rays themselves.
-        replaying_ = settings_.replay_rays && !topology;
-        replay_clips_ = ch.clips;
-        // Closed pockets (pockets.cpp) decide which links may exist at all: when a move, an
-        // addition or a removal changes which pocket a surface that stays is in, or puts new
-        // surfaces into a closed pocket, solve in full (rare: an object put into or taken out
-        // of a closed crate).
-        if (!reseal(known_surfaces, replaying_ ? &ch.clips : nullptr, &ch.moved)) {
-            solve_in_full(topology ? "an object added or removed changed a closed pocket: solved in full"
-                                   : "a move changed a closed pocket: solved in full");
-            return;
-        }
-        lap("pockets");
-        if (topology) {
-            // Area and emission changed: the reference radiance, and with it the oracle's
-            // threshold. Beyond the tolerance changed_senders() uses, every link is judged again.
-            const double old_threshold = threshold_;
-            compute_reference();
-            if (L_ref_ <= 0) {
-                solve_in_full(nullptr);
-                return;
-            }
-            rejudge_all = std::fabs(threshold_ - old_threshold) > 0.02 * old_threshold;
-            lap("topology");
-        }
-        // X: the moved objects' nodes and the clusters above them (their geometry changed).
-        for (auto& [obj, pose] : pending_moves_) {
-            (void)pose;
-            for (int id : h_.object_nodes(obj)) ch.inX[id] = 1;
-            std::vector<int> chain;
-            int top = h_.object_node[obj];
-            if (top >= 0) {
-                for (int a = top; a >= 0; a = h_.nodes[a].parent) chain.push_back(a);
-            }
-            for (int a : chain)
-                if (a != h_.root) ch.inX[a] = 1;
-            std::reverse(chain.begin(), chain.end());  // root first
-            ch.chains.push_back(chain);
-        }
-        adjust_links(ch, recheck_history);
-        pending_moves_.clear();
-        now_boxes = ch.now;
-        moved_objects = ch.moved;
-        // The closure passes of this update split, away from the moved boxes, only the links
-        // made since (the moved objects' new links change the sums of leaves far off): the
-        // links that were there passed the full solve's closure passes as they are, and
-        // splitting them again cast a third of the update's rays for no change in the result
-        // (box / chair / full room, MEDIUM: update rays 31.2 / 43.6 / 21.2 % -> 27.9 / 41.8 /
-        // 17.6 % of a full solve's, NRMSE against it 0.08-0.12 % either way).
-        if (!topology) {
-            closure_focus_ = ch.clips;
-            closure_links_before_ = links_before;
-        }
+    return true;
+}
+
+bool Solver::update_adjust(UpdateRun& u, Control* control) {
+    Change ch;
+    ch.inX.assign(h_.nodes.size(), 0);
+    const size_t known_surfaces = h_.surfaces.size();
+    if (u.topology) apply_topology(ch);  // topology.cpp
+    // Geometry and Embree instances of moved objects.
+    ch.moved.assign(scene_.objects().size(), 0);
+    for (auto& [obj, pose] : pending_moves_) {
+        ch.clips.push_back(h_.object_box(obj));
+        h_.place_object(obj, pose);
+        poses_[obj] = pose;
+        vis_->set_object_transform(obj, pose);
+        ch.clips.push_back(h_.object_box(obj));
+        ch.now.push_back(ch.clips.back());
+        ch.moved[obj] = 1;
     }
-    s.links_created = int64_t(links_.size()) - links_before;
+    vis_->commit();
+    // lights.cpp: which polygons lie on which follows the placements (the lights' code clears
+    // it only when the scene has lights; the output's contact test needs it either way).
+    lights_.contacts.clear();
+    lap("place");
+    for (Aabb& c : ch.clips) {  // ray ends are lifted off surfaces: a hair of margin
+        c.lo -= Vec3{1e-5, 1e-5, 1e-5};
+        c.hi += Vec3{1e-5, 1e-5, 1e-5};
+    }
+    // Moves only: outside the moved objects' old and new boxes every ray meets what it met.
+    // An addition or removal re-orders the surface table the cluster samplers draw from
+    // (Hierarchy::surface_order, area_prefix), which can change a link's rays themselves.
+    u.replaying = settings_.replay_rays && !u.topology;
+    u.replay_clips = ch.clips;
+    // Closed pockets (pockets.cpp) decide which links may exist at all: when a move, an
+    // addition or a removal changes which pocket a surface that stays is in, or puts new
+    // surfaces into a closed pocket, solve in full (rare: an object put into or taken out
+    // of a closed crate).
+    if (!reseal(known_surfaces, u.replaying ? &ch.clips : nullptr, &ch.moved)) {
+        solve_instead(control, u.topology ? "an object added or removed changed a closed pocket: solved in full"
+                                          : "a move changed a closed pocket: solved in full");
+        return false;
+    }
+    lap("pockets");
+    if (u.topology) {
+        // Area and emission changed: the reference radiance, and with it the oracle's
+        // threshold. Beyond the tolerance changed_senders() uses, every link is judged again.
+        const double old_threshold = threshold_;
+        compute_reference();
+        if (L_ref_ <= 0) {
+            solve_instead(control, nullptr);
+            return false;
+        }
+        u.rejudge_all = std::fabs(threshold_ - old_threshold) > 0.02 * old_threshold;
+        lap("topology");
+    }
+    // X: the moved objects' nodes and the clusters above them (their geometry changed).
+    for (auto& [obj, pose] : pending_moves_) {
+        (void)pose;
+        for (int id : h_.object_nodes(obj)) ch.inX[id] = 1;
+        std::vector<int> chain;
+        int top = h_.object_node[obj];
+        if (top >= 0) {
+            for (int a = top; a >= 0; a = h_.nodes[a].parent) chain.push_back(a);
+        }
+        for (int a : chain)
+            if (a != h_.root) ch.inX[a] = 1;
+        std::reverse(chain.begin(), chain.end());  // root first
+        ch.chains.push_back(chain);
+    }
+    adjust_links(ch, u.recheck_history);
+    pending_moves_.clear();
+    u.now_boxes = ch.now;
+    u.moved_objects = ch.moved;
+    // The closure passes of this update split, away from the moved boxes, only the links
+    // made since (the moved objects' new links change the sums of leaves far off): the
+    // links that were there passed the full solve's closure passes as they are, and
+    // splitting them again cast a third of the update's rays for no change in the result
+    // (docs/decisions.md, "Updates").
+    if (!u.topology) {
+        u.closure_focus = ch.clips;
+        u.focused = true;
+    }
+    return true;
+}
+
+void Solver::update_history(UpdateRun& u) {
+    stats_.links_created = int64_t(links_.size()) - u.links_before;
     // History links whose view changed: coarsen back where the old shadow is gone.
-    freshen_stale(recheck_history, false);
-    for (int id : recheck_history)  // ascending: a parent before the links it refined into
+    freshen_stale(u.recheck_history, false);
+    for (int id : u.recheck_history)  // ascending: a parent before the links it refined into
         // A closure split is undone too: the move changed what its receiver sees, and the
         // next closure pass splits it again if a leaf below still needs it.
         if (!links_[id].dead && !links_[id].active && !links_[id].occluded) unrefine_if_acceptable(id);
-    s.seconds_adjust = since(t0);
+    stats_.seconds_adjust = since(u.t0);
     lap("history");
-
     light_update();  // lights.cpp: drop light splits the new direct light does not need
     lap("lights");
+}
+
+void Solver::update_resolve(UpdateRun& u) {
+    Stats& s = stats_;
     // Warm-started re-solve: the previous radiances are the starting point. Only links the
     // update touched, or whose sender's light changed enough to tip the oracle, are judged
     // again; a full solve's refine rounds judge every link.
     // The solves the oracle judges converge as far as a full solve's refine rounds do
     // (`loose`, solver.cpp); only the last one to the tolerance. Judging half-converged
     // radiances (a few sweeps) cost measurably more error; to the tolerance every time cost a
-    // third of the update's sweeps for no change in the result (box room: 29 -> 20 sweeps,
-    // NRMSE vs a full solve 0.284 % either way).
+    // third of the update's sweeps for no change in the result.
     const double loose = std::max(settings_.tolerance, 1e-3);
     // What a move buried (the floor under the box's new place) still has the radiance solved
     // when it was open, and keeps it until the first gather. Links judged on it -- the
     // relink's (adjust_links) and the ones this closure pass makes -- take it for light:
     // the floor under a box sees the box's inside through the contact (two-sided faces), so
-    // the inner faces were split down to the area limit (box room, MEDIUM: 1004 inner leaves
-    // at depth 4 against 112 in a full solve of the moved scene), and since those leaves'
-    // sums stay above 1 however deep they go (they see both the floor and the box's
-    // coinciding bottom), every closure pass split every link above them again: 64.5k active
-    // links into the moved box against 24.3k in a full solve. A full solve judges them on the
-    // first bounce, where a buried floor is dark: so do these judgements, for the buried
-    // leaves only (the rest keeps the solved radiance, which after a small move is nearly
-    // right; judging everything on the first bounce left the moved object's links coarse, and
-    // the refinement rounds that caught up doubled the sweeps of a drag).
-    at_first_bounce_where_buried(now_boxes, moved_objects, [&] { compute_closure(); });
+    // the inner faces were split down to the area limit, and since those leaves' sums stay
+    // above 1 however deep they go (they see both the floor and the box's coinciding
+    // bottom), every closure pass split every link above them again. A full solve judges
+    // them on the first bounce, where a buried floor is dark: so do these judgements, for
+    // the buried leaves only (the rest keeps the solved radiance, which after a small move is
+    // nearly right; judging everything on the first bounce left the moved object's links
+    // coarse, and the refinement rounds that caught up doubled the sweeps of a drag).
+    at_first_bounce_where_buried(u.now_boxes, u.moved_objects, [&] { compute_closure(); });
     lap("closure");
     iterate_to(loose, settings_.max_iterations, 0.3, 0.6);
     lap("gather");
-    std::vector<char> moved_light = changed_senders(before);
+    std::vector<char> moved_light = changed_senders(u.before);
     // A new threshold (objects added or removed) can tip any judgement.
-    if (rejudge_all) std::fill(moved_light.begin(), moved_light.end(), 1);
+    if (u.rejudge_all) std::fill(moved_light.begin(), moved_light.end(), 1);
     unrefine_pass(&moved_light);  // less light somewhere: un-refine (3.4)
     lap("unrefine");
     // The closure factors and the converged radiances belong to the links as they were
     // before un-refinement and the rounds below: the last solve must see the final links.
     bool solved_final_links = false;
-    int64_t judged_from = links_before;  // links made since are new: judge them all
+    int64_t judged_from = u.links_before;  // links made since are new: judge them all
     for (int round = 0; round < settings_.max_refine_rounds; ++round) {
         check_cancel();
         ++s.refine_rounds;
@@ -789,8 +793,8 @@ void Solver::update(Control* control) {
             if (!l.active || !(int64_t(i) >= judged_from || l.rejudge || moved_light[l.src])) continue;
             ids.push_back(int(i));
             const size_t p = size_t(l.src);
-            if (l.settled && p < judged_before.size() && p < judged_now.size() &&
-                judged_now[p] > 1.02 * judged_before[p] && judged_now[p] > floor)
+            if (l.settled && p < u.judged_before.size() && p < judged_now.size() &&
+                judged_now[p] > 1.02 * u.judged_before[p] && judged_now[p] > floor)
                 unsettle.push_back(int(i));
         }
         reopen_settled(unsettle);
@@ -822,14 +826,18 @@ void Solver::update(Control* control) {
     }
     prune_elements();
     lap("prune");
+}
+
+void Solver::update_output(UpdateRun& u) {
+    Stats& s = stats_;
     // output.cpp: after moves alone (or material changes) the output keeps what no moved box
     // can change; an addition or removal re-orders what the cluster samplers draw: anew.
-    if (!topology) {
+    if (!u.topology) {
         FinalGather::Moves mv;
-        mv.moved = moved_objects.empty() ? std::vector<char>(scene_.objects().size(), 0) : moved_objects;
-        mv.clips = replay_clips_;
-        if (moved_objects.empty()) mv.clips.clear();
-        mv.materials_changed = materials_changed;
+        mv.moved = u.moved_objects.empty() ? std::vector<char>(scene_.objects().size(), 0) : u.moved_objects;
+        mv.clips = u.replay_clips;
+        if (u.moved_objects.empty()) mv.clips.clear();
+        mv.materials_changed = u.materials_changed;
         final_gather(0.95, 1.0, &mv);
     } else {
         final_gather(0.95, 1.0);
@@ -837,16 +845,16 @@ void Solver::update(Control* control) {
     lap("output");
     // A record stays true only while every change of geometry is replayed into it: after an
     // addition or removal (surface table re-ordered, see above) none is trusted.
-    replaying_ = false;
+    u.replaying = false;
     for (Link& l : links_)
         // A stale link's record is of the geometry before this update's moves: a later
         // update's replay (whose boxes are its own moves') would take outcomes it changed.
-        if (topology || l.stale) l.ray_count = -1;
+        if (u.topology || l.stale) l.ray_count = -1;
     add_result_warnings();
     compute_stats();
     lap("stats");
     s.mode_incremental = true;
-    s.seconds_total = since(t0);
+    s.seconds_total = since(u.t0);
     // Per-phase times of this update (not of the first solve): no build; linking is the
     // link update; the rest is re-solving.
     s.seconds_build = 0;

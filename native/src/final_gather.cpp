@@ -19,10 +19,9 @@ namespace radiosity {
 namespace {
 
 // Corners of one vertex with the same normal and contact state share one point (traced at the
-// first one's sample point): a gridded floor's four corners then cost one gather, not four
-// (box room MEDIUM: 4,512 points instead of 15,968, output rays 9.0M -> 2.5M, rRMSE against
-// Cycles 0.058 -> 0.056, the difference within noise). Where Cycles' corners of one vertex
-// differ most, at the foot of a box, their contact states differ and they do not share.
+// first one's sample point): a gridded floor's four corners then cost one gather, not four.
+// Where Cycles' corners of one vertex differ most, at the foot of a box, their contact states
+// differ and they do not share.
 constexpr bool kShareVertexPoints = true;
 
 // Where the corner is baked (internal frame): as Cycles does, just inside the first of the
@@ -97,8 +96,7 @@ bool sender_emits(const Hierarchy& h, int src) {
 // visibility sampled); cluster senders' are Monte Carlo sums over their surfaces. So the
 // excess is taken from the sampled couplings, own or inherited alike (all couplings alike when
 // those are too small to hold it). Taking it from the inherited links, as a leaf does, cut a
-// chair seat's lamp links -- inherited, exact -- by 25 % where its own cluster links summed
-// 3 % over (0.419 where Cycles reads 0.504); the full room at HIGH 0.0145 -> 0.0125 rRMSE.
+// chair seat's exact lamp links where its own cluster links summed a little over 1.
 // Expressed as the factors on the own and inherited parts (values() splits by those).
 ClosureFactors point_closure_factors(double own, double inherited, double s_own, double s_inherited) {
     const double f = own + inherited;
@@ -163,6 +161,129 @@ int FinalGather::ray_share(int budget, double weight, double total, int lo, int 
     return std::min(std::max(n, lo), hi);
 }
 
+void FinalGather::trace_lamps(const Solution& s, const Config& c, Point& pt, const Point* old, const Moves* moves,
+                              Counts& counts) const {
+    const Hierarchy& h = s.h;
+    const Vec3& x = pt.x;
+    const Vec3& n = pt.n;
+    // Lamps: kept after a move when no shadow ray can meet a moved box (a point or spot light's
+    // segment hull; the sun's and the sky's rays go anywhere in front: cast again).
+    bool lamps_kept = old != nullptr && !old->sealed && !moves->cast_all && !moves->lights_changed;
+    if (old) {
+        for (const LightDesc& d : s.scene.lights()) {
+            if (d.intensity.max() <= 0) continue;
+            if (d.type == LightDesc::Type::Sun || d.type == LightDesc::Type::Sky) { lamps_kept = false; break; }
+            const Vec3 q = h.to_internal(d.position);
+            const double r = d.radius / h.unit;
+            Aabb lb;
+            lb.lo = q - Vec3{r, r, r};
+            lb.hi = q + Vec3{r, r, r};
+            if (hull_meets(x, lb, moves->clips)) { lamps_kept = false; break; }
+        }
+    }
+    if (lamps_kept) {
+        pt.direct = old->direct;
+    } else {
+        const PointLight lamp = direct_light_at(s.scene, h, s.vis, x, n, false, c.light_samples, pt.seed);
+        pt.direct = lamp.E;
+        counts.rays += lamp.rays;
+        counts.lamp_rays += lamp.rays;
+    }
+}
+
+FinalGather::Record FinalGather::trace_transfer(const Solution& s, const Config& c, Point& pt, const Point* old,
+                                                const Moves* moves, Counts& counts, int src, double weight, double total,
+                                                size_t links) const {
+    // One sender's transfer to the point: kept from the last trace when no ray of it can meet
+    // a moved box, its rays replayed when some can, else traced afresh with the point's share
+    // of the budget for it (more where a shadow edge crosses it). Appends its samples.
+    const Hierarchy& h = s.h;
+    const Vec3& x = pt.x;
+    const Vec3& n = pt.n;
+    // Seeded by the point and the sender alone: what the point's rays find of a sender does
+    // not depend on which receiver node holds the link, so when an update splits a link on
+    // the receiver side (a closure split), the link that now reaches the point from the
+    // same sender is the same transfer, and its record is kept or replayed (below).
+    const uint64_t lseed = transfer_seed(h, pt.seed, src);
+    Record rec;
+    rec.src = src;
+    rec.begin = uint32_t(pt.samples.size());
+    const Record* was = nullptr;
+    // The link's share of the budget, in powers of two: a small change of the light (an
+    // update's solution against a full solve's) then rarely changes a link's rays, so the
+    // two gather the same rays where their links agree.
+    int rays = ray_share(c.rays, weight, total, c.min_rays, std::max(c.rays, c.min_rays));
+    const int refined_rays = std::min(c.rays, 4 * rays);
+    // The same link, or one new since (split on the receiver side, or made again) from a
+    // sender the point read before: the same transfer.
+    if (old)
+        for (const Record& r : old->records)
+            if (r.src == src) { was = &r; break; }
+    // Replayed only with the budget a fresh trace would give it now.
+    if (was && int(was->rays) != (was->refined ? refined_rays : rays)) was = nullptr;
+    // Its samples name leaves that are still leaves: the same rays would land on them again.
+    auto samples_current = [&](const Record& r) {
+        for (uint32_t i = r.begin; i < r.end; ++i) {
+            const Node& m = h.nodes[size_t(old->samples[i].first)];
+            if (m.dead || !m.children.empty()) return false;
+        }
+        return true;
+    };
+    if (was && !moves->cast_all && !hull_meets(x, h.nodes[size_t(src)].box, moves->clips) && samples_current(*was)) {
+        // No ray of this transfer can meet a moved box: as it was.
+        pt.samples.insert(pt.samples.end(), old->samples.begin() + was->begin, old->samples.begin() + was->end);
+        rec.F = was->F;
+        rec.inv_dist = was->inv_dist;
+        rec.rays = was->rays;
+        rec.refined = was->refined;
+        rec.outcome = was->outcome;
+        ++counts.kept;
+    } else if (was) {
+        // Its rays again, with the same budget and seed; those through no moved box keep
+        // their recorded outcome.
+        PointRayStream rs(s.vis, moves->cast_all ? nullptr : &was->outcome, &moves->clips);
+        const PointTransfer t = point_transfer(h, rs, src, x, n, pt.leaf, was->rays, lseed + (was->refined ? 1 : 0), pt.samples);
+        rec.F = float(t.F);
+        rec.inv_dist = float(t.inv_dist);
+        rec.rays = was->rays;
+        rec.refined = was->refined;
+        rec.outcome = rs.out;
+        counts.rays += rs.cast;
+        ++counts.replayed;
+    } else {
+        PointRayStream rs(s.vis);
+        PointTransfer t = point_transfer(h, rs, src, x, n, pt.leaf, rays, lseed, pt.samples);
+        counts.rays += rs.cast;
+        rec.outcome = rs.out;
+        // The transfer again with more rays (and another seed), in place of the last.
+        auto retrace_with = [&](int more, uint64_t seed_step) {
+            pt.samples.resize(rec.begin);
+            rays = more;
+            PointRayStream again(s.vis);
+            t = point_transfer(h, again, src, x, n, pt.leaf, rays, lseed + seed_step, pt.samples);
+            counts.rays += again.cast;
+            rec.outcome = again.out;
+            rec.refined = true;
+            ++counts.refined;
+        };
+        // A shadow edge crosses what this point sees of a sender that matters: four times
+        // the rays (a corner at the rim of a lamp's footprint needs more than one mid-wall).
+        if (t.partial && rays < c.rays && total > 0 && weight > total / (4.0 * double(links)))
+            retrace_with(refined_rays, 1);
+        // Deep in a penumbra of the sender that brings most of the point's light (under a
+        // tenth of it seen), the estimate rests on the few rays that get through: 1 /
+        // sqrt(rays seen), 13 % for a floor corner in a floating crate's shadow that sees
+        // 6 % of the lamp with 1024 rays. Eight times the budget there.
+        if (t.partial && total > 0 && weight > 0.5 * total && t.F < 0.1 * t.F_unoccluded &&
+            rays < kDeepRays * c.rays)
+            retrace_with(std::min(kDeepRays * c.rays, 65535), 2);
+        rec.F = float(t.F);
+        rec.inv_dist = float(t.inv_dist);
+        rec.rays = uint16_t(std::min(rays, 65535));
+    }
+    return rec;
+}
+
 void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, const Point* old, const Moves* moves,
                               Counts& counts, bool emitters_only) const {
     pt.gathered = !emitters_only;
@@ -189,29 +310,7 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
     const Node& L = h.nodes[size_t(pt.leaf)];
     const Vec3& x = pt.x;
     const Vec3& n = pt.n;
-    // Lamps: kept after a move when no shadow ray can meet a moved box (a point or spot light's
-    // segment hull; the sun's and the sky's rays go anywhere in front: cast again).
-    bool lamps_kept = old != nullptr && !old->sealed && !moves->cast_all && !moves->lights_changed;
-    if (old) {
-        for (const LightDesc& d : s.scene.lights()) {
-            if (d.intensity.max() <= 0) continue;
-            if (d.type == LightDesc::Type::Sun || d.type == LightDesc::Type::Sky) { lamps_kept = false; break; }
-            const Vec3 q = h.to_internal(d.position);
-            const double r = d.radius / h.unit;
-            Aabb lb;
-            lb.lo = q - Vec3{r, r, r};
-            lb.hi = q + Vec3{r, r, r};
-            if (hull_meets(x, lb, moves->clips)) { lamps_kept = false; break; }
-        }
-    }
-    if (lamps_kept) {
-        pt.direct = old->direct;
-    } else {
-        const PointLight lamp = direct_light_at(s.scene, h, s.vis, x, n, false, c.light_samples, pt.seed);
-        pt.direct = lamp.E;
-        counts.rays += lamp.rays;
-        counts.lamp_rays += lamp.rays;
-    }
+    trace_lamps(s, c, pt, old, moves, counts);
 
     // The links that bring the leaf its light: at the leaf itself (its own), at its element
     // ancestors and at the clusters above its surface (inherited). Together they cover what
@@ -270,89 +369,9 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
         // two draw the same rays.
         const bool emits = sender_emits(h, l.src);
         if (emitters_only && !emits) continue;
-        // Seeded by the point and the sender alone: what the point's rays find of a sender does
-        // not depend on which receiver node holds the link, so when an update splits a link on
-        // the receiver side (a closure split), the link that now reaches the point from the
-        // same sender is the same transfer, and its record is kept or replayed (below).
-        const uint64_t lseed = transfer_seed(h, pt.seed, l.src);
-        Record rec;
-        rec.src = l.src;
+        Record rec = trace_transfer(s, c, pt, old, moves, counts, l.src, u.weight, total, use.size());
         rec.own = u.own;
         rec.emits = emits;
-        rec.begin = uint32_t(pt.samples.size());
-        const Record* was = nullptr;
-        // The link's share of the budget, in powers of two: a small change of the light (an
-        // update's solution against a full solve's) then rarely changes a link's rays, so the
-        // two gather the same rays where their links agree.
-        int rays = ray_share(c.rays, u.weight, total, c.min_rays, std::max(c.rays, c.min_rays));
-        const int refined_rays = std::min(c.rays, 4 * rays);
-        // The same link, or one new since (split on the receiver side, or made again) from a
-        // sender the point read before: the same transfer.
-        if (old)
-            for (const Record& r : old->records)
-                if (r.src == l.src) { was = &r; break; }
-        // Replayed only with the budget a fresh trace would give it now.
-        if (was && int(was->rays) != (was->refined ? refined_rays : rays)) was = nullptr;
-        // Its samples name leaves that are still leaves: the same rays would land on them again.
-        auto samples_current = [&](const Record& r) {
-            for (uint32_t i = r.begin; i < r.end; ++i) {
-                const Node& m = h.nodes[size_t(old->samples[i].first)];
-                if (m.dead || !m.children.empty()) return false;
-            }
-            return true;
-        };
-        if (was && !moves->cast_all && !hull_meets(x, h.nodes[size_t(l.src)].box, moves->clips) && samples_current(*was)) {
-            // No ray of this transfer can meet a moved box: as it was.
-            pt.samples.insert(pt.samples.end(), old->samples.begin() + was->begin, old->samples.begin() + was->end);
-            rec.F = was->F;
-            rec.inv_dist = was->inv_dist;
-            rec.rays = was->rays;
-            rec.refined = was->refined;
-            rec.outcome = was->outcome;
-            ++counts.kept;
-        } else if (was) {
-            // Its rays again, with the same budget and seed; those through no moved box keep
-            // their recorded outcome.
-            PointRayStream rs(s.vis, moves->cast_all ? nullptr : &was->outcome, &moves->clips);
-            const PointTransfer t = point_transfer(h, rs, l.src, x, n, pt.leaf, was->rays, lseed + (was->refined ? 1 : 0), pt.samples);
-            rec.F = float(t.F);
-            rec.inv_dist = float(t.inv_dist);
-            rec.rays = was->rays;
-            rec.refined = was->refined;
-            rec.outcome = rs.out;
-            counts.rays += rs.cast;
-            ++counts.replayed;
-        } else {
-            PointRayStream rs(s.vis);
-            PointTransfer t = point_transfer(h, rs, l.src, x, n, pt.leaf, rays, lseed, pt.samples);
-            counts.rays += rs.cast;
-            rec.outcome = rs.out;
-            // The transfer again with more rays (and another seed), in place of the last.
-            auto retrace_with = [&](int more, uint64_t seed_step) {
-                pt.samples.resize(rec.begin);
-                rays = more;
-                PointRayStream again(s.vis);
-                t = point_transfer(h, again, l.src, x, n, pt.leaf, rays, lseed + seed_step, pt.samples);
-                counts.rays += again.cast;
-                rec.outcome = again.out;
-                rec.refined = true;
-                ++counts.refined;
-            };
-            // A shadow edge crosses what this point sees of a sender that matters: four times
-            // the rays (a corner at the rim of a lamp's footprint needs more than one mid-wall).
-            if (t.partial && rays < c.rays && total > 0 && u.weight > total / (4.0 * double(use.size())))
-                retrace_with(refined_rays, 1);
-            // Deep in a penumbra of the sender that brings most of the point's light (under a
-            // tenth of it seen), the estimate rests on the few rays that get through: 1 /
-            // sqrt(rays seen), 13 % for a floor corner in a floating crate's shadow that sees
-            // 6 % of the lamp with 1024 rays. Eight times the budget there.
-            if (t.partial && total > 0 && u.weight > 0.5 * total && t.F < 0.1 * t.F_unoccluded &&
-                rays < kDeepRays * c.rays)
-                retrace_with(std::min(kDeepRays * c.rays, 65535), 2);
-            rec.F = float(t.F);
-            rec.inv_dist = float(t.inv_dist);
-            rec.rays = uint16_t(std::min(rays, 65535));
-        }
         ++counts.links;
         rec.end = uint32_t(pt.samples.size());
         couplings.add(closing_coupling(h, l.src, rec.F, pt.samples.data() + rec.begin, rec.end - rec.begin), u.own,

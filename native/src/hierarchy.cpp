@@ -606,14 +606,10 @@ void set_element_poly(Hierarchy& h, int id, const Poly& poly) {
 }
 }  // namespace
 
-void Hierarchy::place_object(int object, const double R[9], const Vec3& t) {
-    auto xf = [&](const Vec3& p) {
-        return Vec3{R[0] * p.x + R[1] * p.y + R[2] * p.z + t.x, R[3] * p.x + R[4] * p.y + R[5] * p.z + t.y,
-                    R[6] * p.x + R[7] * p.y + R[8] * p.z + t.z};
-    };
+void Hierarchy::place_object(int object, const Rigid& placement) {
     for (Primitive& p : prims) {
         if (p.object != object) continue;
-        for (int k = 0; k < p.poly.n; ++k) p.poly.v[k] = xf(p.poly0.v[k]);
+        for (int k = 0; k < p.poly.n; ++k) p.poly.v[k] = placement.point(p.poly0.v[k]);
         if (p.front >= 0) set_element_poly(*this, surfaces[p.front].root, p.poly);
         if (p.back >= 0) {
             Poly b = p.poly;

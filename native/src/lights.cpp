@@ -267,16 +267,11 @@ double Solver::light_spread(int id) const {
 void Solver::light_invalidate() {
     // Placements changed since the cache was made (an update moved objects): every shadow may
     // have changed.
-    std::vector<std::array<double, 12>> poses(poses_.size());
-    for (size_t o = 0; o < poses_.size(); ++o) {
-        std::copy(poses_[o].R, poses_[o].R + 9, poses[o].begin());
-        poses[o][9] = poses_[o].t.x, poses[o][10] = poses_[o].t.y, poses[o][11] = poses_[o].t.z;
-    }
-    if (poses != lights_.poses) {
+    if (poses_ != lights_.poses) {
         std::fill(lights_.have.begin(), lights_.have.end(), 0);
         lights_.recheck = !lights_.poses.empty();
         lights_.contacts.clear();
-        lights_.poses = poses;
+        lights_.poses = poses_;
     }
     light_resize();
 }

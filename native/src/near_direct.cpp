@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "near_field.h"
 #include "radiosity/final_gather.h"
 #include "radiosity/lights.h"
 

@@ -6,6 +6,7 @@
 #include <optional>
 #include <vector>
 
+#include "near_field.h"
 #include "radiosity/final_gather.h"
 #include "radiosity/lights.h"
 #include "radiosity/point_couplings.h"

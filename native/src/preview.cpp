@@ -21,15 +21,6 @@ namespace radiosity {
 
 namespace {
 
-Vec3 carry_point(const std::array<double, 12>& c, const Vec3& p) {
-    return {c[0] * p.x + c[1] * p.y + c[2] * p.z + c[9], c[3] * p.x + c[4] * p.y + c[5] * p.z + c[10],
-            c[6] * p.x + c[7] * p.y + c[8] * p.z + c[11]};
-}
-
-Vec3 carry_dir(const std::array<double, 12>& c, const Vec3& v) {
-    return {c[0] * v.x + c[1] * v.y + c[2] * v.z, c[3] * v.x + c[4] * v.y + c[5] * v.z, c[6] * v.x + c[7] * v.y + c[8] * v.z};
-}
-
 // Whether a shadow ray of some lamp from x (normal n) may meet one of `clips`: a point or spot
 // light's segment hull; the sun's rays toward the sun disk; the sky's, anywhere in front.
 bool lamps_meet(const SceneDesc& scene, const Hierarchy& h, const Vec3& x, const Vec3& n, const std::vector<Aabb>& clips) {
@@ -156,8 +147,8 @@ std::vector<Rgb> FinalGather::preview(const Solution& s, const Preview& p, Previ
         const Point& pt = points_[i];
         if (pt.object < 0 || size_t(pt.object) >= p.moved.size()) return;
         const bool moved = p.moved[size_t(pt.object)] != 0;
-        const Vec3 x = moved ? carry_point(p.carry[size_t(pt.object)], pt.x) : pt.x;
-        const Vec3 n = moved ? carry_dir(p.carry[size_t(pt.object)], pt.n) : pt.n;
+        const Vec3 x = moved ? p.carry[size_t(pt.object)].point(pt.x) : pt.x;
+        const Vec3 n = moved ? p.carry[size_t(pt.object)].dir(pt.n) : pt.n;
         Rgb dE;
         int64_t rays = 0;
         bool changed = false;
@@ -282,27 +273,19 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
     const size_t no = scene_.objects().size();
     FinalGather::Preview p;
     p.moved.assign(no, 0);
-    p.carry.assign(no, {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0});
-    std::vector<std::pair<int, Pose>> placed;
+    p.carry.assign(no, Rigid{});
+    std::vector<std::pair<int, Rigid>> placed;
     for (const auto& [object, m] : moves) {
         check_live(object, "preview");  // topology.cpp
         if (size_t(object) >= poses_.size() || h_.object_node[size_t(object)] < 0) continue;
-        const Pose to = pose_of(object, m.data());
-        const Pose& from = poses_[size_t(object)];
-        if (std::equal(to.R, to.R + 9, from.R) && to.t.x == from.t.x && to.t.y == from.t.y && to.t.z == from.t.z)
-            continue;  // where the solution has it
-        // carry = (R_to R_from^T, t_to - R_to R_from^T t_from): the solution's placement to the new one.
-        std::array<double, 12>& c = p.carry[size_t(object)];
-        for (int r = 0; r < 3; ++r)
-            for (int k = 0; k < 3; ++k)
-                c[size_t(3 * r + k)] = to.R[3 * r] * from.R[3 * k] + to.R[3 * r + 1] * from.R[3 * k + 1] +
-                                       to.R[3 * r + 2] * from.R[3 * k + 2];
-        const Vec3 t = to.t - carry_dir(c, from.t);
-        c[9] = t.x, c[10] = t.y, c[11] = t.z;
+        const Rigid to = pose_of(object, m.data());
+        const Rigid& from = poses_[size_t(object)];
+        if (to == from) continue;  // where the solution has it
+        const Rigid& c = p.carry[size_t(object)] = to.relative_to(from);
         const Aabb was = h_.object_box(object);
         Aabb now;
         for (int k = 0; k < 8; ++k)
-            now.grow(carry_point(c, {(k & 1) ? was.hi.x : was.lo.x, (k & 2) ? was.hi.y : was.lo.y, (k & 4) ? was.hi.z : was.lo.z}));
+            now.grow(c.point({(k & 1) ? was.hi.x : was.lo.x, (k & 2) ? was.hi.y : was.lo.y, (k & 4) ? was.hi.z : was.lo.z}));
         p.clips.push_back(was);
         p.clips.push_back(now);
         p.moved[size_t(object)] = 1;
@@ -326,8 +309,9 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
             if (root.dead) continue;
             Placed q;
             q.poly = root.poly;
-            for (int j = 0; j < q.poly.n; ++j) q.poly.v[size_t(j)] = carry_point(p.carry[size_t(pr.object)], root.poly.v[size_t(j)]);
-            q.normal = carry_dir(p.carry[size_t(pr.object)], root.normal);
+            const Rigid& c = p.carry[size_t(pr.object)];
+            for (int j = 0; j < q.poly.n; ++j) q.poly.v[size_t(j)] = c.point(root.poly.v[size_t(j)]);
+            q.normal = c.dir(root.normal);
             for (int j = 0; j < q.poly.n; ++j) q.box.grow(q.poly.v[size_t(j)]);
             q.box.lo -= Vec3{tol, tol, tol};
             q.box.hi += Vec3{tol, tol, tol};
@@ -357,17 +341,14 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
         for (int a = top >= 0 ? h_.nodes[size_t(top)].parent : h_.root; a >= 0; a = h_.nodes[size_t(a)].parent)
             p.moved_nodes[size_t(a)] = 1;
     }
-    auto place = [this](int object, const Pose& q) {
-        const double m[12] = {q.R[0], q.R[1], q.R[2], q.t.x, q.R[3], q.R[4], q.R[5], q.t.y, q.R[6], q.R[7], q.R[8], q.t.z};
-        vis_->set_object_transform(object, m);
-    };
+    auto place = [this](int object, const Rigid& q) { vis_->set_object_transform(object, q); };
     std::vector<int> objects;
     for (const auto& op : placed) objects.push_back(op.first);
     // The solution's placements back however the preview ends (Embree's from the same poses:
     // the same floats; the hierarchy's from the saved copy).
     struct Restore {
         Solver* s;
-        const std::vector<std::pair<int, Pose>>& placed;
+        const std::vector<std::pair<int, Rigid>>& placed;
         const decltype(place)& put;
         SavedGeometry saved;
         ~Restore() {
@@ -385,7 +366,7 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
     } restore{this, placed, place, SavedGeometry(h_, objects)};
     for (const auto& [object, q] : placed) {
         place(object, q);
-        h_.place_object(object, q.R, q.t);
+        h_.place_object(object, q);
     }
     if (!placed.empty()) vis_->commit();
 

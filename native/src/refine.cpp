@@ -35,8 +35,8 @@ Link Solver::evaluate(int src, int rcv) const {
 }
 
 Link Solver::reevaluate(const Link& l) const {
-    if (!replaying_) return evaluate(l.src, l.rcv);
-    return reevaluate_link(h_, *vis_, l, settings_.rays_per_link, link_seed(l.src, l.rcv), replay_clips_);
+    if (!update_run_ || !update_run_->replaying) return evaluate(l.src, l.rcv);
+    return reevaluate_link(h_, *vis_, l, settings_.rays_per_link, link_seed(l.src, l.rcv), update_run_->replay_clips);
 }
 
 int Solver::add_link(Link l) {
@@ -323,7 +323,7 @@ bool Solver::refine_links(const std::vector<int>& ids) {
 // Whether splitting a link toward a receiver's children can change what they get: its
 // visibility is uncertain (some rays blocked) or its kernel varies over the receiver. A clear
 // link with a flat kernel hands every child the coupling it has; splitting it only costs
-// links (10-13 % of a MEDIUM solve's links, rRMSE against Cycles unchanged, commit 16ba701).
+// links (docs/decisions.md, "The solution").
 static bool may_differ_below(const Link& l) { return l.partial || l.blocked || l.dK > 0.1 * l.K; }
 
 // Closure-driven refinement. The form factors of an enclosed leaf must sum to 1. A sum far
@@ -343,15 +343,16 @@ bool Solver::closure_refine(const std::vector<double>& fsum) {
         const Node& n = h_.nodes[leaf];
         if (n.enclosed != 1 || std::fabs(fsum[leaf] - 1.0) <= tol) continue;
         // During an update, a leaf away from the moved boxes has only the new links split.
-        bool far = closure_links_before_ >= 0;
-        for (const Aabb& b : closure_focus_)
-            if (b.overlaps(n.box)) { far = false; break; }
+        bool far = update_run_ && update_run_->focused;
+        if (far)
+            for (const Aabb& b : update_run_->closure_focus)
+                if (b.overlaps(n.box)) { far = false; break; }
         // Element ancestors only: splitting a cluster link on the receiver side re-links a
         // whole object (overlapping sub-clusters go down to element pairs), millions of links
         // in a furnished room for what one leaf's sum says.
         for (int a = n.parent; a >= 0 && !h_.nodes[a].is_cluster(); a = h_.nodes[a].parent)
             for (int li : h_.nodes[a].in_links)
-                if (!queued[li] && (!far || li >= closure_links_before_) && can_split(links_[li].rcv) && may_differ_below(links_[li])) {
+                if (!queued[li] && (!far || int64_t(li) >= update_run_->links_before) && can_split(links_[li].rcv) && may_differ_below(links_[li])) {
                     queued[li] = 1;
                     ids.push_back(li);
                 }

@@ -6,7 +6,7 @@
 namespace radiosity {
 
 Settings Settings::preset(const std::string& name) {
-    // The figures each preset costs and gives are measured in bench/results/.
+    // Why each value is what it is, with the measurements: docs/decisions.md, "Presets".
     Settings s;
     if (name == "DRAFT") {
         s.error_threshold = 0.2;
@@ -15,34 +15,26 @@ Settings Settings::preset(const std::string& name) {
         s.tolerance = 2e-4;
         s.gather_rays = 64;
         s.gather_min_rays = 2;
-        // Corners within 0.3 of a gathered neighbour's reach share its bounced light
-        // (bench/results/interior_native.md: the 0.25 M flat's output 3x faster, the example
-        // rooms' errors as without).
+        // Corners within 0.3 of a gathered neighbour's reach share its bounced light.
         s.gather_share = 0.3;
     } else if (name == "MEDIUM") {
-        // Chosen against Blender 5.x references (bench/results/presets_sweep.md, last
-        // section): a threshold that follows the receiver's light (threshold_floor) refines
-        // what a viewer sees as wrong -- a dim gap behind a cabinet, a corner in shadow --
-        // and leaves bright, smooth walls coarse; at equal error that is 1.5-2.7x fewer rays
-        // than the scene-wide threshold. The area floor lets the cabinet's 2 cm gap resolve.
+        // A threshold that follows the receiver's light (threshold_floor) refines what a
+        // viewer sees as wrong -- a dim gap behind a cabinet, a corner in shadow -- and leaves
+        // bright, smooth walls coarse. The area floor lets a cabinet's 2 cm gap resolve.
         s.error_threshold = 0.1;
         s.threshold_floor = 0.1;
         s.min_area_fraction = 1e-5;
         s.rays_per_link = 16;
         s.tolerance = 1e-4;
         s.gather_rays = 512;
-        // Every link at least 8 rays: the many small links are the gather's noise (two full
-        // solves with other seeds: box room 0.70 % NRMSE apart with 2, 0.31 % with 8).
+        // Every link at least 8 rays: the many small links are the gather's noise.
         s.gather_min_rays = 8;
-        // Shared gathers within 0.08 of a neighbour's reach: at 0.1 the Cornell box's error
-        // grows a fifth, at 0.08 the rooms' by under 5 % (interior_native.md).
+        // Shared gathers within 0.08 of a neighbour's reach (more costs the Cornell box's
+        // corners accuracy).
         s.gather_share = 0.08;
     } else if (name == "HIGH") {
         // Half MEDIUM's threshold, with the visibility and the gather that a cube's foot on a
-        // checker floor needs (tests/blender/test_textures_world.py, bound 2 %: 16 rays a link
-        // 2.4 %, 512 gather rays 2.7 %, both as here 1.8 %). The threshold 0.01 and area floor
-        // 4e-6 before (with the scene-wide threshold) cost 1.2-1.8x the time on the rooms for
-        // errors within the 16k-spp references' noise (presets_sweep.md).
+        // checker floor needs (tests/blender/test_textures_world.py holds it to 2 %).
         s.error_threshold = 0.05;
         s.threshold_floor = 0.1;
         s.min_area_fraction = 1e-5;

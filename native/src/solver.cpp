@@ -50,7 +50,7 @@ void Solver::solve(Control* control) {
     control_ = control;
     solved_ = false;
     light_known_ = false;
-    replaying_ = false;  // a cancelled update may have left it on
+    update_run_ = nullptr;  // a full solve in place of an update replays nothing
     const auto t0 = Clock::now();
     stats_ = Stats{};
     lap_t_ = t0;
@@ -79,12 +79,10 @@ void Solver::solve(Control* control) {
     // Placements from earlier moves survive a full re-solve.
     poses_.resize(scene_.objects().size());
     for (size_t o = 0; o < poses_.size(); ++o) {
-        const Pose& p = poses_[o];
-        bool ident = p.t.x == 0 && p.t.y == 0 && p.t.z == 0 && p.R[0] == 1 && p.R[4] == 1 && p.R[8] == 1;
-        if (ident) continue;
-        h_.place_object(int(o), p.R, p.t);
-        double m[12] = {p.R[0], p.R[1], p.R[2], p.t.x, p.R[3], p.R[4], p.R[5], p.t.y, p.R[6], p.R[7], p.R[8], p.t.z};
-        vis_->set_object_transform(int(o), m);
+        const Rigid& p = poses_[o];
+        if (p.identity()) continue;
+        h_.place_object(int(o), p);
+        vis_->set_object_transform(int(o), p);
     }
     vis_->commit();
     compute_pockets();  // pockets.cpp

@@ -51,7 +51,7 @@ void Solver::blank_object(int object) {
     empty.cluster = o.cluster;
     empty.occluder = o.occluder;
     o = std::move(empty);
-    if (size_t(object) < poses_.size()) poses_[object] = Pose{};
+    if (size_t(object) < poses_.size()) poses_[object] = Rigid{};
 }
 
 void Solver::commit_topology() {

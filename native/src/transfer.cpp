@@ -215,14 +215,10 @@ int surface_at_area(const Hierarchy& h, int begin, int end, double x) {
 // max(cos, min_cos) (final gather). The cosine toward d stands for the cosine toward the
 // point, which for a surface nearly edge-on to d can be many times larger (the point lies off
 // the centre's axis); drawn by cos alone such a surface got a tiny density and, when a ray
-// landed on it, a huge weight. The full room's cabinet front read 39 % dark at one vertex
-// whose 8 rays to a cluster found a floor-level face at cos 0.004 (its coupling 0.30 where the
-// link's whole is 0.03), and the point's closure then scaled its other links down to make its
-// couplings sum to 1. Surfaces facing away from d are still left out: drawing them as well
-// (density area x max(0, cos + 2 R / r), which bounds every weight) cost more in variance
-// than they bring -- rRMSE up 10-30 % on the example scenes -- while the floor of 0.1 alone
-// takes the full room at HIGH from 1.59 % to 1.45 % and leaves the others equal or better
-// (bench/results/presets_sweep.md).
+// landed on it, a huge weight (and the point's closure then scaled its other links down to
+// make its couplings sum to 1). Surfaces facing away from d are still left out: drawing them
+// as well (density area x max(0, cos + 2 R / r), which bounds every weight) costs more in
+// variance than they bring (docs/decisions.md, "Output").
 class FacingSampler {
 public:
     struct Buffers {

@@ -91,9 +91,10 @@ void Visibility::remove_object(int object) {
     check_device(device_, "object removal");
 }
 
-void Visibility::set_object_transform(int object, const double m[12]) {
+void Visibility::set_object_transform(int object, const Rigid& placement) {
     if (object < 0 || object >= int(instance_geom_.size()) || instance_geom_[object] < 0) return;
     RTCGeometry inst = rtcGetGeometry(top_, unsigned(instance_geom_[object]));
+    const std::array<double, 12> m = placement.rows();
     float f[12];
     for (int i = 0; i < 12; ++i) f[i] = float(m[i]);
     rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, f);

@@ -103,5 +103,6 @@ def test_panel_words():
                                                "closed pocket: solved in full")
     d = core_stats.describe(pocket)
     assert d["headline"].startswith("Live update: solved from scratch")
-    assert d["details"] == ["Why from scratch: a move changed a closed pocket"]
+    assert d["details"] == ["Why from scratch: an object moved into or out of a closed space "
+                            "(a box, a cupboard)"]
     assert core_stats.describe({})["headline"] is None

@@ -104,6 +104,8 @@ def test_non_finite_matrix_is_an_error_first_bake_rebake_parent_and_live(run_ble
     live = r["live"]
     assert live["runs"] == 0 and any("'Box'" in e and "matrix" in e for e in live["errors"]), live
     assert live["colours_unchanged"] and live["stats_unchanged"]
+    # The panel says so (the scene's live state keeps why, until a live re-bake succeeds).
+    assert live["panel_failed"] == live["errors"][-1], live
 
 
 def test_non_finite_lights_and_world_are_errors_negative_power_is_zero(run_blender):

@@ -26,7 +26,7 @@ def test_bake_state_and_panel_words(run_blender):
     assert r["live"]["headline"].startswith("Live update: incremental")
     assert "incrementally where it can" in r["tip_bake"]
     assert "from scratch" in r["tip_full"] and r["tip_full"] != r["tip_bake"]
-    assert r["clear"][0] == "Forget Kept Solution" and "\n" not in r["clear"][1]
+    assert r["clear"][0] == "Free Solver Memory" and "\n" not in r["clear"][1]
     assert r["loaded_known"] and r["loaded_stale"] is None and not r["loaded_kept"]
     assert r["loaded_stale_after_move"] == "'Box' moved since the bake"
     assert r["after_load_bake"]["details"][0].startswith("Why from scratch: no solution was kept")

@@ -52,7 +52,8 @@ def test_live_update_is_visible_and_explained(run_ui_window):
     assert r["pocket_stats"]["mode"] == "full" and r["pocket_stats"]["live"], r["pocket_stats"]
     assert "closed pocket" in r["pocket_stats"]["full_reason"]
     assert r["pocket_describe"]["headline"].startswith("Live update: solved from scratch")
-    assert r["pocket_describe"]["details"] == ["Why from scratch: a move changed a closed pocket"]
+    assert r["pocket_describe"]["details"] == ["Why from scratch: an object moved into or out of "
+                                               "a closed space (a box, a cupboard)"]
 
 
 def test_drag_steps_show_a_preview_and_the_pause_equals_a_full_bake(run_blender):

@@ -42,7 +42,7 @@ def test_panel_in_a_1600x1000_window(run_ui_window):
     # Bake and Full each say what they do; the trash button is labelled and explained.
     assert "incrementally where it can" in r["tip_bake"]
     assert "solving from scratch" in r["tip_full"]
-    assert r["clear_label"] == "Forget Kept Solution" and "\n" not in r["clear_tip"]
+    assert r["clear_label"] == "Free Solver Memory" and "\n" not in r["clear_tip"]
     assert "baked colours stay" in r["clear_tip"]
     # Show Baked Colours shows the bake as it is (Flat), and the user can go back.
     assert r["shading_before"] == ["SOLID", "MATERIAL", "STUDIO"]

@@ -1,4 +1,5 @@
-"""Job control around the native solver, and the kept-solution cache.
+"""Job control around the native solver; the solution a job keeps lives in its scene's session
+(core.session), under the job's cache_key.
 
 A SolveJob goes: prepare() (validate, hash, maybe hit the cache, build the native scene) ->
 start() (native thread) or run() (synchronous) -> poll()/pump() until finished -> results().
@@ -7,11 +8,10 @@ the background/batch bake (run()) and the headless tests (pump()).
 """
 from dataclasses import dataclass, field
 import time
-import weakref
 
 import numpy as np
 
-from . import scene_data
+from . import scene_data, session
 from .corners import radiance_to_rgba
 
 IDLE, RUNNING, DONE, CANCELLED, FAILED = "IDLE", "RUNNING", "DONE", "CANCELLED", "FAILED"
@@ -50,38 +50,14 @@ class CachedSolution:
     bake_stats: dict = None  # stats.summary of the bake that solved `radiance` (the panel)
 
 
-# Module-level cache keyed by a scene key chosen by the caller (the Blender layer uses the
-# scene's name + pointer). Dropped on file load / undo and by radiosity.clear().
-_CACHE = {}
-
-
 def cache_get(key):
-    return _CACHE.get(key)
+    """The kept solution of scene `key` (session.kept)."""
+    return session.kept(key)
 
 
 def cache_drop(key=None):
-    if key is None:
-        _CACHE.clear()
-    else:
-        _CACHE.pop(key, None)
-
-
-def cache_keys():
-    return list(_CACHE)
-
-
-def cache_rekey(old, new):
-    """The same scene under a new key (its address changed): the kept solution follows it, and
-    so do running jobs (an incremental job finding its entry gone under its old key would leave
-    the entry's radiance and matrices behind the native solver it has just updated)."""
-    if old in _CACHE:
-        _CACHE[new] = _CACHE.pop(old)
-    for job in list(_JOBS):
-        if job.cache_key == old:
-            job.cache_key = new
-
-
-_JOBS = weakref.WeakSet()       # every SolveJob alive, for cache_rekey
+    """Forget the kept solution of scene `key` (None: of every scene)."""
+    session.forget_kept(key)
 
 
 class SolveJob:
@@ -107,7 +83,7 @@ class SolveJob:
         self._native_stats = None
         self.native_full = False    # the native update solved in full (its warning says why)
         self._work_before = {}      # cumulative native work counters before an update
-        _JOBS.add(self)
+        session.track(self)
 
     # -- setup -------------------------------------------------------------------------------
     def prepare(self):
@@ -122,7 +98,7 @@ class SolveJob:
         self.shapes = scene_data.shape_digests(self.scene_input)
         hit = None
         if self.cache_key is not None:
-            hit = _CACHE.get(self.cache_key)
+            hit = session.kept(self.cache_key)
         if not self.use_cache:
             self.full_reason = "full bake requested"
         elif hit is None:
@@ -284,7 +260,7 @@ class SolveJob:
         if hit is None:
             return
         hit.in_use = False
-        if not ok and self.cache_key is not None and _CACHE.get(self.cache_key) is hit:
+        if not ok and self.cache_key is not None and session.kept(self.cache_key) is hit:
             cache_drop(self.cache_key)
 
     @property
@@ -297,7 +273,7 @@ class SolveJob:
 
     def kept(self):
         """The cache entry that holds this job's result, or None (not kept, or dropped since)."""
-        entry = _CACHE.get(self.cache_key) if self.cache_key is not None else None
+        entry = session.kept(self.cache_key) if self.cache_key is not None else None
         if entry is None:
             return None
         if self.cached is not None:
@@ -430,7 +406,7 @@ class SolveJob:
         hit = self.incremental
         if hit is not None:
             hit.in_use = False
-            if self.cache_key is not None and _CACHE.get(self.cache_key) is not hit:
+            if self.cache_key is not None and session.kept(self.cache_key) is not hit:
                 return      # dropped meanwhile (clear, undo): do not resurrect it
             entry = hit
             entry.radiance = self._radiance
@@ -463,7 +439,7 @@ class SolveJob:
                           for a in (o.corner_reflectance, o.corner_emission))
             for o in si.objects}
         if self.cache_key is not None:
-            _CACHE[self.cache_key] = entry
+            session.keep(self.cache_key, entry)
 
     # -- results -------------------------------------------------------------------------------
     def radiance(self):

@@ -39,7 +39,7 @@ class TransformCache:
 
 
 class LiveState:
-    """One per scene key: is a re-bake pending, since when, are we inside our own write, which
+    """One per scene (its session's): is a re-bake pending, since when, are we inside our own write, which
     bake the viewport shows and which of its objects moved since."""
 
     def __init__(self):
@@ -53,6 +53,7 @@ class LiveState:
         self.job_started = None      # monotonic time it started (the status text shows it)
         self.progress = 0.0          # its last polled progress, 0..1
         self.runs = 0                # how many live re-bakes ran (tests read it)
+        self.failed = None           # why the last live re-bake failed, until one succeeds
         # The drag's preview (core.preview): a step waiting to be shown, how many were shown,
         # which objects show preview colours now, and what the last one did.
         self.preview_pending = False
@@ -115,32 +116,3 @@ class LiveState:
         was = self.pending_since is not None
         self.pending_since = None
         return was
-
-
-_STATES = {}
-
-
-def state_for(key):
-    st = _STATES.get(key)
-    if st is None:
-        st = _STATES[key] = LiveState()
-    return st
-
-
-def drop_all():
-    for st in _STATES.values():
-        if st.job is not None:
-            try:
-                st.job.cancel()
-            except Exception:
-                pass
-    _STATES.clear()
-
-
-def all_states():
-    return dict(_STATES)
-
-
-def rekey(old, new):
-    if old in _STATES:
-        _STATES[new] = _STATES.pop(old)

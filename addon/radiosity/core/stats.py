@@ -68,6 +68,13 @@ _REASONS = {
         "lights were added, removed or changed type",
     "the kept solution is being updated by another bake":
         "another bake was updating the kept solution",
+    # The solver's reasons (adjust.cpp), in the words of someone who moves furniture.
+    "a move changed a closed pocket":
+        "an object moved into or out of a closed space (a box, a cupboard)",
+    "an object added or removed changed a closed pocket":
+        "an object added or removed opened or closed off a space (a box, a cupboard)",
+    "objects added or removed changed the scene's size (the scene's frame changes)":
+        "objects added or removed changed the size of the whole scene more than twofold",
 }
 _CHANGES = (("moved", "moved"), ("added", "added"), ("removed", "removed"),
             ("replaced", "changed shape"), ("emission_changed", "changed emission"),

@@ -22,6 +22,7 @@
 #include "radiosity/gather_plan.h"
 #include "radiosity/hierarchy.h"
 #include "radiosity/link.h"
+#include "radiosity/rigid.h"
 #include "radiosity/scene.h"
 #include "radiosity/transfer.h"
 #include "radiosity/visibility.h"
@@ -107,7 +108,7 @@ public:
     // drag pauses gives the real output. The trace itself does not change.
     struct Preview {
         std::vector<char> moved;                    // per object
-        std::vector<std::array<double, 12>> carry;  // per object: old placement -> new (R row-major, t)
+        std::vector<Rigid> carry;                   // per object: the solved placement -> the new one
         std::vector<Aabb> clips;                    // old and new boxes of the moved objects
         std::vector<Aabb> now;                      // new boxes alone
         std::vector<char> moved_nodes;              // per node: a cluster holding a moved object
@@ -226,6 +227,12 @@ private:
     // `emitters_only`, only its lamps and the links from emitting senders (a shared point).
     void trace_point(const Solution& s, const Config& c, Point& pt, const Point* old, const Moves* moves,
                      Counts& counts, bool emitters_only = false) const;
+    // trace_point's parts: the point's lamps (kept after a move that cannot shade them), and
+    // one sender's transfer to it (`weight` its light at stake, of `total` over `links` links).
+    void trace_lamps(const Solution& s, const Config& c, Point& pt, const Point* old, const Moves* moves,
+                     Counts& counts) const;
+    Record trace_transfer(const Solution& s, const Config& c, Point& pt, const Point* old, const Moves* moves,
+                          Counts& counts, int src, double weight, double total, size_t links) const;
     // A gathered point's reach: the harmonic mean distance of what its rays found, or the
     // distance to the nearest dark sender (`dark`, found by trace_point) when that is less;
     // 0 when it lends nothing (covered, sealed, nothing seen).
@@ -243,71 +250,14 @@ private:
     void near_field(const Solution& s, const Config& c, Point& pt, Counts& counts) const;
     // Near field (near_field): a sender's part within kNearReach x d of a point at distance d.
     static constexpr double kNearReach = 20.0;
-    // The plane of the surface a point lies on, as a point of a sender near it sees it: what
-    // its samples read there (per surface of that plane), then the coupling F of the part of
-    // the plane near the sender's point and the radiance its samples read over that part
-    // (WL, weighted by F). The two sides of a contact light each other there (near_field).
-    struct NearPlane {
-        Vec3 n;
-        double offset = 0, tol = 0;
-        // Only the plane's part here is coupled: where the point's radiance stands for it
-        // (in front of the sender's polygons); past it s* reads points gathered there.
-        Aabb region;
-        double F = 0, F_all = 0;   // in the region; within s*'s reach (20 x its distance)
-        Rgb WL, WL_all;
-        std::vector<std::pair<int, std::pair<double, Rgb>>> seen;  // surface, (weight, weighted L)
-        std::vector<int> surfaces;  // the plane's surfaces met near any s* of one sender
-        void read(const Hierarchy& h, const Node& k, double w);
-        void couple(const Hierarchy& h, const Vec3& sp, const Vec3& sn);
-        // The first of `surfaces` whose polygon holds q (a point of the plane), or -1.
-        int surface_at(const Hierarchy& h, const Vec3& q) const;
-    };
+    // The near field's internals (near_field.h, private to the solver's sources): the
+    // point's own plane as a sender's point sees it, and the plane's direct-light term.
+    struct NearPlane;
+    class DirectVariation;
     // Outgoing radiance at a point sp of leaf m_id, gathered there (lamps and m's links); with
     // `wall`, also what it gathers of that plane near sp.
     Rgb radiance_at(const Solution& s, const Config& c, int m_id, const Vec3& sp, uint64_t seed, Counts& counts,
                     NearPlane* wall = nullptr) const;
-    // The near field's direct-light term (near_direct.cpp): the point's plane near a sender
-    // a hair away is the point's radiance plus rho (D(q) - D(x)) there, D the direct light of
-    // lamps and emitting senders, as the sender's points s* see it.
-    class DirectVariation {
-    public:
-        DirectVariation(const Solution& s, const Config& c, const Point& pt, int near_points, Counts& counts);
-        // Whether the term can matter for a sender whose plane the point sees as the surface
-        // roots `coplanar`, within reach R: a shadow's edge near x.
-        bool applies(const std::vector<int>& coplanar, double R) const;
-        void clear_stars() { stars_.clear(); }
-        void add_star(const Vec3& p, const Rgb& rho, double R) { stars_.push_back({p, rho, R}); }
-        // Over the s* added: sum of rho_s x the mean over cosine directions from s* of
-        // rho (D(q) - D(x)) at the spot q where each meets the point's plane in `wall`'s region.
-        // L_sender: the sender's radiance as the point reads it (what hides an emitter).
-        Rgb sum(const Node& sender, const Rgb& L_sender, double d, const NearPlane& wall, uint64_t seed);
-
-    private:
-        struct Star { Vec3 p; Rgb rho; double R; };
-        struct Coarse { bool valid = false, edge = false; Rgb rho, dD; };
-        bool cluster_emits(const Node& cl, bool all = false) const;  // any (or all) of its surfaces
-        Rgb direct_at(int leaf, const Vec3& q, uint64_t seed);
-        bool eval(const Node& sender, const NearPlane& wall, const Vec3& q, uint64_t seed, Coarse& out);
-        static bool in_region(const Node& sender, const NearPlane& wall, const Vec3& q);
-        Vec3 centre(double a, double i, int na, int nr) const;
-        static constexpr int kAngles0 = 8;
-        const Solution& s_;
-        const Config& c_;
-        Vec3 x_, n_, pu_, pv_;
-        int own_surface_, leaf_;
-        Counts& counts_;
-        int radii0_, sub_;  // coarse cells in log distance; fine cells per coarse one, each way
-        std::vector<int> emitting_;  // node ids: emitting surface roots and clusters
-        std::vector<int> active_;    // ... but the sender's own, for one sum()
-        Rgb L_hidden_, D_x_;
-        bool shadow_at_x_ = false;
-        std::vector<Star> stars_;
-        double r_min_ = 0, log_span_ = 0;
-        std::vector<Rgb> cell_w_;  // fine cells: rho_s x the share of the directions read
-        std::vector<char> read_;
-        std::vector<Coarse> coarse_;
-        std::vector<std::pair<int, float>> nested_;
-    };
     // Whether an escape ray from x finds open space (the point is not enclosed).
     static bool point_escapes(const Solution& s, const Vec3& x, const Vec3& n, uint64_t seed, Counts& counts);
     // Whether every one of 64 stratified rays from o (already off its surface) over the

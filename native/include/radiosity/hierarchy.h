@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "radiosity/geometry.h"
+#include "radiosity/rigid.h"
 #include "radiosity/scene.h"
 #include "radiosity/vec.h"
 
@@ -121,7 +122,7 @@ public:
     int emit_flags(int node) const { return size_t(node) < emits_.size() ? emits_[size_t(node)] : -1; }
     // Places an object rigidly: p = R p0 + t in the internal frame (R row-major 3x3), its
     // surfaces and elements re-derived from the given geometry, clusters above refreshed.
-    void place_object(int object, const double R[9], const Vec3& t);
+    void place_object(int object, const Rigid& placement);
     // Nodes of an object (its cluster subtree, or its surfaces' quadtrees when unclustered).
     std::vector<int> object_nodes(int object) const;
 

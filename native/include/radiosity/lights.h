@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "radiosity/environment.h"
+#include "radiosity/rigid.h"
 #include "radiosity/vec.h"
 
 namespace radiosity {
@@ -64,7 +65,7 @@ struct LightState {
     std::vector<float> spread;     // per node: max - min over its four children's estimates
     std::vector<uint8_t> have;     // per node: direct/spread computed for the current lights
     std::vector<uint8_t> split;    // per node: subdivided because its direct light varies
-    std::vector<std::array<double, 12>> poses;  // object placements the cache was made with
+    std::vector<Rigid> poses;      // object placements the cache was made with
     std::vector<std::vector<int>> contacts;  // per surface: touching surfaces of other objects
     bool recheck = false;          // lights or placements changed: try merging light splits
 };

@@ -16,6 +16,7 @@
 #include "radiosity/hierarchy.h"
 #include "radiosity/lights.h"
 #include "radiosity/link.h"
+#include "radiosity/rigid.h"
 #include "radiosity/scene.h"
 #include "radiosity/settings.h"
 #include "radiosity/stats.h"
@@ -189,9 +190,8 @@ private:
     void decide_enclosed(int id, const std::vector<Aabb>* moved_boxes);
     void collect_receivers();
     // adjust.cpp
-    struct Pose { double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}; Vec3 t; };
     // move_object's matrix as a placement in the internal frame (InputError when not rigid).
-    Pose pose_of(int object, const double m[16]) const;
+    Rigid pose_of(int object, const double m[16]) const;
     // What an update changed in the geometry (adjust.cpp for moves, topology.cpp for
     // additions and removals); the AdjustSystem then works from it alone.
     struct Change {
@@ -202,6 +202,36 @@ private:
         std::vector<Candidate> seeds;          // links to make besides (an added object's own links)
         std::vector<Aabb> now;                 // new boxes of the moved objects (exact, no margin)
     };
+    // What one incremental update knows, handed from phase to phase (update()).
+    struct UpdateRun {
+        bool topology = false;            // objects added or removed
+        bool materials_changed = false;   // emission or reflectance changed (for the output)
+        std::chrono::steady_clock::time_point t0;
+        int64_t links_before = 0;         // links made from here on are this update's
+        std::vector<float> before;        // radiances before the update
+        std::vector<float> judged_before; // ... as the oracle judges (judging_radiance)
+        std::vector<int> recheck_history; // history links whose view the moves changed
+        bool rejudge_all = false;         // the oracle's threshold moved: judge every link
+        std::vector<Aabb> now_boxes;      // the moved objects' new boxes
+        std::vector<char> moved_objects;  // per object: moved
+        // Moves only (no addition or removal): the moved objects' old and new boxes, outside
+        // which every ray's outcome is as recorded, so links re-evaluate by replay.
+        bool replaying = false;
+        std::vector<Aabb> replay_clips;
+        // Away from these boxes a closure pass splits only links made since links_before.
+        bool focused = false;
+        std::vector<Aabb> closure_focus;
+    };
+    // The update's phases, in order; update_materials and update_adjust return false when
+    // they solved in full instead.
+    void update_begin(UpdateRun& u);
+    bool update_materials(Control* control);  // emission and reflectance changes
+    bool update_adjust(UpdateRun& u, Control* control);  // place the moved objects, AdjustSystem
+    void update_history(UpdateRun& u);   // un-refine history links, lights
+    void update_resolve(UpdateRun& u);   // closure, gathering, un-refinement, refine rounds
+    void update_output(UpdateRun& u);    // final gather, stats
+    // A full solve in place of an update (pending moves become placements); `why` is warned.
+    void solve_instead(Control* control, const char* why);
     // The AdjustSystem proper: classifies every live link against `ch` (remade, turned, pruned
     // by outcodes and the shaft test, re-evaluated with replayed rays), links the changed clusters anew and
     // re-decides the enclosure of leaves whose escape rays meet a changed box.
@@ -331,20 +361,15 @@ private:
         ~SceneWideThreshold() { known = was; }
     };
     bool solved_ = false;
-    std::map<int, Pose> pending_moves_;
+    std::map<int, Rigid> pending_moves_;
     std::vector<int> pending_adds_, pending_removes_;
     std::vector<char> removed_;    // per object: removed (its slot stays, empty)
-    std::vector<Pose> poses_;      // per object, current placement (internal frame)
+    std::vector<Rigid> poses_;     // per object, current placement (internal frame)
     bool materials_changed_ = false;
     std::chrono::steady_clock::time_point lap_t_;
-    // During an update that only moved objects (no addition, no removal): the old and new
-    // boxes of the moved objects, outside which every ray's outcome is as recorded.
-    bool replaying_ = false;
-    std::vector<Aabb> replay_clips_;
-    // During an update of moves (adjust.cpp): away from these boxes (the moved objects' old
-    // and new places) a closure pass splits only links made since closure_links_before_.
-    std::vector<Aabb> closure_focus_;
-    int64_t closure_links_before_ = -1;
+    // The update running, if any (update() sets it for its phases): link re-evaluation
+    // replays rays and closure passes keep to its moved boxes as it says.
+    const UpdateRun* update_run_ = nullptr;
     int64_t lap_rays_ = 0;  // rays cast when lap_t_ was taken
     int main_pocket_ = 0;  // the pocket of the largest space (open space, or a closed room)
     std::vector<std::vector<PocketRay>> pocket_hits_;  // per surface: its escape rays at the last compute_pockets

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "radiosity/rigid.h"
 #include "radiosity/vec.h"
 
 struct RTCDeviceTy;
@@ -24,8 +25,8 @@ public:
     // Detaches and releases an object's instance (rays pass where it was); its id is not
     // reused. Takes effect at the next commit().
     void remove_object(int object);
-    // Placement of an object relative to where its triangles were given (row-major 3x4).
-    void set_object_transform(int object, const double m[12]);
+    // Placement of an object relative to where its triangles were given.
+    void set_object_transform(int object, const Rigid& placement);
     void commit();
     // Offset (scene units) kept from both segment ends, so a ray never hits the surfaces it
     // joins; relative to scene size so results do not change when the scene is scaled.

@@ -169,7 +169,9 @@ def case_matrix():
     box.scale.z = NAN
     update()
     runs = sys.modules[rt.ADDON].pump(timeout=120)
-    out["live"] = {"runs": runs, "errors": list(errors),
+    mod = sys.modules[rt.ADDON]
+    live_state = mod.core.session.session(mod.bake.scene_key(bpy.context.scene)).live
+    out["live"] = {"runs": runs, "errors": list(errors), "panel_failed": live_state.failed,
                    "colours_unchanged": _same(before, colours()),
                    "stats_unchanged": props().last_stats == stats_before}
     props().live = False

@@ -11,12 +11,12 @@ mod = rt.install_addon()
 f = rt.arg("--file")
 if f and os.path.abspath(bpy.data.filepath or "") != os.path.abspath(f):
     bpy.ops.wm.open_mainfile(filepath=f)
-from radiosity.core import job as core_job   # noqa: E402  (the installed add-on)
+from radiosity.core import session   # noqa: E402  (the installed add-on)
 
 meshes = [o for o in bpy.data.objects if o.type == "MESH"]
 loaded = {o.name: rt.corner_colors(o) for o in meshes}
 stats_loaded = rt.last_stats()
-kept = len(core_job.cache_keys())
+kept = sum(x.kept is not None for x in session.sessions().values())
 ok, err, reports = rt.bake()
 after = {o.name: rt.corner_colors(o) for o in meshes}
 same = all(loaded[n] is not None and after[n] is not None

@@ -52,8 +52,8 @@ def tvertex_check(me, mw):
 
 
 if ok:
-    import radiosity.core.job as cj
-    entry = next(iter(cj._CACHE.values()))
+    import radiosity.core.session as cs
+    entry = next(x.kept for x in cs.sessions().values() if x.kept is not None)
     solver = entry.solver
     for o in objs:
         ad = bpy.data.objects.get(o.name + ".radiosity")

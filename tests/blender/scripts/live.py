@@ -15,13 +15,13 @@ first_floor = rt.corner_colors(objs[0]).copy()
 box = bpy.data.objects["Box"]
 # Our own colour write must not count as a move.
 bpy.context.view_layer.update()
-out["pending_after_bake"] = any(st.pending for st in mod.core.live.all_states().values())
+out["pending_after_bake"] = any(st.pending for st in (x.live for x in mod.core.session.sessions().values()))
 # Move the box the way a script or the viewport would.
 m = box.matrix_world.copy()
 m.translation.x -= 0.7
 box.matrix_world = m
 bpy.context.view_layer.update()
-out["pending_after_move"] = any(st.pending for st in mod.core.live.all_states().values())
+out["pending_after_move"] = any(st.pending for st in (x.live for x in mod.core.session.sessions().values()))
 out["runs"] = mod.pump(timeout=600)
 out["live_errors"] = list(mod.handlers.last_errors)
 out["live_stats"] = rt.last_stats()
@@ -39,6 +39,6 @@ out["changed_from_first"] = float(np.abs(live_vals["Floor"] - first_floor).max()
 scene.radiosity.live = False
 box.location.y += 0.3
 bpy.context.view_layer.update()
-out["pending_live_off"] = any(st.pending for st in mod.core.live.all_states().values())
+out["pending_live_off"] = any(st.pending for st in (x.live for x in mod.core.session.sessions().values()))
 out["runs_live_off"] = mod.pump(timeout=60)
 rt.result(ok=ok and ok2, **out)

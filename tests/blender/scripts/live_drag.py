@@ -26,7 +26,7 @@ out = {"ok_first": ok, "fake": rt.native_is_fake()}
 first = colours(objs)
 box = bpy.data.objects["Box"]
 bpy.context.view_layer.update()
-states = lambda: list(mod.core.live.all_states().values())  # noqa: E731
+states = lambda: list((x.live for x in mod.core.session.sessions().values()))  # noqa: E731
 out["preview_pending_after_bake"] = any(st.preview_pending for st in states())
 steps, shown, changes, seconds = 10, [], [], []
 previous = first

@@ -45,7 +45,7 @@ scene.radiosity.live = True
 inst.location.x -= 0.9
 bpy.context.view_layer.update()
 mod.pump()
-out["live_runs"] = mod.core.live.state_for(mod.bake.scene_key(scene)).runs
+out["live_runs"] = mod.core.session.session(mod.bake.scene_key(scene)).live.runs
 st = rt.last_stats() or {}
 out["live"] = {k: st.get(k) for k in ("mode", "moved", "live")}
 scene.radiosity.live = False

@@ -125,8 +125,8 @@ def start_live():
 
 
 def _live_runs():
-    live = sys.modules["radiosity"].core.live
-    return sum(st.runs for st in live.all_states().values())
+    session = sys.modules["radiosity"].core.session
+    return sum(x.live.runs for x in session.sessions().values())
 
 
 @guard

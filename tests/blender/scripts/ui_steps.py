@@ -104,11 +104,11 @@ def addon():
 
 def live_state():
     mod = addon()
-    return mod.core.live.state_for(mod.bake.scene_key(bpy.context.scene))
+    return mod.core.session.session(mod.bake.scene_key(bpy.context.scene)).live
 
 
 def live_runs():
-    return sum(st.runs for st in addon().core.live.all_states().values())
+    return sum(st.runs for st in (x.live for x in addon().core.session.sessions().values()))
 
 
 def open_sidebar():

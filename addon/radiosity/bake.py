@@ -85,7 +85,7 @@ class BakeRun:
                             + (f" ({why})" if why else ""))
         key = scene_key(self.scene)
         if self.full:
-            core_job.cache_drop(key)
+            session.forget_kept(key)
         try:
             settings = presets.make_settings(native, props.preset, props.error_threshold)
             # The output options are part of the key: a cached solution made for the other

@@ -136,7 +136,7 @@ class RADIOSITY_OT_clear(bpy.types.Operator):
     bl_options = {"REGISTER"}
 
     def execute(self, context):
-        core_job.cache_drop(bake.scene_key(context.scene))
+        session.forget_kept(bake.scene_key(context.scene))
         return {"FINISHED"}
 
 

@@ -4,16 +4,16 @@ import math
 import numpy as np
 import pytest
 
-from radiosity.core import job, lights, presets, scene_data
+from radiosity.core import job, lights, presets, scene_data, session
 
 import scenes_np
 
 
 @pytest.fixture(autouse=True)
 def _clean_cache():
-    job.cache_drop()
+    session.forget_kept()
     yield
-    job.cache_drop()
+    session.forget_kept()
 
 
 def _job(native, si, key="scene", use_cache=True):

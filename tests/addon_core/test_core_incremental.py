@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from radiosity.core import job, presets, scene_data
+from radiosity.core import job, presets, scene_data, session
 
 import scenes_np
 
@@ -19,9 +19,9 @@ def _nrmse(a, b):
 
 @pytest.fixture(autouse=True)
 def _clean_cache():
-    job.cache_drop()
+    session.forget_kept()
     yield
-    job.cache_drop()
+    session.forget_kept()
 
 
 def _tol(native):
@@ -121,7 +121,7 @@ def test_refused_addition_drops_the_kept_solution(native):
     si.objects[-1].reflectance[:] = 1.5      # the native module refuses it (rho >= 1)
     with pytest.raises(ValueError, match="crate"):
         _job(native, si).prepare()
-    assert job.cache_get("scene") is None
+    assert session.kept("scene") is None
     assert _job(native, scenes_np.room()).prepare().full_reason == "no kept solution"
 
 
@@ -175,7 +175,7 @@ def test_cancelled_update_forces_full(native):
     inc.start()
     inc.cancel()
     if inc.state == job.CANCELLED:
-        assert job.cache_get("scene") is None
+        assert session.kept("scene") is None
         nxt = _job(native, scenes_np.room((0.5, 0.5))).prepare()
         assert nxt.mode == "full" and nxt.full_reason == "no kept solution"
 

@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from radiosity.core import job, presets
+from radiosity.core import job, presets, session
 
 import scenes_np
 
@@ -14,9 +14,9 @@ def _job(native, si, preset="DRAFT", key="scene"):
 
 @pytest.fixture(autouse=True)
 def _clean_cache():
-    job.cache_drop()
+    session.forget_kept()
     yield
-    job.cache_drop()
+    session.forget_kept()
 
 
 def test_furnace_sync(native):
@@ -70,4 +70,4 @@ def test_cancel_leaves_no_results(native):
     if j.state == job.CANCELLED:
         with pytest.raises(RuntimeError):
             j.radiance()
-        assert job.cache_get("scene") is None
+        assert session.kept("scene") is None

@@ -3,16 +3,16 @@ native preview's patches put into the last bake's colours, nothing of the kept s
 import numpy as np
 import pytest
 
-from radiosity.core import job, presets, preview
+from radiosity.core import job, presets, preview, session
 
 import scenes_np
 
 
 @pytest.fixture(autouse=True)
 def _clean_cache():
-    job.cache_drop()
+    session.forget_kept()
     yield
-    job.cache_drop()
+    session.forget_kept()
 
 
 def _bake(native, si):
@@ -29,7 +29,7 @@ def _matrix(dx, dy):
 
 def test_preview_follows_a_moved_box_and_leaves_the_kept_solution(native):
     _bake(native, scenes_np.room())
-    entry = job.cache_get("scene")
+    entry = session.kept("scene")
     if not hasattr(entry.solver, "preview"):
         assert not preview.available(entry)     # the stand-in module has no preview
         return

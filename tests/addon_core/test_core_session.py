@@ -30,7 +30,7 @@ class _Run:
 def test_a_session_is_made_once_per_key():
     a = session.session("A@1")
     assert session.session("A@1") is a
-    assert session.find("B@2") is None
+    assert session.sessions().get("B@2") is None
     assert session.kept("A@1") is None and session.kept("B@2") is None
     assert set(session.sessions()) == {"A@1"}
 
@@ -51,7 +51,7 @@ def test_forget_kept_leaves_the_rest():
     s.live.runs = 3
     s.book.add(baked.BakeRecord("t1", {}, {}))
     s.shading[7] = ("SOLID", "MATERIAL", "STUDIO")
-    job.cache_drop("A@1")
+    session.forget_kept("A@1")
     assert session.kept("A@1") is None
     assert s.live.runs == 3 and s.book.get("t1") is not None and 7 in s.shading
     session.keep("A@1", "again")
@@ -66,8 +66,8 @@ def test_rekey_moves_everything_and_running_jobs(native):
     j = job.SolveJob(native, scenes_np.furnace(2), presets.make_settings(native, "DRAFT"),
                      presets.settings_key("DRAFT", 0.05), cache_key="A@1", use_cache=False)
     session.rekey("A@1", "A@2")
-    assert session.find("A@1") is None
-    assert session.find("A@2") is s and session.kept("A@2") == "solution"
+    assert session.sessions().get("A@1") is None
+    assert session.sessions().get("A@2") is s and session.kept("A@2") == "solution"
     assert j.cache_key == "A@2"
     # A job that finishes after the rekey keeps its solution under the new key.
     j.prepare().run()
@@ -82,7 +82,7 @@ def test_rekey_onto_a_new_session_keeps_the_old_ones_state():
     new = session.session("A@2")        # made by a handler before the rekey
     new.book.add(baked.BakeRecord("new", {}, {}))
     session.rekey("A@1", "A@2")
-    s = session.find("A@2")
+    s = session.sessions().get("A@2")
     assert s.kept == "solution" and s.live.runs == 2
     assert s.book.get("old") is not None and s.book.get("new") is not None
     assert set(session.sessions()) == {"A@2"}

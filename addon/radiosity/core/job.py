@@ -50,16 +50,6 @@ class CachedSolution:
     bake_stats: dict = None  # stats.summary of the bake that solved `radiance` (the panel)
 
 
-def cache_get(key):
-    """The kept solution of scene `key` (session.kept)."""
-    return session.kept(key)
-
-
-def cache_drop(key=None):
-    """Forget the kept solution of scene `key` (None: of every scene)."""
-    session.forget_kept(key)
-
-
 class SolveJob:
     def __init__(self, native, scene_input, settings, settings_key, cache_key=None,
                  use_cache=True):
@@ -228,7 +218,7 @@ class SolveJob:
                     hit.solver.set_light(i, core_lights.to_native(self.native,
                                                                   self.scene_input.lights[i]))
         except ValueError as exc:
-            cache_drop(self.cache_key)
+            session.forget_kept(self.cache_key)
             return f"the solver refused the change ({exc})"
         hit.in_use = True
         self.incremental = hit
@@ -261,7 +251,7 @@ class SolveJob:
             return
         hit.in_use = False
         if not ok and self.cache_key is not None and session.kept(self.cache_key) is hit:
-            cache_drop(self.cache_key)
+            session.forget_kept(self.cache_key)
 
     @property
     def mode(self):

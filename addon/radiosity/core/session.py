@@ -59,11 +59,6 @@ def session(key):
     return s
 
 
-def find(key):
-    """The session of `key`, or None."""
-    return _SESSIONS.get(key)
-
-
 def sessions():
     """{key: session}, a copy (callers may make or drop sessions while they iterate)."""
     return dict(_SESSIONS)

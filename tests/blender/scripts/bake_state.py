@@ -75,7 +75,7 @@ bpy.ops.wm.open_mainfile(filepath=path)
 mod = sys.modules["radiosity"]
 out["loaded_known"] = state().shown.record is not None
 out["loaded_stale"] = state().stale
-out["loaded_kept"] = mod.core.job.cache_get(mod.bake.scene_key(bpy.context.scene)) is not None
+out["loaded_kept"] = mod.core.session.kept(mod.bake.scene_key(bpy.context.scene)) is not None
 move_box(0.4)
 out["loaded_stale_after_move"] = state().stale
 rt.bake()

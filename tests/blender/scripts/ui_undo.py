@@ -30,7 +30,7 @@ def box():
 
 def kept():
     mod = ui.addon()
-    return mod.core.job.cache_get(mod.bake.scene_key(scene())) is not None
+    return mod.core.session.kept(mod.bake.scene_key(scene())) is not None
 
 
 def quiet():

@@ -727,10 +727,7 @@ bool Solver::update_adjust(UpdateRun& u, Control* control) {
     // links that were there passed the full solve's closure passes as they are, and
     // splitting them again cast a third of the update's rays for no change in the result
     // (docs/decisions.md, "Updates").
-    if (!u.topology) {
-        u.closure_focus = ch.clips;
-        u.focused = true;
-    }
+    if (!u.topology) u.closure_focus = ch.clips;
     return true;
 }
 

@@ -343,7 +343,7 @@ bool Solver::closure_refine(const std::vector<double>& fsum) {
         const Node& n = h_.nodes[leaf];
         if (n.enclosed != 1 || std::fabs(fsum[leaf] - 1.0) <= tol) continue;
         // During an update, a leaf away from the moved boxes has only the new links split.
-        bool far = update_run_ && update_run_->focused;
+        bool far = update_run_ && !update_run_->closure_focus.empty();
         if (far)
             for (const Aabb& b : update_run_->closure_focus)
                 if (b.overlaps(n.box)) { far = false; break; }

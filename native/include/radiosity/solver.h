@@ -218,8 +218,8 @@ private:
         // which every ray's outcome is as recorded, so links re-evaluate by replay.
         bool replaying = false;
         std::vector<Aabb> replay_clips;
-        // Away from these boxes a closure pass splits only links made since links_before.
-        bool focused = false;
+        // Moves only: away from these boxes a closure pass splits only links made since
+        // links_before (empty: no focus).
         std::vector<Aabb> closure_focus;
     };
     // The update's phases, in order; update_materials and update_adjust return false when

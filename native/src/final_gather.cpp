@@ -130,6 +130,12 @@ size_t FinalGather::bytes() const {
     return b;
 }
 
+double FinalGather::trace_bytes(double points, double records) {
+    constexpr double kSamplesPerRecord = 4.0;
+    return points * double(sizeof(Point) + 2 * sizeof(int)) +
+           records * double(sizeof(Record) + kSamplesPerRecord * sizeof(std::pair<int, float>));
+}
+
 void FinalGather::links_reaching(const Solution& s, int leaf, std::vector<std::pair<int, bool>>& out) const {
     const Hierarchy& h = s.h;
     out.clear();

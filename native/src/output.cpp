@@ -64,6 +64,10 @@ void Solver::final_gather(double from, double to, const FinalGather::Moves* move
         output_.clear();
         return;
     }
+    if (!moves) {
+        forecast_output();
+        stats_.gather_forecast_bytes = int64_t(output_forecast_);
+    }
     if (lights_.contacts.size() != h_.surfaces.size()) light_contacts();  // lights.cpp
     h_.index_emitters();  // the near field asks per point whether a cluster emits
     FinalGather::Config c;

@@ -203,12 +203,6 @@ Solver::Judgement Solver::judge(const Link& l) const {
     return j;
 }
 
-double Solver::memory_estimate(size_t more_links, size_t more_nodes) const {
-    const double per_node = sizeof(Node) + 4 * sizeof(int);
-    const double per_link = sizeof(Link) + 2 * sizeof(int) + 0.5 * settings_.rays_per_link * sizeof(std::pair<int, float>);
-    return double(h_.nodes.size() + more_nodes) * per_node + double(links_.size() + more_links) * per_link;
-}
-
 void Solver::apply(int id, const Judgement& j, std::vector<Candidate>& next) {
     if (j.side == Side::Keep) return;
     if (j.side == Side::Settle) {
@@ -254,6 +248,8 @@ void Solver::apply(int id, const Judgement& j, std::vector<Candidate>& next) {
 void Solver::link_from(std::vector<Candidate> wave) {
     while (!wave.empty()) {
         check_cancel();
+        // Near the memory cap, the output's forecast follows the links wave by wave (memory.cpp).
+        if (memory_estimate() > 0.5 * memory_limit_) forecast_output();
         std::vector<Candidate> eval, next;
         // A self-link of a cluster stands for all interactions inside it: expand it into
         // links between its children (and their own self-links) without evaluating it.

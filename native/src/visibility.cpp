@@ -19,6 +19,12 @@ bool traceable(const Vec3& a, const Vec3& b) {
     return true;
 }
 
+// Embree's memory monitor: allocations arrive as positive byte counts, releases as negative.
+bool monitor(void* user, ssize_t bytes, bool /*post*/) {
+    static_cast<std::atomic<int64_t>*>(user)->fetch_add(int64_t(bytes), std::memory_order_relaxed);
+    return true;
+}
+
 void check_device(RTCDevice d, const char* what) {
     RTCError e = rtcGetDeviceError(d);
     if (e != RTC_ERROR_NONE) throw std::runtime_error(std::string("Embree error in ") + what + ": " + std::to_string(int(e)));
@@ -28,6 +34,7 @@ void check_device(RTCDevice d, const char* what) {
 Visibility::Visibility() {
     device_ = rtcNewDevice(nullptr);
     if (!device_) throw std::runtime_error("Embree device could not be created");
+    rtcSetDeviceMemoryMonitorFunction(device_, monitor, &bytes_);
     top_ = rtcNewScene(device_);
     rtcSetSceneFlags(top_, RTC_SCENE_FLAG_ROBUST);
 }

@@ -724,6 +724,33 @@ TEST(Extremes, TinyThresholdStopsAtTheMemoryCap) {
     EXPECT_THROW(Solver(scenes::cornell_box(2), bad), std::invalid_argument);
 }
 
+TEST(Extremes, MemoryCapLeavesRoomForTheOutput) {
+    // With the final gather on, refinement stops at max_memory_mb with room for the output's
+    // trace (memory.cpp forecasts it): what the bake holds at the end, trace included, stays
+    // near the cap, where it once stopped the links at the cap and added the trace on top.
+    Settings st = Settings::preset("MEDIUM");
+    Solver free_run(scenes::cornell_box(4), st);
+    free_run.solve();
+    const Stats& f = free_run.stats();
+    ASSERT_GT(f.gather_bytes, 0);
+    // The forecast made before the gather is of the trace's order (it counts every link
+    // reaching a point; shared points keep fewer).
+    EXPECT_GE(double(f.gather_forecast_bytes), 0.5 * double(f.gather_bytes));
+    EXPECT_LE(double(f.gather_forecast_bytes), 3.0 * double(f.gather_bytes));
+    // A cap at 60 % of what the free run held.
+    st.max_memory_mb = 0.6 * double(f.memory_bytes) / 1048576.0;
+    Solver capped(scenes::cornell_box(4), st);
+    capped.solve();
+    expect_sane(capped, "memory cap with output");
+    const Stats& c = capped.stats();
+    std::printf("[ figure ] MEDIUM Cornell box: free %.1f MiB (trace %.1f, forecast %.1f); cap %.1f MiB: held %.1f MiB\n",
+                f.memory_bytes / 1048576.0, f.gather_bytes / 1048576.0, f.gather_forecast_bytes / 1048576.0,
+                st.max_memory_mb, c.memory_bytes / 1048576.0);
+    EXPECT_TRUE(c.memory_capped);
+    EXPECT_GT(c.gather_bytes, 0);
+    EXPECT_LE(double(c.memory_bytes), 1.1 * st.max_memory_mb * 1048576.0);
+}
+
 TEST(Extremes, TinyThresholdStopsAtTheElementCap) {
     // The caps that exist (settings.h): max_elements and max_links, reported by
     // Stats::capped and a warning saying so. There is no memory cap as such.

@@ -145,6 +145,9 @@ public:
     const Counts& counts() const { return counts_; }
     // Bytes kept by the trace (points, their records and samples, the corner map).
     size_t bytes() const;
+    // Bytes a trace of `points` points reading `records` point-link transfers in all is
+    // expected to keep (the samples a transfer keeps after merging, on average).
+    static double trace_bytes(double points, double records);
 
 private:
     // One link's transfer to a point, as traced: its samples, coupling and ray outcomes.

@@ -162,10 +162,18 @@ private:
     Judgement judge(const Link& l) const;
     void apply(int link_id, const Judgement& j, std::vector<Candidate>& next);
     bool can_split(int node) const;
-    // Estimated bytes held by nodes and links (their per-node index lists and cluster
-    // samples included, on average); compared with memory_limit_ before refining.
+    // memory.cpp. Estimated bytes the solve holds with `more` links and nodes: nodes and
+    // links as their vectors hold them (a vector that must grow holds its old and new blocks
+    // at once), Embree's BVHs, and the final gather's trace (the one made, or the forecast of
+    // the next); compared with memory_limit_ before refining.
     double memory_estimate(size_t more_links = 0, size_t more_nodes = 0) const;
+    // The final gather's trace for the links as they stand, forecast from the output points'
+    // leaves and the links that reach them; kept in output_forecast_ (per active link in
+    // output_forecast_links_) for memory_estimate.
+    void forecast_output();
     double memory_limit_ = 0;
+    double output_forecast_ = 0;
+    int64_t output_forecast_links_ = 0;
     uint64_t link_seed(int src, int rcv) const;
     int add_link(Link l);
     void deactivate(int link_id);

@@ -56,7 +56,7 @@ struct Stats {
     double residual = 0;            // estimated remaining relative error at the end
     bool capped = false;            // a cap (elements/links/memory) stopped refinement
     bool memory_capped = false;     // ... the memory cap (Settings::max_memory_mb)
-    int64_t memory_bytes = 0;       // estimated memory of elements and links at the end
+    int64_t memory_bytes = 0;       // estimated memory held at the end (memory.cpp: links, Embree, output)
     bool iteration_capped = false;  // max_iterations reached before the tolerance
     bool no_emitters = false;
     // The output's final gather (final_gather.h): points traced (one per vertex and normal),
@@ -65,6 +65,7 @@ struct Stats {
     int64_t gather_sealed = 0;  // output points inside a closed solid (read 0)
     int64_t gather_points = 0, gather_corners = 0, gather_covered = 0, gather_links = 0, gather_rays = 0;
     int64_t gather_bytes = 0;
+    int64_t gather_forecast_bytes = 0;  // ... as forecast before the gather (memory.cpp)
     // After an update: point-link transfers kept as they were, replayed (only rays through a
     // moved box cast), and points traced anew.
     int64_t gather_kept = 0, gather_replayed = 0, gather_fresh_points = 0;

@@ -42,6 +42,9 @@ public:
     // and the index of the hit triangle within its object (in add_object's order).
     int hit_object(const Vec3& a, const Vec3& b, double near, Vec3* hit, int* triangle = nullptr) const;
     uint64_t rays() const { return rays_.load(std::memory_order_relaxed); }
+    // Bytes Embree holds for this device now (its BVHs, geometry buffers and instances), as
+    // its memory monitor reports them.
+    int64_t bytes() const { return bytes_.load(std::memory_order_relaxed); }
 
 private:
     RTCDeviceTy* device_ = nullptr;
@@ -51,6 +54,7 @@ private:
     std::vector<int> geom_object_;    // per geometry id in top_: its object
     double eps_ = 1e-6;
     mutable std::atomic<uint64_t> rays_{0};
+    std::atomic<int64_t> bytes_{0};
 };
 
 }  // namespace radiosity

@@ -1,0 +1,113 @@
+// What a solve holds in memory (Solver::memory_estimate) and the final gather's share of it
+// before the gather runs (Solver::forecast_output): refinement stops at Settings::max_memory_mb
+// with room left for the output, so a bake does not outgrow the machine after refining.
+#include <algorithm>
+#include <cstdint>
+#include <unordered_set>
+#include <utility>
+#include <vector>
+
+#include "radiosity/final_gather.h"
+#include "radiosity/solver.h"
+
+namespace radiosity {
+
+namespace {
+
+// Bytes a vector of `size` items of `item` bytes, `capacity` reserved, holds once `more` are
+// added: while it grows (to twice its capacity, as libstdc++ does) the old block and the new
+// one are both held.
+double vector_bytes(size_t size, size_t capacity, size_t more, size_t item) {
+    const size_t need = size + more;
+    if (need <= capacity) return double(capacity) * double(item);
+    return double(capacity + std::max(need, 2 * capacity)) * double(item);
+}
+
+}  // namespace
+
+double Solver::memory_estimate(size_t more_links, size_t more_nodes) const {
+    // Per node its index lists (children, in and out links), per link its visibility samples
+    // (cluster senders and subdivided ones), on average.
+    const double node_lists = 4.0 * sizeof(int);
+    const double link_samples = 2.0 * sizeof(int) + 0.5 * settings_.rays_per_link * sizeof(std::pair<int, float>);
+    double b = vector_bytes(h_.nodes.size(), h_.nodes.capacity(), more_nodes, sizeof(Node)) +
+               double(h_.nodes.size() + more_nodes) * node_lists +
+               vector_bytes(links_.size(), links_.capacity(), more_links, sizeof(Link)) +
+               double(links_.size() + more_links) * link_samples;
+    if (vis_) b += double(std::max<int64_t>(0, vis_->bytes()));
+    if (output_.traced()) {
+        b += double(output_.bytes());
+    } else if (output_forecast_ > 0) {
+        // The forecast grows with the links that reach the output points (before the first
+        // links, it holds the points alone).
+        const double now = double(live_links_ + int64_t(more_links));
+        const double grown = output_forecast_links_ > 0 ? now / double(output_forecast_links_) : 1.0;
+        b += output_forecast_ * std::max(1.0, grown);
+    }
+    return b;
+}
+
+void Solver::forecast_output() {
+    output_forecast_ = 0;
+    output_forecast_links_ = live_links_;
+    if (settings_.gather_rays <= 0) return;
+    // Per node, the links into it a point below reads (final_gather.cpp links_reaching):
+    // active ones and fully occluded ones kept for a move.
+    std::vector<int32_t> into(h_.nodes.size(), 0);
+    for (const Link& l : links_)
+        if (!l.dead && (l.active || l.occluded) && size_t(l.rcv) < into.size()) ++into[size_t(l.rcv)];
+    // ... and per leaf all it reads: at it, at its element ancestors and at the clusters above
+    // its surface.
+    std::vector<int32_t> reach(h_.nodes.size(), -1);
+    std::vector<int32_t> above(h_.surfaces.size(), -1);
+    std::vector<int> chain;
+    auto reach_of = [&](int id) {
+        chain.clear();
+        int k = id;
+        for (; k >= 0 && !h_.nodes[size_t(k)].is_cluster() && reach[size_t(k)] < 0; k = h_.nodes[size_t(k)].parent)
+            chain.push_back(k);
+        int32_t r = 0;
+        if (k >= 0 && !h_.nodes[size_t(k)].is_cluster()) {
+            r = reach[size_t(k)];
+        } else {
+            const int sf = h_.nodes[size_t(id)].surface;
+            if (sf >= 0 && above[size_t(sf)] < 0) {
+                int32_t a = 0;
+                for (int c : h_.ancestors_of_surface(sf)) a += into[size_t(c)];
+                above[size_t(sf)] = a;
+            }
+            r = sf >= 0 ? above[size_t(sf)] : 0;
+        }
+        for (auto it = chain.rbegin(); it != chain.rend(); ++it) reach[size_t(*it)] = r += into[size_t(*it)];
+        return reach[size_t(id)];
+    };
+    // One point per written vertex and normal (the corners of a vertex in one plane share it).
+    const auto& objects = scene_.objects();
+    std::unordered_set<uint64_t> made;
+    std::vector<std::vector<char>> done(objects.size());  // per corner: an n-gon's is in several pieces
+    auto q = [](double c) { return uint64_t(int64_t(std::llround(c * 1e6))); };
+    double points = 0, records = 0;
+    for (const Primitive& p : h_.prims) {
+        if (p.object < 0 || p.front < 0 || !objects[size_t(p.object)].output) continue;
+        const ObjectDesc& o = objects[size_t(p.object)];
+        const int root = h_.surfaces[size_t(p.front)].root;
+        const Node& r = h_.nodes[size_t(root)];
+        if (r.dead) continue;
+        const uint64_t facing = Hierarchy::mix(Hierarchy::mix(q(r.normal.x), q(r.normal.y)), q(r.normal.z));
+        std::vector<char>& first = done[size_t(p.object)];
+        if (first.empty()) first.assign(o.corner_count(), 0);
+        for (int k = 0; k < p.poly.n; ++k) {
+            const int corner = p.corner[size_t(k)];
+            if (first[size_t(corner)]) continue;
+            first[size_t(corner)] = 1;
+            const int v = o.corner_verts[size_t(corner)];
+            if (!made.insert(Hierarchy::mix(Hierarchy::mix(uint64_t(p.object), uint64_t(v)), facing)).second) continue;
+            const int leaf = h_.leaf_at(root, p.poly.v[size_t(k)]);
+            points += 1;
+            records += leaf >= 0 ? reach_of(leaf) : 0;
+        }
+    }
+    output_forecast_ = FinalGather::trace_bytes(points, records);
+}
+
+}  // namespace radiosity

@@ -1,4 +1,5 @@
 #include "radiosity/final_gather.h"
+#include "final_gather_trace.h"
 
 #include <algorithm>
 #include <array>
@@ -15,6 +16,11 @@
 #include "radiosity/transfer.h"
 
 namespace radiosity {
+
+FinalGather::FinalGather() = default;
+FinalGather::~FinalGather() = default;
+FinalGather::FinalGather(FinalGather&&) noexcept = default;
+FinalGather& FinalGather::operator=(FinalGather&&) noexcept = default;
 
 namespace {
 

@@ -20,6 +20,7 @@
 
 #include "near_field.h"
 #include "radiosity/final_gather.h"
+#include "final_gather_trace.h"
 #include "radiosity/lights.h"
 
 namespace radiosity {

@@ -8,6 +8,7 @@
 
 #include "near_field.h"
 #include "radiosity/final_gather.h"
+#include "final_gather_trace.h"
 #include "radiosity/lights.h"
 #include "radiosity/point_couplings.h"
 #include "radiosity/transfer.h"

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "radiosity/final_gather.h"
+#include "final_gather_trace.h"
 
 namespace radiosity {
 

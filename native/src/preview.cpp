@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "radiosity/final_gather.h"
+#include "final_gather_trace.h"
 #include "radiosity/lights.h"
 #include "radiosity/parallel.h"
 #include "radiosity/solver.h"

@@ -19,6 +19,7 @@
 #include <unordered_map>
 
 #include "radiosity/final_gather.h"
+#include "final_gather_trace.h"
 #include "radiosity/parallel.h"
 
 namespace radiosity {

@@ -379,8 +379,22 @@ std::vector<float> Solver::judging_radiance(const std::vector<float>& snap) cons
 }
 
 void Solver::adjust_links(Change& ch, std::vector<int>& recheck_history) {
+    std::vector<int> recompute = classify_links(ch);
+    lap("classify");
+    keep_links_rays_meet(ch, recompute);
+    lap("probe");
+    recompute_links(recompute, recheck_history);
+    lap("recompute");
+    link_changed(ch);
+    lap("relink");
+    redecide_enclosures(ch);
+}
+
+// Every live link against the change: a moved object's inner links turn with it, env-obj
+// links go (made anew by link_changed), env-env links are pruned by the old and new boxes'
+// outcodes (3.3); returns the env-env links that may have changed.
+std::vector<int> Solver::classify_links(Change& ch) {
     Stats& s = stats_;
-    // Classify every live link.
     std::vector<int> recompute;
     const size_t nlinks = links_.size();
     for (size_t i = 0; i < nlinks; ++i) {
@@ -408,43 +422,44 @@ void Solver::adjust_links(Change& ch, std::vector<int>& recheck_history) {
         if (rejected) { ++s.env_env_links_rejected; continue; }
         recompute.push_back(int(i));
     }
-    lap("classify");
+    return recompute;
+}
+
+void Solver::keep_links_rays_meet(const Change& ch, std::vector<int>& recompute) {
+    Stats& s = stats_;
     // Of the links the outcode test kept, only those with a ray through an old or new box
     // of a moved object can have changed. Every ray joins a point of one end's bounding
     // sphere to a point of the other's, so it stays within max(radius) of the segment between
     // the centres, and within the convex hull of the ends' boxes (meets_shaft, tighter where
     // one end is much larger than the other): a box both miss meets no ray.
-    {
-        std::vector<char> may(recompute.size(), 0);
-        parallel_for(recompute.size(), settings_.threads, [&](size_t k) {
-            const Link& l = links_[recompute[k]];
-            const Node& a = h_.nodes[l.src];
-            const Node& b = h_.nodes[l.rcv];
-            const double r = std::max(a.radius, b.radius) + 1e-5;
-            for (const Aabb& c : ch.clips) {
-                Aabb g = c;
-                g.lo -= Vec3{r, r, r};
-                g.hi += Vec3{r, r, r};
-                if (g.meets_segment(a.center, b.center) && c.meets_shaft(a.box, b.box)) { may[k] = 1; break; }
-            }
-        }, 256);
-        size_t kept = 0;
-        for (size_t k = 0; k < recompute.size(); ++k)
-            if (may[k]) recompute[kept++] = recompute[k];
-        s.env_env_links_rays_clear += int64_t(recompute.size() - kept);
-        recompute.resize(kept);
-    }
-    lap("probe");
+    std::vector<char> may(recompute.size(), 0);
+    parallel_for(recompute.size(), settings_.threads, [&](size_t k) {
+        const Link& l = links_[recompute[k]];
+        const Node& a = h_.nodes[l.src];
+        const Node& b = h_.nodes[l.rcv];
+        const double r = std::max(a.radius, b.radius) + 1e-5;
+        for (const Aabb& c : ch.clips) {
+            Aabb g = c;
+            g.lo -= Vec3{r, r, r};
+            g.hi += Vec3{r, r, r};
+            if (g.meets_segment(a.center, b.center) && c.meets_shaft(a.box, b.box)) { may[k] = 1; break; }
+        }
+    }, 256);
+    size_t kept = 0;
+    for (size_t k = 0; k < recompute.size(); ++k)
+        if (may[k]) recompute[kept++] = recompute[k];
+    s.env_env_links_rays_clear += int64_t(recompute.size() - kept);
+    recompute.resize(kept);
+}
+
+void Solver::recompute_links(std::vector<int>& recompute, std::vector<int>& recheck_history) {
+    Stats& s = stats_;
     // Every gathered link kept is evaluated at once, and every occluded one (the view may
     // open). Only the rays through a moved box are cast (replay). One whose evaluation comes
     // out the same is left as it is.
     // History links are not gathered: they are left stale, and evaluated when un-refinement
-    // asks about them and a judgement without rays says they might come back
-    // (freshen_stale). Evaluated here at once, they cast a third of this phase's rays (box /
-    // chair / full room, MEDIUM: 0.54 / 0.64 / 0.35 M of 1.44 / 1.83 / 1.02 M), nearly all
-    // for links that keep their split. (Flagged by a dry run of their rays and evaluated when
-    // un-refinement asked, they cost as much: four in five met a moved box and nearly all of
-    // those were asked for.)
+    // asks about them and a judgement without rays says they might come back (freshen_stale;
+    // docs/decisions.md, "History links are left stale").
     {
         size_t kept = 0;
         for (int id : recompute) {
@@ -490,7 +505,9 @@ void Solver::adjust_links(Change& ch, std::vector<int>& recheck_history) {
     }
     std::sort(recheck_history.begin(), recheck_history.end());
     recheck_history.erase(std::unique(recheck_history.begin(), recheck_history.end()), recheck_history.end());
-    lap("recompute");
+}
+
+void Solver::link_changed(Change& ch) {
     // Env-obj links created anew: the moved clusters against the environment, top-down,
     // cluster pairs first (this also links an object where it had no link before).
     std::set<std::pair<int, int>> pairs;
@@ -547,7 +564,9 @@ void Solver::adjust_links(Change& ch, std::vector<int>& recheck_history) {
         const SceneWideThreshold first_linking(light_known_);
         at_first_bounce_where_buried(ch.now, ch.moved, [&] { link_from(std::move(wave)); });
     }
-    lap("relink");
+}
+
+void Solver::redecide_enclosures(const Change& ch) {
     // A move can open or close a pocket (the floor a box stood on now sees the sky).
     // Every decider of an enclosure answer asks again, but casts again only the escape
     // rays that pass through a moved object's old or new box (all of them if it moved).

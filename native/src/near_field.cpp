@@ -168,195 +168,217 @@ void FinalGather::NearPlane::couple(const Hierarchy& h, const Vec3& sp, const Ve
     F = std::min(F, F_all);
 }
 
+// A point a hair from another surface (a floor corner 0.1 mm from a wall standing on it, a
+// cube's foot corner over the floor) takes most of what it sees of that surface from its first
+// millimetres: at distance d from the wall's plane, 90 % of the wall's form factor comes from
+// within 10 d. The light there is not the wall leaf's average: on the shadow side of an object
+// both sides of the contact go dark toward the edge (each sees mostly the other), on the lit
+// side the floor right at a cube's foot has the floor's direct light at that spot. So the part
+// of such a sender within R = 20 d of the point reads the radiance gathered at points s* of it
+// (drawn as the kernel weighs them, a few d from the contact), from the sender leaf's own links
+// -- one level of the gather, nested -- in place of the leaf's average; and since s* sees the
+// point's own plane near it as much as the point sees the sender, the two are solved together
+// (NearField::correction). Kept as a correction, F_near x (L(s*) - L_leaf), so that the samples
+// stay what the rays found (a retrace keeps or replays them). Why the s* are many and
+// stratified over both sides: docs/decisions.md, "The near field".
 void FinalGather::near_field(const Solution& s, const Config& c, Point& pt, Counts& counts) const {
-    // A point a hair from another surface (a floor corner 0.1 mm from a wall standing on it,
-    // a cube's foot corner over the floor) takes most of what it sees of that surface from its
-    // first millimetres: at distance d from the wall's plane, 90 % of the wall's form factor
-    // comes from within 10 d. The light there is not the wall leaf's average: on the shadow
-    // side of an object both sides of the contact go dark toward the edge (each sees mostly
-    // the other), on the lit side the floor right at a cube's foot has the floor's direct light
-    // at that spot. So the part of such a sender within R = 20 d of the point reads the
-    // radiance gathered at points s* of it (drawn as the kernel weighs them, a few d from the
-    // contact), from the sender leaf's own links -- one level of the gather, nested -- in
-    // place of the leaf's average; and since s* sees the point's own plane near it as much as
-    // the point sees the sender, the two are solved together (below). Kept as a correction,
-    // F_near x (L(s*) - L_leaf), so that the samples stay what the rays found (a retrace keeps
-    // or replays them). Measured on the checker floor's cube (tests/blender/
-    // test_textures_world.py, HIGH): 4 points of 4 rays, unstratified and one-sided, left its
-    // foot corners 1.5-2.3x Cycles' value (the floor's light at the foot is a shadow's edge
-    // that needs many points); rRMSE 5.8 % -> 2.2 %.
-    constexpr double kReach = kNearReach;  // R / d
-    // Points s* per near sender: the light there can change within a hair (the shadow's edge
-    // that starts at a box's foot), so they are many, each gathered with few rays: a share
-    // of the point's own budget (DRAFT 4, MEDIUM 8, HIGH 32).
-    const int kNearPoints = std::max(4, c.rays / 32);
-    const int side = int(std::ceil(std::sqrt(2.0 * kNearPoints)));
-    constexpr double kLeafShare = 0.05;  // R must be under this share of the sender polygon's size
-    constexpr double kGapLeaf = 4.0;     // ... or the leaves read at least this many times wider than d
-    constexpr double kGapShare = 0.05;   //     and its coupling to the point at least this
-    const Hierarchy& h = s.h;
-    const Vec3& x = pt.x;
-    const Vec3& n = pt.n;
-    const int own_surface = h.nodes[size_t(pt.leaf)].surface;
-    // What the point's samples read of each surface: (surface, visible weight, weighted radiance).
-    // (WS: the weighted sum of the sizes of the leaves read.)
-    struct Seen { int surface; double W; Rgb WL; double WS; };
-    thread_local std::vector<Seen> seen;
-    seen.clear();
-    for (const auto& [node, w] : pt.samples) {
-        const Node& m = h.nodes[size_t(h.live_element(node))];
+    NearField near(*this, s, c, pt, counts);
+    near.add_to(pt.near);
+}
+
+FinalGather::NearField::NearField(const FinalGather& fg, const Solution& s, const Config& c, const Point& pt,
+                                  Counts& counts)
+    : fg_(fg), s_(s), c_(c), h_(s.h), pt_(pt), counts_(counts), own_(s.h.nodes[size_t(pt.leaf)]),
+      near_points_(std::max(4, c.rays / 32)), side_(int(std::ceil(std::sqrt(2.0 * near_points_)))) {}
+
+void FinalGather::NearField::read_surfaces() {
+    seen_.clear();
+    for (const auto& [node, w] : pt_.samples) {
+        const Node& m = h_.nodes[size_t(h_.live_element(node))];
         if (m.is_cluster() || m.surface < 0) continue;
         const double size = std::sqrt(m.area);
-        auto it = std::find_if(seen.begin(), seen.end(), [&](const Seen& e) { return e.surface == m.surface; });
-        if (it == seen.end()) seen.push_back({m.surface, double(w), m.L * double(w), size * double(w)});
+        auto it = std::find_if(seen_.begin(), seen_.end(), [&](const Seen& e) { return e.surface == m.surface; });
+        if (it == seen_.end()) seen_.push_back({m.surface, double(w), m.L * double(w), size * double(w)});
         else it->W += double(w), it->WL += m.L * double(w), it->WS += size * double(w);
     }
-    // S: the point's irradiance / pi without this correction, as values() makes it (lamps,
-    // samples, closure; exact in a furnace, where the correction must then vanish).
-    const Node& own = h.nodes[size_t(pt.leaf)];
+}
+
+Rgb FinalGather::NearField::uncorrected() const {
     Rgb S_own, S_all;
-    for (const Record& r : pt.records)
+    for (const Record& r : pt_.records)
         for (uint32_t i = r.begin; i < r.end; ++i) {
-            const Rgb e = h.nodes[size_t(h.live_element(pt.samples[i].first))].L * double(pt.samples[i].second);
+            const Rgb e = h_.nodes[size_t(h_.live_element(pt_.samples[i].first))].L * double(pt_.samples[i].second);
             S_all += e;
             if (r.own) S_own += e;
         }
-    const Rgb S = pt.direct + closure_gathered(S_own, S_all, pt.c_own, pt.c_inherited, pt.fill, own.L);
-    thread_local NearPlane wall;
-    std::optional<DirectVariation> direct;  // made for the first near sender
-    thread_local std::vector<int> coplanar;
-    thread_local std::vector<Vec3> stars;  // the s* of one sender
-    wall.n = n;
-    wall.tol = 1e-9 * h.scene_diag;
-    for (const Seen& sn : seen) {
-        if (sn.surface == own_surface || !(sn.W > 0)) continue;
-        const Node& root = h.nodes[size_t(h.surfaces[size_t(sn.surface)].root)];
-        const double d = dot(x - root.poly.v[0], root.normal);
-        if (!(d > 0)) continue;
-        // Near: a hair from the sender's polygon, or in a narrow gap in front of a sender whose
-        // leaves are much wider than the gap (a cabinet's back 2 cm from the wall: the wall's
-        // leaves there average the lit wall beside the cabinet with the dark wall behind it,
-        // and the point sees the dark part; the back read 3x Cycles' value) and that brings
-        // the point a real share of its light.
-        const bool hair = kReach * d <= kLeafShare * std::sqrt(root.area);
-        const bool gap = kGapLeaf * d < sn.WS / sn.W && sn.W >= kGapShare;
-        if (!hair && !gap) continue;
-        const double R = kReach * d;
-        Aabb box;
-        box.lo = x - Vec3{R, R, R};
-        box.hi = x + Vec3{R, R, R};
-        Vec3 part[12];
-        const int np = clip_to_box(root.poly, box, part);
-        if (np == 0) continue;
-        const double F_near = std::min(point_polygon_form_factor(x, n, part, np, root.normal), sn.W);
-        if (!(F_near > 0)) continue;
-        // Points s* of the near part, drawn as the kernel weighs it: cosine-distributed
-        // directions from x that meet the sender's plane within the box (the light there can
-        // change within the near part: a shadow's edge at a leg's foot). Each gathers anew.
-        const int surface_root = h.surfaces[size_t(sn.surface)].root;
-        const uint64_t seed = Hierarchy::mix(pt.seed, Hierarchy::mix(root.key, 0x4ea7u));
-        Rng rng(seed);
-        Vec3 u, v;
-        frame(n, u, v);
-        Rgb B0, C, Cout, Bout;
-        wall.offset = dot(n, own.poly.v[0]);
-        wall.surfaces.clear();
-        // The point stands for its own plane only in front of the sender's plane as far as the
-        // point sees it (the sender's polygons there, all of a cabinet's back in a 2 cm gap):
-        // past the sender's edge (a box's corner, 0.1 mm away) the floor may be lit where the
-        // point is in the box's shadow, and s* reads it at points gathered there (below).
-        wall.region.lo = root.poly.v[0];
-        wall.region.hi = root.poly.v[0];
-        const double sender_offset = dot(root.normal, root.poly.v[0]);
-        coplanar.clear();
-        for (const Seen& other : seen) {
-            const Node& g = h.nodes[size_t(h.surfaces[size_t(other.surface)].root)];
-            if (dot(g.normal, root.normal) < 1.0 - 1e-9 || std::abs(dot(g.poly.v[0], root.normal) - sender_offset) > wall.tol)
-                continue;
-            coplanar.push_back(h.surfaces[size_t(other.surface)].root);
-            for (int k = 0; k < g.poly.n; ++k) {
-                wall.region.lo = vmin(wall.region.lo, g.poly.v[size_t(k)]);
-                wall.region.hi = vmax(wall.region.hi, g.poly.v[size_t(k)]);
-            }
-        }
-        const Vec3 reach{R * std::abs(root.normal.x), R * std::abs(root.normal.y), R * std::abs(root.normal.z)};
-        wall.region.lo = wall.region.lo - reach;
-        wall.region.hi = wall.region.hi + reach;
-        // The plane's own direct light near x (near_direct.cpp), where a shadow's edge is near.
-        if (!direct) direct.emplace(s, c, pt, kNearPoints, counts);
-        const bool vary = direct->applies(coplanar, R);
-        direct->clear_stars();
-        stars.clear();
-        int got = 0;
-        // Stratified over the whole hemisphere (the near part takes a share of it, half for a
-        // sender at right angles); every direction that meets the near part is a point.
-        for (int tries = 0; tries < side * side; ++tries) {
-            const double r1 = (tries % side + rng.next()) / side, r2 = (tries / side + rng.next()) / side;
-            const Vec3 w = cosine_direction(u, v, n, r1, r2);
-            const double dn = -dot(w, root.normal);
-            if (!(dn > 1e-6)) continue;
-            const double t = d / dn;
-            if (t > 1.7 * R) continue;
-            const Vec3 sp = x + w * t;
-            if (distance_outside(root.poly, root.normal, sp) > 1e-9 * h.scene_diag) continue;
-            const int m_id = h.leaf_at(surface_root, sp);
-            if (m_id < 0) continue;
-            wall.seen.clear();
-            const Rgb Ls = radiance_at(s, c, m_id, sp, Hierarchy::mix(seed, uint64_t(tries)), counts, &wall);
-            const Rgb rho_s = h.rho_at(m_id, sp);
-            B0 += Ls - rho_s * wall.WL_all;
-            if (vary) direct->add_star(sp, rho_s, kReach * (dot(sp, n) - wall.offset));
-            Cout += rho_s * (wall.F_all - wall.F);
-            Bout += rho_s * (wall.WL_all - wall.WL);
-            C += rho_s * wall.F;
-            stars.push_back(sp);
-            ++got;
-        }
-        if (got == 0) continue;
-        if (vary) B0 += direct->sum(root, sn.WL / sn.W, d, wall, seed);
-        // The plane near s* but outside the point's neighbourhood: its radiance at a few
-        // points of its own (a lit floor past a box's corner), not its leaves' average. The
-        // points are where cosine directions from the s* meet the plane, so that they stand
-        // for what the s* see of it (a slab's underside near its shadowed edge sees the dark
-        // floor there, not the lit floor across the slab).
-        if (Cout.max() > 0) {
-            Vec3 su, sv;
-            frame(root.normal, su, sv);
-            Rgb aq;
-            int gq = 0;
-            const int nq = std::max(8, kNearPoints / 2);
-            for (int t = 0; t < 32 * nq && gq < nq; ++t) {
-                const Vec3& sp = stars[size_t(t) % stars.size()];
-                const Vec3 w = cosine_direction(su, sv, root.normal, rng.next(), rng.next());
-                const double dn = dot(w, n);
-                if (!(dn < -1e-6)) continue;
-                const Vec3 p = sp + w * ((wall.offset - dot(sp, n)) / dn);
-                if (!box.contains(p) || wall.region.contains(p)) continue;
-                const int q_surface = wall.surface_at(h, p);
-                if (q_surface < 0) continue;
-                const int q_id = h.leaf_at(h.surfaces[size_t(q_surface)].root, p);
-                if (q_id < 0) continue;
-                aq += radiance_at(s, c, q_id, p, Hierarchy::mix(seed, uint64_t(1000 + t)), counts);
-                ++gq;
-            }
-            if (gq > 0) B0 += Cout * (aq / double(gq));
-            else B0 += Bout;
-        }
-        B0 = B0 / double(got);
-        C = C / double(got);
-        // s* sees the point's own plane near it too, and that part is what the point's
-        // neighbourhood sends: L(s*) = B0 + C a, with a = e + rho E(x) the radiance at x.
-        // E(x) = S - F_near Lbar + F_near L(s*) (S what the samples and lamps give, Lbar the
-        // average they read of this sender), solved for E(x): the two sides of a contact light
-        // each other, bounce after bounce (the shadow side of a box's foot goes dark on both
-        // faces, as each sees mostly the other).
-        const Rgb Lbar = sn.WL / sn.W;
-        const Rgb corr = F_near * (B0 + C * (own.emission + own.rho * S) - Lbar);
-        // (Reflectances are under 1 and F_near, C under 1: den > 0; the floor is for safety.)
-        const Rgb den = cmax(Rgb{1, 1, 1} - F_near * C * own.rho, Rgb{1e-3, 1e-3, 1e-3});
-        pt.near += Rgb{corr.r / den.r, corr.g / den.g, corr.b / den.b};
-        ++counts.near;
+    return pt_.direct + closure_gathered(S_own, S_all, pt_.c_own, pt_.c_inherited, pt_.fill, own_.L);
+}
+
+void FinalGather::NearField::add_to(Rgb& near) {
+    read_surfaces();
+    S_ = uncorrected();
+    wall_.n = pt_.n;
+    wall_.tol = 1e-9 * h_.scene_diag;
+    for (const Seen& sn : seen_) {
+        if (sn.surface == own_.surface || !(sn.W > 0)) continue;
+        Rgb corr;
+        if (correction(sn, corr)) near += corr;
     }
+}
+
+bool FinalGather::NearField::near_part(const Seen& sn, const Node& root, double& d, double& F_near, Aabb& box) const {
+    constexpr double kLeafShare = 0.05;  // R must be under this share of the sender polygon's size
+    constexpr double kGapLeaf = 4.0;     // ... or the leaves read at least this many times wider than d
+    constexpr double kGapShare = 0.05;   //     and its coupling to the point at least this
+    d = dot(pt_.x - root.poly.v[0], root.normal);
+    if (!(d > 0)) return false;
+    // Near: a hair from the sender's polygon, or in a narrow gap in front of a sender whose
+    // leaves are much wider than the gap (a cabinet's back 2 cm from the wall: the wall's
+    // leaves there average the lit wall beside the cabinet with the dark wall behind it, and
+    // the point sees the dark part; the back read 3x Cycles' value) and that brings the point
+    // a real share of its light.
+    const bool hair = kNearReach * d <= kLeafShare * std::sqrt(root.area);
+    const bool gap = kGapLeaf * d < sn.WS / sn.W && sn.W >= kGapShare;
+    if (!hair && !gap) return false;
+    const double R = kNearReach * d;
+    box.lo = pt_.x - Vec3{R, R, R};
+    box.hi = pt_.x + Vec3{R, R, R};
+    Vec3 part[12];
+    const int np = clip_to_box(root.poly, box, part);
+    if (np == 0) return false;
+    F_near = std::min(point_polygon_form_factor(pt_.x, pt_.n, part, np, root.normal), sn.W);
+    return F_near > 0;
+}
+
+void FinalGather::NearField::bound_wall(const Node& root, double R) {
+    // The point stands for its own plane only in front of the sender's plane as far as the
+    // point sees it (the sender's polygons there, all of a cabinet's back in a 2 cm gap): past
+    // the sender's edge (a box's corner, 0.1 mm away) the floor may be lit where the point is in
+    // the box's shadow, and s* reads it at points gathered there (beyond()).
+    wall_.offset = dot(pt_.n, own_.poly.v[0]);
+    wall_.surfaces.clear();
+    wall_.region.lo = root.poly.v[0];
+    wall_.region.hi = root.poly.v[0];
+    const double sender_offset = dot(root.normal, root.poly.v[0]);
+    coplanar_.clear();
+    for (const Seen& other : seen_) {
+        const Node& g = h_.nodes[size_t(h_.surfaces[size_t(other.surface)].root)];
+        if (dot(g.normal, root.normal) < 1.0 - 1e-9 || std::abs(dot(g.poly.v[0], root.normal) - sender_offset) > wall_.tol)
+            continue;
+        coplanar_.push_back(h_.surfaces[size_t(other.surface)].root);
+        for (int k = 0; k < g.poly.n; ++k) {
+            wall_.region.lo = vmin(wall_.region.lo, g.poly.v[size_t(k)]);
+            wall_.region.hi = vmax(wall_.region.hi, g.poly.v[size_t(k)]);
+        }
+    }
+    const Vec3 reach{R * std::abs(root.normal.x), R * std::abs(root.normal.y), R * std::abs(root.normal.z)};
+    wall_.region.lo = wall_.region.lo - reach;
+    wall_.region.hi = wall_.region.hi + reach;
+}
+
+FinalGather::NearField::Stars FinalGather::NearField::gather_stars(const Seen& sn, const Node& root, double d, double R,
+                                                                   bool vary, uint64_t seed, Rng& rng) {
+    // Points s* of the near part, drawn as the kernel weighs it: cosine-distributed directions
+    // from x that meet the sender's plane within the box (the light there can change within
+    // the near part: a shadow's edge at a leg's foot), stratified over the whole hemisphere
+    // (the near part takes a share of it, half for a sender at right angles). Each gathers anew.
+    const Vec3& x = pt_.x;
+    const Vec3& n = pt_.n;
+    const int surface_root = h_.surfaces[size_t(sn.surface)].root;
+    Vec3 u, v;
+    frame(n, u, v);
+    Stars st;
+    stars_.clear();
+    for (int tries = 0; tries < side_ * side_; ++tries) {
+        const double r1 = (tries % side_ + rng.next()) / side_, r2 = (tries / side_ + rng.next()) / side_;
+        const Vec3 w = cosine_direction(u, v, n, r1, r2);
+        const double dn = -dot(w, root.normal);
+        if (!(dn > 1e-6)) continue;
+        const double t = d / dn;
+        if (t > 1.7 * R) continue;
+        const Vec3 sp = x + w * t;
+        if (distance_outside(root.poly, root.normal, sp) > 1e-9 * h_.scene_diag) continue;
+        const int m_id = h_.leaf_at(surface_root, sp);
+        if (m_id < 0) continue;
+        wall_.seen.clear();
+        const Rgb Ls = fg_.radiance_at(s_, c_, m_id, sp, Hierarchy::mix(seed, uint64_t(tries)), counts_, &wall_);
+        const Rgb rho_s = h_.rho_at(m_id, sp);
+        st.B0 += Ls - rho_s * wall_.WL_all;
+        if (vary) direct_->add_star(sp, rho_s, kNearReach * (dot(sp, n) - wall_.offset));
+        st.Cout += rho_s * (wall_.F_all - wall_.F);
+        st.Bout += rho_s * (wall_.WL_all - wall_.WL);
+        st.C += rho_s * wall_.F;
+        stars_.push_back(sp);
+        ++st.got;
+    }
+    return st;
+}
+
+Rgb FinalGather::NearField::beyond(const Node& root, const Aabb& box, uint64_t seed, Rng& rng) {
+    // The plane near s* but outside the point's neighbourhood: its radiance at a few points of
+    // its own (a lit floor past a box's corner), not its leaves' average. The points are where
+    // cosine directions from the s* meet the plane, so that they stand for what the s* see of
+    // it (a slab's underside near its shadowed edge sees the dark floor there, not the lit
+    // floor across the slab). Returns their mean; black with got 0 when none was found.
+    Vec3 su, sv;
+    frame(root.normal, su, sv);
+    Rgb aq;
+    int gq = 0;
+    const int nq = std::max(8, near_points_ / 2);
+    for (int t = 0; t < 32 * nq && gq < nq; ++t) {
+        const Vec3& sp = stars_[size_t(t) % stars_.size()];
+        const Vec3 w = cosine_direction(su, sv, root.normal, rng.next(), rng.next());
+        const double dn = dot(w, pt_.n);
+        if (!(dn < -1e-6)) continue;
+        const Vec3 p = sp + w * ((wall_.offset - dot(sp, pt_.n)) / dn);
+        if (!box.contains(p) || wall_.region.contains(p)) continue;
+        const int q_surface = wall_.surface_at(h_, p);
+        if (q_surface < 0) continue;
+        const int q_id = h_.leaf_at(h_.surfaces[size_t(q_surface)].root, p);
+        if (q_id < 0) continue;
+        aq += fg_.radiance_at(s_, c_, q_id, p, Hierarchy::mix(seed, uint64_t(1000 + t)), counts_);
+        ++gq;
+    }
+    beyond_found_ = gq;
+    return gq > 0 ? aq / double(gq) : Rgb{};
+}
+
+bool FinalGather::NearField::correction(const Seen& sn, Rgb& out) {
+    const Node& root = h_.nodes[size_t(h_.surfaces[size_t(sn.surface)].root)];
+    double d = 0, F_near = 0;
+    Aabb box;
+    if (!near_part(sn, root, d, F_near, box)) return false;
+    const double R = kNearReach * d;
+    const uint64_t seed = Hierarchy::mix(pt_.seed, Hierarchy::mix(root.key, 0x4ea7u));
+    Rng rng(seed);
+    bound_wall(root, R);
+    // The plane's own direct light near x (near_direct.cpp), where a shadow's edge is near.
+    if (!direct_) direct_.emplace(s_, c_, pt_, near_points_, counts_);
+    const bool vary = direct_->applies(coplanar_, R);
+    direct_->clear_stars();
+    Stars st = gather_stars(sn, root, d, R, vary, seed, rng);
+    if (st.got == 0) return false;
+    if (vary) st.B0 += direct_->sum(root, sn.WL / sn.W, d, wall_, seed);
+    if (st.Cout.max() > 0) {
+        const Rgb aq = beyond(root, box, seed, rng);
+        if (beyond_found_ > 0) st.B0 += st.Cout * aq;
+        else st.B0 += st.Bout;
+    }
+    const Rgb B0 = st.B0 / double(st.got);
+    const Rgb C = st.C / double(st.got);
+    // s* sees the point's own plane near it too, and that part is what the point's
+    // neighbourhood sends: L(s*) = B0 + C a, with a = e + rho E(x) the radiance at x. E(x) =
+    // S - F_near Lbar + F_near L(s*) (S what the samples and lamps give, Lbar the average they
+    // read of this sender), solved for E(x): the two sides of a contact light each other,
+    // bounce after bounce (the shadow side of a box's foot goes dark on both faces, as each
+    // sees mostly the other).
+    const Rgb Lbar = sn.WL / sn.W;
+    const Rgb corr = F_near * (B0 + C * (own_.emission + own_.rho * S_) - Lbar);
+    // (Reflectances are under 1 and F_near, C under 1: den > 0; the floor is for safety.)
+    const Rgb den = cmax(Rgb{1, 1, 1} - F_near * C * own_.rho, Rgb{1e-3, 1e-3, 1e-3});
+    out = Rgb{corr.r / den.r, corr.g / den.g, corr.b / den.b};
+    ++counts_.near;
+    return true;
 }
 
 }  // namespace radiosity

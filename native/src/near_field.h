@@ -2,6 +2,7 @@
 // near_direct.cpp): what a point of a sender a hair from an output point sees of the output
 // point's own plane (NearPlane), and the plane's direct-light term (DirectVariation).
 #pragma once
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -71,6 +72,61 @@ private:
     std::vector<char> read_;
     std::vector<Coarse> coarse_;
     std::vector<std::pair<int, float>> nested_;
+};
+
+// One output point's near field (near_field.cpp): for each sender a hair from the point, its
+// part near the point read at points s* of it, and the correction that makes to the point's
+// irradiance / pi. Scratch lists live per thread (one point at a time on each).
+class FinalGather::NearField {
+public:
+    NearField(const FinalGather& fg, const Solution& s, const Config& c, const Point& pt, Counts& counts);
+    // Adds each near sender's correction to `near`, in the order the point's samples read them.
+    void add_to(Rgb& near);
+
+private:
+    // What the point's samples read of one surface: visible weight, weighted radiance, and
+    // the weighted sum of the sizes of the leaves read.
+    struct Seen { int surface; double W; Rgb WL; double WS; };
+    // Over one sender's s*: what they gather less the point's plane (B0), their coupling to
+    // the plane near the point (C) and beyond it (Cout, with Bout its leaves' radiance).
+    struct Stars { Rgb B0, C, Cout, Bout; int got = 0; };
+    void read_surfaces();
+    // The point's irradiance / pi without the correction, as values() makes it (lamps,
+    // samples, closure; exact in a furnace, where the correction must then vanish).
+    Rgb uncorrected() const;
+    // Whether the sender (surface root `root`) lies near: its distance d, the coupling of its
+    // part within kNearReach x d, and the box around the point that bounds that part.
+    bool near_part(const Seen& sn, const Node& root, double& d, double& F_near, Aabb& box) const;
+    // The point's plane as the s* see it: the region the point stands for, the coplanar roots.
+    void bound_wall(const Node& root, double R);
+    Stars gather_stars(const Seen& sn, const Node& root, double d, double R, bool vary, uint64_t seed, Rng& rng);
+    Rgb beyond(const Node& root, const Aabb& box, uint64_t seed, Rng& rng);
+    // One sender's correction; false when it is not near or no s* was found on it.
+    bool correction(const Seen& sn, Rgb& out);
+
+    static std::vector<Seen>& seen_list() { thread_local std::vector<Seen> v; return v; }
+    static NearPlane& wall_plane() { thread_local NearPlane w; return w; }
+    static std::vector<int>& coplanar_list() { thread_local std::vector<int> v; return v; }
+    static std::vector<Vec3>& star_list() { thread_local std::vector<Vec3> v; return v; }
+
+    const FinalGather& fg_;
+    const Solution& s_;
+    const Config& c_;
+    const Hierarchy& h_;
+    const Point& pt_;
+    Counts& counts_;
+    const Node& own_;
+    // Points s* per near sender: the light there can change within a hair (the shadow's edge
+    // that starts at a box's foot), so they are many, each gathered with few rays: a share of
+    // the point's own budget (DRAFT 4, MEDIUM 16, HIGH 32); drawn over side_ x side_ strata.
+    const int near_points_, side_;
+    std::vector<Seen>& seen_ = seen_list();
+    NearPlane& wall_ = wall_plane();
+    std::vector<int>& coplanar_ = coplanar_list();
+    std::vector<Vec3>& stars_ = star_list();
+    std::optional<DirectVariation> direct_;  // made for the first near sender
+    Rgb S_;
+    int beyond_found_ = 0;
 };
 
 }  // namespace radiosity

@@ -210,6 +210,7 @@ private:
     // point's own plane as a sender's point sees it, and the plane's direct-light term.
     struct NearPlane;
     class DirectVariation;
+    class NearField;
     // Outgoing radiance at a point sp of leaf m_id, gathered there (lamps and m's links); with
     // `wall`, also what it gathers of that plane near sp.
     Rgb radiance_at(const Solution& s, const Config& c, int m_id, const Vec3& sp, uint64_t seed, Counts& counts,

@@ -190,7 +190,7 @@ def per_object_table(d):
     lines = ["| config | " + " | ".join(names) + " |", "|---|" + "---|" * len(names)]
     for p in ours + [p for p in d["points"] if p["kind"] == "cycles"]:
         po = p.get("per_object", {})
-        cells = [f"{po[n]['rrmse']:.3f} ({po[n]['mean_ratio']:.2f})" if n in po else "–"
+        cells = [f"{po[n]['rrmse']:.3f} ({po[n]['mean_ratio']:.3f})" if n in po else "–"
                  for n in names]
         lines.append(f"| {label(p)} | " + " | ".join(cells) + " |")
     return "\n".join(lines)

@@ -298,16 +298,7 @@ FinalGather::Record FinalGather::trace_transfer(const Solution& s, const Config&
 
 void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, const Point* old, const Moves* moves,
                               Counts& counts, bool emitters_only) const {
-    pt.gathered = !emitters_only;
-    pt.reach = 0;
-    pt.samples.clear();
-    pt.records.clear();
-    pt.direct = Rgb{};
-    pt.near = Rgb{};
-    pt.escapes = -1;
-    pt.c_own = pt.c_inherited = 1;
-    pt.fill = 0;
-    pt.sealed = false;
+    pt.reset(!emitters_only);
     // Inside a closed solid (the floor inside a bottomless block, under a box's bottom):
     // nothing lights it, whatever the leaves around say. One ray tells most points they are
     // not (it escapes or meets a face's front).
@@ -318,78 +309,15 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
         return;
     }
     if (pt.covered) return;
-    const Hierarchy& h = s.h;
-    const Node& L = h.nodes[size_t(pt.leaf)];
-    const Vec3& x = pt.x;
-    const Vec3& n = pt.n;
+    const Node& L = s.h.nodes[size_t(pt.leaf)];
     trace_lamps(s, c, pt, old, moves, counts);
-
-    // The links that bring the leaf its light: at the leaf itself (its own), at its element
-    // ancestors and at the clusters above its surface (inherited). Together they cover what
-    // the leaf sees once, the invariant of hierarchical radiosity, and so do they for x.
-    struct Use { int link; bool own; double weight; };
     thread_local std::vector<Use> use;
-    thread_local std::vector<std::pair<int, bool>> reaching;
-    use.clear();
-    links_reaching(s, pt.leaf, reaching);
-    for (const auto& [li, own] : reaching) {
-        const Link& l = s.links[size_t(li)];
-        const Node& src = h.nodes[size_t(l.src)];
-        // The light at stake, for sharing the ray budget: the coupling as the link saw it
-        // unoccluded, times the sender's brightest leaf.
-        use.push_back({li, own, l.K_unoccluded * std::max(src.Lmax.max(), src.L.max())});
-    }
+    uses(s, pt.leaf, use);
     // (A shared point's closure and near field are its lenders'.)
     const bool enclosed = L.enclosed == 1 && !emitters_only;
-    double total = 0;
-    for (const Use& u : use) total += u.weight;
-    // The nearest sender that brings no light (no samples tell where it is): a black sofa
-    // beside a floor point shades the floor near it all the same. (A cluster around the
-    // point says nothing of where its surfaces are.)
-    double dark = std::numeric_limits<double>::infinity();
-    if (c.share > 0 && !emitters_only)
-        for (const Use& u : use) {
-            const Link& l = s.links[size_t(u.link)];
-            if (u.weight > 0 || !(l.K_unoccluded > 0)) continue;  // lit, or out of sight
-            const Node& src = h.nodes[size_t(l.src)];
-            // (An element's centre, not its polygon: the faces beside the point's own, dark or
-            // not, meet it at distance 0 and shade it little.)
-            if (!src.is_cluster()) dark = std::min(dark, length(src.center - x));
-            else if (!src.box.contains(x)) dark = std::min(dark, distance_to_box(src.box, x));
-        }
-
-    // Whether the near-field correction and the escape answer of the point are kept (below).
-    // (Also when every ray is cast again, Settings::replay_rays off: that mode checks that
-    // replayed rays are exact, not this.)
-    bool unchanged = old != nullptr && old->gathered && !old->sealed && !moves->lights_changed && !moves->materials_changed;
-    if (unchanged) {
-        // Nothing moved within 5 % of the scene's size of the point.
-        const double r = 0.05 * h.scene_diag;
-        Aabb around;
-        around.lo = x - Vec3{r, r, r};
-        around.hi = x + Vec3{r, r, r};
-        for (const Aabb& b : moves->clips)
-            if (b.overlaps(around)) unchanged = false;
-    }
-    PointCouplings couplings;
-    for (const Use& u : use) {
-        // A dark sender brings nothing, but in a closed pocket its coupling still counts
-        // toward the closure (below).
-        if (!(u.weight > 0) && !enclosed) continue;
-        const Link& l = s.links[size_t(u.link)];
-        // A shared point traces these alone, with the budget of a full trace, so that the
-        // two draw the same rays.
-        const bool emits = sender_emits(h, l.src);
-        if (emitters_only && !emits) continue;
-        Record rec = trace_transfer(s, c, pt, old, moves, counts, l.src, u.weight, total, use.size());
-        rec.own = u.own;
-        rec.emits = emits;
-        ++counts.links;
-        rec.end = uint32_t(pt.samples.size());
-        couplings.add(closing_coupling(h, l.src, rec.F, pt.samples.data() + rec.begin, rec.end - rec.begin), u.own,
-                      h.nodes[size_t(l.src)].is_cluster());
-        pt.records.push_back(rec);
-    }
+    const double dark = c.share > 0 && !emitters_only ? nearest_dark(s, use, pt.x) : std::numeric_limits<double>::infinity();
+    const bool unchanged = near_unchanged(s, pt, old, moves);
+    const PointCouplings couplings = trace_transfers(s, c, pt, old, moves, counts, use, enclosed, emitters_only);
     if (emitters_only) return;
     if (c.share > 0) pt.reach = lend_reach(pt, dark);
     // Closure at the point, as the solver's at the leaf: where no escape ray of the leaf found
@@ -397,7 +325,8 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
     // A ceiling leaf over a lamp hung 1 mm below it finds no way out with its 32 rays, but its
     // points near the lamp's rim see 3 % of their hemisphere through the gap, dark: filling
     // that with the leaf's own radiance read them 3 % too bright.
-    if (enclosed) pt.escapes = unchanged && old->escapes >= 0 ? old->escapes : int8_t(point_escapes(s, x, n, pt.seed, counts));
+    if (enclosed)
+        pt.escapes = unchanged && old->escapes >= 0 ? old->escapes : int8_t(point_escapes(s, pt.x, pt.n, pt.seed, counts));
     if (enclosed && pt.escapes == 0) {
         const ClosureFactors cf = couplings.closure();
         pt.c_own = cf.c_own;
@@ -415,6 +344,82 @@ void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, con
         near_field(s, c, pt, counts);  // after the closure: it reads the point's full irradiance
         counts.near_rays += counts.rays - before;
     }
+}
+
+void FinalGather::uses(const Solution& s, int leaf, std::vector<Use>& use) const {
+    // The links that bring the leaf its light: at the leaf itself (its own), at its element
+    // ancestors and at the clusters above its surface (inherited). Together they cover what
+    // the leaf sees once, the invariant of hierarchical radiosity, and so do they for a point.
+    thread_local std::vector<std::pair<int, bool>> reaching;
+    use.clear();
+    links_reaching(s, leaf, reaching);
+    for (const auto& [li, own] : reaching) {
+        const Link& l = s.links[size_t(li)];
+        const Node& src = s.h.nodes[size_t(l.src)];
+        // The light at stake, for sharing the ray budget: the coupling as the link saw it
+        // unoccluded, times the sender's brightest leaf.
+        use.push_back({li, own, l.K_unoccluded * std::max(src.Lmax.max(), src.L.max())});
+    }
+}
+
+double FinalGather::nearest_dark(const Solution& s, const std::vector<Use>& use, const Vec3& x) {
+    // The nearest sender that brings no light (no samples tell where it is): a black sofa
+    // beside a floor point shades the floor near it all the same. (A cluster around the
+    // point says nothing of where its surfaces are.)
+    double dark = std::numeric_limits<double>::infinity();
+    for (const Use& u : use) {
+        const Link& l = s.links[size_t(u.link)];
+        if (u.weight > 0 || !(l.K_unoccluded > 0)) continue;  // lit, or out of sight
+        const Node& src = s.h.nodes[size_t(l.src)];
+        // (An element's centre, not its polygon: the faces beside the point's own, dark or
+        // not, meet it at distance 0 and shade it little.)
+        if (!src.is_cluster()) dark = std::min(dark, length(src.center - x));
+        else if (!src.box.contains(x)) dark = std::min(dark, distance_to_box(src.box, x));
+    }
+    return dark;
+}
+
+bool FinalGather::near_unchanged(const Solution& s, const Point& pt, const Point* old, const Moves* moves) {
+    // (Also when every ray is cast again, Settings::replay_rays off: that mode checks that
+    // replayed rays are exact, not this.)
+    if (!(old != nullptr && old->gathered && !old->sealed && !moves->lights_changed && !moves->materials_changed))
+        return false;
+    // Nothing moved within 5 % of the scene's size of the point.
+    const double r = 0.05 * s.h.scene_diag;
+    Aabb around;
+    around.lo = pt.x - Vec3{r, r, r};
+    around.hi = pt.x + Vec3{r, r, r};
+    for (const Aabb& b : moves->clips)
+        if (b.overlaps(around)) return false;
+    return true;
+}
+
+PointCouplings FinalGather::trace_transfers(const Solution& s, const Config& c, Point& pt, const Point* old,
+                                            const Moves* moves, Counts& counts, const std::vector<Use>& use,
+                                            bool enclosed, bool emitters_only) const {
+    const Hierarchy& h = s.h;
+    double total = 0;
+    for (const Use& u : use) total += u.weight;
+    PointCouplings couplings;
+    for (const Use& u : use) {
+        // A dark sender brings nothing, but in a closed pocket its coupling still counts
+        // toward the closure.
+        if (!(u.weight > 0) && !enclosed) continue;
+        const Link& l = s.links[size_t(u.link)];
+        // A shared point traces these alone, with the budget of a full trace, so that the
+        // two draw the same rays.
+        const bool emits = sender_emits(h, l.src);
+        if (emitters_only && !emits) continue;
+        Record rec = trace_transfer(s, c, pt, old, moves, counts, l.src, u.weight, total, use.size());
+        rec.own = u.own;
+        rec.emits = emits;
+        ++counts.links;
+        rec.end = uint32_t(pt.samples.size());
+        couplings.add(closing_coupling(h, l.src, rec.F, pt.samples.data() + rec.begin, rec.end - rec.begin), u.own,
+                      h.nodes[size_t(l.src)].is_cluster());
+        pt.records.push_back(rec);
+    }
+    return couplings;
 }
 
 bool FinalGather::point_escapes(const Solution& s, const Vec3& x, const Vec3& n, uint64_t seed, Counts& counts) {

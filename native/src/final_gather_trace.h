@@ -26,6 +26,20 @@ struct FinalGather::Record {
     PointRays outcome;            // for replay after a move
 };
 struct FinalGather::Point {
+    // Empties what a trace found (before tracing the point again); `gather`: it gathers all
+    // its links, not only its emitters (a shared point).
+    void reset(bool gather) {
+        gathered = gather;
+        reach = 0;
+        samples.clear();
+        records.clear();
+        direct = Rgb{};
+        near = Rgb{};
+        escapes = -1;
+        c_own = c_inherited = 1;
+        fill = 0;
+        sealed = false;
+    }
     int object = -1, prim = -1, k = 0;  // the corner it was made for (first of its corners)
     Vec3 x, n;
     uint64_t seed = 0;

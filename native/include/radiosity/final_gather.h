@@ -29,6 +29,8 @@
 
 namespace radiosity {
 
+struct PointCouplings;  // point_couplings.h
+
 // The closure factors of an enclosed output point whose couplings sum to own + inherited, of
 // which s_own and s_inherited come from cluster senders (sampled): final_gather.cpp.
 ClosureFactors point_closure_factors(double own, double inherited, double s_own, double s_inherited);
@@ -183,7 +185,17 @@ private:
     // `emitters_only`, only its lamps and the links from emitting senders (a shared point).
     void trace_point(const Solution& s, const Config& c, Point& pt, const Point* old, const Moves* moves,
                      Counts& counts, bool emitters_only = false) const;
-    // trace_point's parts: the point's lamps (kept after a move that cannot shade them), and
+    // trace_point's parts: the links reaching the point's leaf with the light each may bring
+    // (its share of the ray budget), the nearest of them that brings none, whether a move left
+    // the point's near field as it was, and the transfers traced (their couplings, for the
+    // closure).
+    struct Use { int link; bool own; double weight; };
+    void uses(const Solution& s, int leaf, std::vector<Use>& use) const;
+    static double nearest_dark(const Solution& s, const std::vector<Use>& use, const Vec3& x);
+    static bool near_unchanged(const Solution& s, const Point& pt, const Point* old, const Moves* moves);
+    PointCouplings trace_transfers(const Solution& s, const Config& c, Point& pt, const Point* old, const Moves* moves,
+                                   Counts& counts, const std::vector<Use>& use, bool enclosed, bool emitters_only) const;
+    // ... the point's lamps (kept after a move that cannot shade them), and
     // one sender's transfer to it (`weight` its light at stake, of `total` over `links` links).
     void trace_lamps(const Solution& s, const Config& c, Point& pt, const Point* old, const Moves* moves,
                      Counts& counts) const;

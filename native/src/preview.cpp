@@ -266,60 +266,23 @@ bool FinalGather::corner_value(const Hierarchy& h, int object, size_t corner, bo
     return true;
 }
 
+struct Solver::PlacedPolygon {
+    Poly poly;
+    Vec3 normal;
+    Aabb box;
+};
+
 std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 16>>& moves,
                                          FinalGather::PreviewCounts* counts) {
     if (!solved_) throw std::logic_error("preview: solve the scene first");
     if (settings_.gather_rays <= 0 || !output_.traced())
         throw std::logic_error("preview: needs the final gather's trace (gather_rays > 0)");
-    const size_t no = scene_.objects().size();
     FinalGather::Preview p;
-    p.moved.assign(no, 0);
-    p.carry.assign(no, Rigid{});
     std::vector<std::pair<int, Rigid>> placed;
-    for (const auto& [object, m] : moves) {
-        check_live(object, "preview");  // topology.cpp
-        if (size_t(object) >= poses_.size() || h_.object_node[size_t(object)] < 0) continue;
-        const Rigid to = pose_of(object, m.data());
-        const Rigid& from = poses_[size_t(object)];
-        if (to == from) continue;  // where the solution has it
-        const Rigid& c = p.carry[size_t(object)] = to.relative_to(from);
-        const Aabb was = h_.object_box(object);
-        Aabb now;
-        for (int k = 0; k < 8; ++k)
-            now.grow(c.point({(k & 1) ? was.hi.x : was.lo.x, (k & 2) ? was.hi.y : was.lo.y, (k & 4) ? was.hi.z : was.lo.z}));
-        p.clips.push_back(was);
-        p.clips.push_back(now);
-        p.moved[size_t(object)] = 1;
-        placed.emplace_back(object, to);
-    }
-    for (Aabb& c : p.clips) {  // ray ends are lifted off surfaces: a hair of margin (as update())
-        c.lo -= Vec3{1e-5, 1e-5, 1e-5};
-        c.hi += Vec3{1e-5, 1e-5, 1e-5};
-    }
-    for (size_t k = 1; k < p.clips.size(); k += 2) p.now.push_back(p.clips[k]);
-    // The moved objects' polygons at the new placements, for the cover test (as light_contacts:
-    // coplanar within 1e-7 of the scene, facing the other way, the point inside).
-    struct Placed { Poly poly; Vec3 normal; Aabb box; };
-    std::vector<Placed> polys;
-    const double tol = 1e-7 * h_.scene_diag;
-    for (const Primitive& pr : h_.prims) {
-        if (pr.object < 0 || size_t(pr.object) >= no || !p.moved[size_t(pr.object)]) continue;
-        for (int side : {pr.front, pr.back}) {
-            if (side < 0) continue;
-            const Node& root = h_.nodes[size_t(h_.surfaces[size_t(side)].root)];
-            if (root.dead) continue;
-            Placed q;
-            q.poly = root.poly;
-            const Rigid& c = p.carry[size_t(pr.object)];
-            for (int j = 0; j < q.poly.n; ++j) q.poly.v[size_t(j)] = c.point(root.poly.v[size_t(j)]);
-            q.normal = c.dir(root.normal);
-            for (int j = 0; j < q.poly.n; ++j) q.box.grow(q.poly.v[size_t(j)]);
-            q.box.lo -= Vec3{tol, tol, tol};
-            q.box.hi += Vec3{tol, tol, tol};
-            polys.push_back(q);
-        }
-    }
+    preview_moves(moves, p, placed);
     // (light_contact's test, with the moved objects where they are now.)
+    const std::vector<PlacedPolygon> polys = placed_polygons(p);
+    const double tol = 1e-7 * h_.scene_diag;
     const double inside_tol = 1e-9 * h_.scene_diag;
     p.covered = [&](int surface, const Vec3& x, const Vec3& n) {
         if (surface >= 0 && size_t(surface) < lights_.contacts.size())
@@ -328,7 +291,7 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
                 if (m.object >= 0 && p.moved[size_t(m.object)]) continue;  // where it was
                 if (within_edges(m.poly, m.normal, x, inside_tol)) return true;
             }
-        for (const Placed& q : polys) {
+        for (const PlacedPolygon& q : polys) {
             if (!q.box.contains(x) || dot(q.normal, n) > -1 + 1e-6) continue;
             if (std::fabs(dot(x - q.poly.v[0], q.normal)) > tol) continue;
             if (within_edges(q.poly, q.normal, x, inside_tol)) return true;
@@ -373,15 +336,72 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
 
     FinalGather::PreviewCounts k;
     std::vector<CornerPatch> out;
-    if (placed.empty()) {
-        if (counts) *counts = k;
-        return out;
+    if (!placed.empty()) {
+        const FinalGather::Solution s{scene_, h_, *vis_, links_,
+                                      [this](int surface, const Vec3& q) { return light_contact(surface, q); }, &tri_prim_};
+        out = preview_patches(output_.preview(s, p, k));
     }
-    const FinalGather::Solution s{scene_, h_, *vis_, links_,
-                                  [this](int surface, const Vec3& q) { return light_contact(surface, q); }, &tri_prim_};
-    const std::vector<Rgb> d = output_.preview(s, p, k);
+    if (counts) *counts = k;
+    return out;
+}
+
+void Solver::preview_moves(const std::map<int, std::array<double, 16>>& moves, FinalGather::Preview& p,
+                           std::vector<std::pair<int, Rigid>>& placed) const {
+    const size_t no = scene_.objects().size();
+    p.moved.assign(no, 0);
+    p.carry.assign(no, Rigid{});
+    for (const auto& [object, m] : moves) {
+        check_live(object, "preview");  // topology.cpp
+        if (size_t(object) >= poses_.size() || h_.object_node[size_t(object)] < 0) continue;
+        const Rigid to = pose_of(object, m.data());
+        const Rigid& from = poses_[size_t(object)];
+        if (to == from) continue;  // where the solution has it
+        const Rigid& c = p.carry[size_t(object)] = to.relative_to(from);
+        const Aabb was = h_.object_box(object);
+        Aabb now;
+        for (int k = 0; k < 8; ++k)
+            now.grow(c.point({(k & 1) ? was.hi.x : was.lo.x, (k & 2) ? was.hi.y : was.lo.y, (k & 4) ? was.hi.z : was.lo.z}));
+        p.clips.push_back(was);
+        p.clips.push_back(now);
+        p.moved[size_t(object)] = 1;
+        placed.emplace_back(object, to);
+    }
+    for (Aabb& c : p.clips) {  // ray ends are lifted off surfaces: a hair of margin (as update())
+        c.lo -= Vec3{1e-5, 1e-5, 1e-5};
+        c.hi += Vec3{1e-5, 1e-5, 1e-5};
+    }
+    for (size_t k = 1; k < p.clips.size(); k += 2) p.now.push_back(p.clips[k]);
+}
+
+std::vector<Solver::PlacedPolygon> Solver::placed_polygons(const FinalGather::Preview& p) const {
+    // As light_contacts: coplanar within 1e-7 of the scene, facing the other way, the point inside.
+    std::vector<PlacedPolygon> polys;
+    const double tol = 1e-7 * h_.scene_diag;
+    const size_t no = scene_.objects().size();
+    for (const Primitive& pr : h_.prims) {
+        if (pr.object < 0 || size_t(pr.object) >= no || !p.moved[size_t(pr.object)]) continue;
+        for (int side : {pr.front, pr.back}) {
+            if (side < 0) continue;
+            const Node& root = h_.nodes[size_t(h_.surfaces[size_t(side)].root)];
+            if (root.dead) continue;
+            PlacedPolygon q;
+            q.poly = root.poly;
+            const Rigid& c = p.carry[size_t(pr.object)];
+            for (int j = 0; j < q.poly.n; ++j) q.poly.v[size_t(j)] = c.point(root.poly.v[size_t(j)]);
+            q.normal = c.dir(root.normal);
+            for (int j = 0; j < q.poly.n; ++j) q.box.grow(q.poly.v[size_t(j)]);
+            q.box.lo -= Vec3{tol, tol, tol};
+            q.box.hi += Vec3{tol, tol, tol};
+            polys.push_back(q);
+        }
+    }
+    return polys;
+}
+
+std::vector<CornerPatch> Solver::preview_patches(const std::vector<Rgb>& d) const {
     // Only the corners whose light changed: the caller shows the last bake's colours elsewhere.
-    for (size_t o = 0; o < no; ++o) {
+    std::vector<CornerPatch> out;
+    for (size_t o = 0; o < scene_.objects().size(); ++o) {
         const ObjectDesc& od = scene_.objects()[o];
         // A textured surface reflects with each corner's own reflectance (corner_radiance).
         const bool textured = !od.corner_reflectance.empty() || !od.corner_emission.empty();
@@ -409,7 +429,6 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
             }
         if (!patch.corners.empty()) out.push_back(std::move(patch));
     }
-    if (counts) *counts = k;
     return out;
 }
 

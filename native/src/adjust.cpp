@@ -393,7 +393,7 @@ void Solver::adjust_links(Change& ch, std::vector<int>& recheck_history) {
 // Every live link against the change: a moved object's inner links turn with it, env-obj
 // links go (made anew by link_changed), env-env links are pruned by the old and new boxes'
 // outcodes (3.3); returns the env-env links that may have changed.
-std::vector<int> Solver::classify_links(Change& ch) {
+std::vector<int> Solver::classify_links(const Change& ch) {
     Stats& s = stats_;
     std::vector<int> recompute;
     const size_t nlinks = links_.size();
@@ -507,7 +507,7 @@ void Solver::recompute_links(std::vector<int>& recompute, std::vector<int>& rech
     recheck_history.erase(std::unique(recheck_history.begin(), recheck_history.end()), recheck_history.end());
 }
 
-void Solver::link_changed(Change& ch) {
+void Solver::link_changed(const Change& ch) {
     // Env-obj links created anew: the moved clusters against the environment, top-down,
     // cluster pairs first (this also links an object where it had no link before).
     std::set<std::pair<int, int>> pairs;

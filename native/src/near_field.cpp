@@ -314,12 +314,12 @@ FinalGather::NearField::Stars FinalGather::NearField::gather_stars(const Seen& s
     return st;
 }
 
-Rgb FinalGather::NearField::beyond(const Node& root, const Aabb& box, uint64_t seed, Rng& rng) {
+bool FinalGather::NearField::beyond(const Node& root, const Aabb& box, uint64_t seed, Rng& rng, Rgb& mean) {
     // The plane near s* but outside the point's neighbourhood: its radiance at a few points of
     // its own (a lit floor past a box's corner), not its leaves' average. The points are where
     // cosine directions from the s* meet the plane, so that they stand for what the s* see of
     // it (a slab's underside near its shadowed edge sees the dark floor there, not the lit
-    // floor across the slab). Returns their mean; black with got 0 when none was found.
+    // floor across the slab). Their mean; false when none was found.
     Vec3 su, sv;
     frame(root.normal, su, sv);
     Rgb aq;
@@ -339,8 +339,9 @@ Rgb FinalGather::NearField::beyond(const Node& root, const Aabb& box, uint64_t s
         aq += fg_.radiance_at(s_, c_, q_id, p, Hierarchy::mix(seed, uint64_t(1000 + t)), counts_);
         ++gq;
     }
-    beyond_found_ = gq;
-    return gq > 0 ? aq / double(gq) : Rgb{};
+    if (gq == 0) return false;
+    mean = aq / double(gq);
+    return true;
 }
 
 bool FinalGather::NearField::correction(const Seen& sn, Rgb& out) {
@@ -360,8 +361,8 @@ bool FinalGather::NearField::correction(const Seen& sn, Rgb& out) {
     if (st.got == 0) return false;
     if (vary) st.B0 += direct_->sum(root, sn.WL / sn.W, d, wall_, seed);
     if (st.Cout.max() > 0) {
-        const Rgb aq = beyond(root, box, seed, rng);
-        if (beyond_found_ > 0) st.B0 += st.Cout * aq;
+        Rgb aq;
+        if (beyond(root, box, seed, rng, aq)) st.B0 += st.Cout * aq;
         else st.B0 += st.Bout;
     }
     const Rgb B0 = st.B0 / double(st.got);

@@ -100,7 +100,7 @@ private:
     // The point's plane as the s* see it: the region the point stands for, the coplanar roots.
     void bound_wall(const Node& root, double R);
     Stars gather_stars(const Seen& sn, const Node& root, double d, double R, bool vary, uint64_t seed, Rng& rng);
-    Rgb beyond(const Node& root, const Aabb& box, uint64_t seed, Rng& rng);
+    bool beyond(const Node& root, const Aabb& box, uint64_t seed, Rng& rng, Rgb& mean);
     // One sender's correction; false when it is not near or no s* was found on it.
     bool correction(const Seen& sn, Rgb& out);
 
@@ -126,7 +126,6 @@ private:
     std::vector<Vec3>& stars_ = star_list();
     std::optional<DirectVariation> direct_;  // made for the first near sender
     Rgb S_;
-    int beyond_found_ = 0;
 };
 
 }  // namespace radiosity

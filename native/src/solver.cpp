@@ -101,7 +101,7 @@ void Solver::solve(Control* control) {
         const auto t1 = Clock::now();
         light_initial();  // lights.cpp: lit surfaces get their first-bounce radiance before linking
         h_.index_emitters();  // can_split: small emitting clusters still split
-        forecast_output();    // memory.cpp: refinement leaves room for the output
+        forecast_output();    // memory.cpp: refinement leaves room for the output (link_from keeps it)
         link_from({{h_.root, h_.root, -1}});
         lap("link");
         set_progress(0.2);
@@ -121,7 +121,6 @@ void Solver::solve(Control* control) {
             lap("gather");
             light_known_ = true;
             ++stats_.refine_rounds;
-            forecast_output();
             const bool more = refine_round();
             lap("refine");
             if (!more) break;
@@ -154,8 +153,9 @@ void Solver::add_result_warnings() {
         stats_.warnings.push_back(std::to_string(h_.unfanned_polygons) +
                                   " concave polygon(s) too large (over 4096 corners) or self-intersecting to "
                                   "triangulate: some of their pieces face the wrong way; triangulate them in Blender");
-    if (memory_estimate() > memory_limit_)
-        stats_.warnings.push_back("the bake holds about " + std::to_string(int64_t(memory_estimate() / 1048576.0)) +
+    const double held = memory_estimate();
+    if (held > memory_limit_)
+        stats_.warnings.push_back("the bake holds about " + std::to_string(int64_t(held / 1048576.0)) +
                                   " MB, over max_memory_mb (" + std::to_string(int64_t(memory_limit_ / 1048576.0)) +
                                   "): allow more memory, or use a coarser preset");
     if (stats_.memory_capped)

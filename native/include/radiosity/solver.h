@@ -245,14 +245,14 @@ private:
     // re-decides the enclosure of leaves whose escape rays meet a changed box.
     void adjust_links(Change& ch, std::vector<int>& recheck_history);
     // Its phases, in order (adjust.cpp).
-    std::vector<int> classify_links(Change& ch);
+    std::vector<int> classify_links(const Change& ch);
     // Of `recompute`, keeps the links with a ray that may pass through a changed box.
     void keep_links_rays_meet(const Change& ch, std::vector<int>& recompute);
     // Re-evaluates gathered and occluded links (history ones are left stale); a changed one
     // is judged again and its history asked whether it may coarsen back (3.4).
     void recompute_links(std::vector<int>& recompute, std::vector<int>& recheck_history);
     // Links the changed clusters anew: env-obj pairs down the chains, added objects' seeds.
-    void link_changed(Change& ch);
+    void link_changed(const Change& ch);
     // The enclosure deciders ask again, casting only escape rays through a changed box.
     void redecide_enclosures(const Change& ch);
     // preview.cpp: preview()'s parts. The drag's placements (carries, old and new boxes);

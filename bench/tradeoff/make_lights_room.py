@@ -19,71 +19,13 @@ import bpy
 from mathutils import Vector
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from blend_build import build_and_save, box, empty_scene, light, material, mesh, panel  # noqa: E402
 CELL = 0.2
 
 
-def material(name, rgb):
-    m = bpy.data.materials.new(name)
-    m.use_nodes = True
-    nt = m.node_tree
-    for n in list(nt.nodes):
-        nt.nodes.remove(n)
-    out = nt.nodes.new("ShaderNodeOutputMaterial")
-    d = nt.nodes.new("ShaderNodeBsdfDiffuse")
-    d.inputs["Color"].default_value = (*rgb, 1.0)
-    d.inputs["Roughness"].default_value = 0.0
-    nt.links.new(d.outputs[0], out.inputs["Surface"])
-    m.diffuse_color = (*rgb, 1.0)
-    return m
-
-
-def panel(verts, faces, origin, u, v, nu, nv, skip=None):
-    """Adds an nu x nv grid of quads over origin + [0,1]u + [0,1]v (normal u x v); cells (i, j)
-    for which skip(i, j) is true are left out (a window)."""
-    origin, u, v = Vector(origin), Vector(u), Vector(v)
-    base = len(verts)
-    for j in range(nv + 1):
-        for i in range(nu + 1):
-            verts.append(origin + u * (i / nu) + v * (j / nv))
-    for j in range(nv):
-        for i in range(nu):
-            if skip and skip(i, j):
-                continue
-            a = base + j * (nu + 1) + i
-            faces.append((a, a + 1, a + nu + 2, a + nu + 1))
-
-
-def mesh(name, verts, faces, mat, collection):
-    me = bpy.data.meshes.new(name)
-    me.from_pydata([tuple(p) for p in verts], [], faces)
-    me.validate()
-    me.update()
-    obj = bpy.data.objects.new(name, me)
-    me.materials.append(mat)
-    collection.objects.link(obj)
-    return obj
-
-
-def light(name, kind, location, direction=None, **settings):
-    ld = bpy.data.lights.new(name, kind)
-    for k, val in settings.items():
-        setattr(ld, k, val)
-    obj = bpy.data.objects.new(name, ld)
-    obj.location = location
-    if direction is not None:   # a light shines along its local -Z
-        obj.rotation_euler = (-Vector(direction)).to_track_quat("Z", "Y").to_euler()
-    bpy.context.scene.collection.objects.link(obj)
-    return obj
-
-
 def build():
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    scene = bpy.context.scene
-    world = bpy.data.worlds.new("Black")
-    world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
-    world.color = (0, 0, 0)
-    scene.world = world
+    scene = empty_scene()
     root = scene.collection
     W, H, n, nh = 4.0, 2.8, round(4.0 / CELL), round(2.8 / CELL)
     x0 = y0 = -W / 2
@@ -105,18 +47,8 @@ def build():
     # The cube in its own collection (a dynamic object).
     coll = bpy.data.collections.new("CubeObject")
     root.children.link(coll)
-    c, h, k = Vector((-0.2, -0.9, 0.4)), 0.4, 4
     bv, bf = [], []
-    for axis in range(3):
-        for sign in (-1, 1):
-            a1, a2 = [q for q in range(3) if q != axis]
-            u, v = Vector((0, 0, 0)), Vector((0, 0, 0))
-            u[a1], v[a2] = 2 * h, 2 * h
-            if u.cross(v)[axis] * sign < 0:
-                u, v = v, u
-            o = c.copy()
-            o[axis] += sign * h
-            panel(bv, bf, o - u / 2 - v / 2, u, v, k, k)
+    box(bv, bf, (-0.2, -0.9, 0.4), (0.4, 0.4, 0.4), (4, 4, 4))
     mesh("Cube", bv, bf, material("Cube", (0.25, 0.45, 0.7)), coll)
     # Lights (Blender 3.4 units).
     light("Point", "POINT", (1.2, 1.2, 2.0), energy=120.0, shadow_soft_size=0.1,
@@ -133,14 +65,4 @@ def build():
     scene["radiosity_input_objects"] = 1
 
 
-def main():
-    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    out = os.path.abspath(argv[0] if argv else os.path.join(HERE, "scenes", "lights_room.blend"))
-    build()
-    os.makedirs(os.path.dirname(out), exist_ok=True)
-    bpy.context.preferences.filepaths.save_version = 0     # no .blend1 beside it
-    bpy.ops.wm.save_as_mainfile(filepath=out, compress=True)
-    print("saved", out)
-
-
-main()
+build_and_save(build, os.path.join(HERE, "scenes", "lights_room.blend"))

@@ -40,7 +40,7 @@ SCENES = bt_scenes.SCENES
 # The finest cost minutes on the bigger rooms (2 cores).
 EPS = {"cornell_box": [0.2, 0.05, 0.02], "box_room": [0.2, 0.05, 0.03],
        "chair_room": [0.2, 0.05, 0.03], "full_room": [0.2, 0.05, 0.03],
-       "lights_room": [0.2, 0.05, 0.02]}
+       "lights_room": [0.2, 0.05, 0.02], "lamp_box": [0.2, 0.05, 0.02]}
 
 
 def main():

@@ -1,14 +1,15 @@
 """The scenes the trade-off and the accuracy benchmarks judge, and where their .blend files are.
 
-The four example scenes (example_blends/) and a lights room (bench/tradeoff/scenes/, made by
-make_lights_room.py): point, spot, area and sun lights and a cube in a closed room.
+The four example scenes (example_blends/), a lights room (bench/tradeoff/scenes/, made by
+make_lights_room.py: point, spot, area and sun lights and a cube in a closed room) and a lamp
+box (make_lamp_box.py: a closed Cornell-type box lit by a mesh lamp 1 cm under its ceiling).
 """
 import os
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
 
-SCENES = ("cornell_box", "box_room", "chair_room", "full_room", "lights_room")
+SCENES = ("cornell_box", "box_room", "chair_room", "full_room", "lights_room", "lamp_box")
 
 
 def blend(name):

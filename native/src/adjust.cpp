@@ -168,6 +168,7 @@ void Solver::refresh(int id, const Link& f) {
     l.vis = f.vis;
     l.partial = f.partial;
     l.must_refine = f.must_refine;
+    l.outline = f.outline;
     l.blocked = f.blocked;
     l.samples = f.samples;
     l.ray_count = f.ray_count;

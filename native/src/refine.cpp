@@ -24,6 +24,20 @@ bool Solver::can_split(int id) const {
     return n.area * 0.25 >= min_area_;
 }
 
+// An emitter's outline across a receiver leaf (a lamp just under a ceiling: the ceiling over it
+// bright, beside it dark, within one leaf): the leaf's average shines past the emitter into the
+// room as if the whole leaf were lit. Such a leaf splits on below the area floor, down to a
+// sixteenth of it, while the emitter's light on it is still well over the threshold: the
+// outline is a line, so this costs elements in proportion to its length, not to an area.
+bool Solver::splits_at_outline(const Link& l, double err_rcv, double threshold) const {
+    constexpr double kFloorShare = 1.0 / 16, kOverThreshold = 4.0;
+    const Node& P = h_.nodes[l.src];
+    const Node& Q = h_.nodes[l.rcv];
+    return l.outline && !l.cluster && P.emission.max() > 0 && !Q.is_cluster() && Q.children.empty() &&
+           Q.area * 0.25 >= kFloorShare * min_area_ && err_rcv > kOverThreshold * threshold &&
+           stats_.element_nodes + 4 <= settings_.max_elements;
+}
+
 // Jitter seeded by the two ends' stable keys: the same pair gets the same rays whether it
 // is linked by a full solve or by an incremental update.
 uint64_t Solver::link_seed(int src, int rcv) const {
@@ -146,7 +160,7 @@ Solver::Judgement Solver::judge(const Link& l) const {
         err_src = rho * l.K * dLp;
     }
     if (std::max(err_rcv, err_src) <= threshold) return j;
-    const bool ps = can_split(l.src), qs = can_split(l.rcv);
+    const bool ps = can_split(l.src), qs = can_split(l.rcv) || splits_at_outline(l, err_rcv, threshold);
     if (!ps && !qs) return j;  // at the resolution limit
     // A partly occluded link into a cluster cannot tell which of its surfaces are hidden
     // (a closed object's inner faces, or the part in another object's shadow): sharing the

@@ -12,6 +12,18 @@ double unoccluded_coupling(const Poly& rcv, const Vec3& rcv_n, const Node& src) 
     return k;
 }
 
+double unoccluded_coupling(const Poly& rcv, const Vec3& rcv_n, const Node& src, int depth) {
+    if (depth <= 0) return unoccluded_coupling(rcv, rcv_n, src);
+    const double area = rcv.area();
+    if (!(area > 0)) return 0.0;
+    double k = 0;
+    for (int c = 0; c < 4; ++c) {
+        const Poly child = rcv.child(c);
+        k += child.area() * unoccluded_coupling(child, rcv_n, src, depth - 1);
+    }
+    return k / area;
+}
+
 Rgb sender_radiance(const Hierarchy& h, const Link& l) {
     const Node& src = h.nodes[l.src];
     if (!l.samples.empty()) {
@@ -114,6 +126,21 @@ private:
     double* u_;
 };
 
+// Whether every vertex of `poly` lies more than `margin` in front of the plane (p, n): a
+// receiver apart from its sender's plane, not touching it at a contact or crossing it.
+bool in_front(const Poly& poly, const Vec3& p, const Vec3& n, double margin) {
+    for (int k = 0; k < poly.n; ++k)
+        if (dot(poly.v[size_t(k)] - p, n) <= margin) return false;
+    return true;
+}
+
+// A kernel whose range over a receiver exceeds this share of its largest value is integrated
+// densely (element_link).
+constexpr double kSteepKernel = 0.25;
+// A kernel that falls under this share of its largest value within the receiver: the sender's
+// outline crosses it (Link::outline).
+constexpr double kOutline = 0.05;
+
 template <class Vis>
 Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node& Q, int rays, uint64_t seed) {
     Link l;
@@ -124,6 +151,7 @@ Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
     const int per_point = std::max(1, rays / cub.n);
     const double lift = 1e-6 * h.scene_diag;  // keep ray ends off their own surfaces
     double kmin = 1e300, kmax = -1e300;
+    double fmin = 1e300, fmax = 0;  // the unoccluded kernel's range over the receiver
     bool any_blocked = false, any_clear = false;
     // A subdivided sender: its radiance toward Q is that of the leaves its clear rays reach,
     // not its area average (see Link::samples).
@@ -176,6 +204,8 @@ Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
             if (clear > 0 || counted == 0) any_clear = true;
         }
         double k = F * v;
+        fmin = std::min(fmin, F);
+        fmax = std::max(fmax, F);
         l.K_unoccluded += cub.w[j] * F;
         l.K += cub.w[j] * k;
         kmin = std::min(kmin, k);
@@ -188,9 +218,25 @@ Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
     // visibility, the cubature points their own.
     for (int k = 0; k < Q.poly.n; ++k) {
         Vec3 c = Q.poly.v[k] * 0.999 + Q.center * 0.001;  // just inside: kernels of neighbours meeting at an edge are singular there
-        double kc = point_polygon_form_factor(c, Q.normal, P.poly, P.normal) * l.vis;
-        kmin = std::min(kmin, kc);
-        kmax = std::max(kmax, kc);
+        const double F = point_polygon_form_factor(c, Q.normal, P.poly, P.normal);
+        fmin = std::min(fmin, F);
+        fmax = std::max(fmax, F);
+        kmin = std::min(kmin, F * l.vis);
+        kmax = std::max(kmax, F * l.vis);
+    }
+    // An emitter's kernel that steps within a receiver apart from it (its outline close over
+    // the receiver, as a lamp just under a ceiling): four Gauss points read a step too high or
+    // too low, and the oracle may keep the link (the receiver at the area floor), so the bias
+    // adds up over the outline. The unoccluded coupling from 64 points instead, the
+    // visibility the rays measured kept. Emitters only: a reflector's light reaches the
+    // output through the final gather's own point couplings, and where the receiver touches
+    // the sender's plane (a contact) those rely on the solution's.
+    l.outline = fmax > 0 && fmin <= kOutline * fmax;
+    if (P.emission.max() > 0 && fmax > 0 && fmax - fmin > kSteepKernel * fmax && l.K_unoccluded > 0 &&
+        in_front(Q.poly, P.poly.v[0], P.normal, 1e-3 * std::sqrt(Q.area))) {
+        const double dense = unoccluded_coupling(Q.poly, Q.normal, P, 2);
+        l.K *= dense / l.K_unoccluded;
+        l.K_unoccluded = dense;
     }
     // The spread of the occluded kernel over the receiver: in a penumbra it includes the
     // change of visibility across the receiver, so shadow boundaries refine.

@@ -2,6 +2,7 @@
 // itself, and the hierarchical solver's transport, which is what users get.
 #include <gtest/gtest.h>
 
+#include "radiosity/transfer.h"
 #include "test_util.h"
 
 using namespace radiosity;
@@ -287,4 +288,39 @@ TEST(SolverTransport, ReceiverStraddlingTheSendersPlane) {
         }
     expect *= 1.0 / 10.0;  // the front part is a tenth of the plate
     EXPECT_NEAR(object_front_radiance(solver, 0).r, rho * L * expect, 0.03 * rho * L * expect);
+}
+
+// A sender's outline across the receiver, 1 cm over it (a lamp under a ceiling): the kernel
+// steps from about 1 to 0 within the receiver, where four Gauss points read the coupling as
+// 0.50 whether the sender covers 30 % or 70 % of it. The receiver cubature of its
+// descendants follows the step.
+TEST(AnalyticKernel, DenseCouplingFollowsAnOutlineAcrossTheReceiver) {
+    const Poly r = quad({0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0});
+    for (double x0 : {0.3, 0.7}) {
+        Node s;
+        s.poly = quad({x0, -1, 0.01}, {x0, 2, 0.01}, {x0 + 3, 2, 0.01}, {x0 + 3, -1, 0.01});  // facing -z
+        s.normal = s.poly.normal();
+        constexpr int N = 200;
+        double ref = 0;
+        for (int i = 0; i < N; ++i)
+            for (int j = 0; j < N; ++j)
+                ref += point_polygon_form_factor({(i + 0.5) / N, (j + 0.5) / N, 0}, {0, 0, 1}, s.poly, s.normal);
+        ref /= N * N;
+        EXPECT_NEAR(ref, 1.0 - x0, 0.01);
+        EXPECT_NEAR(unoccluded_coupling(r, {0, 0, 1}, s, 2), ref, 0.02 * ref) << "sender from x = " << x0;
+        EXPECT_GT(std::fabs(unoccluded_coupling(r, {0, 0, 1}, s) - ref), 0.1 * ref) << "the 4-point rule was exact here";
+    }
+}
+
+// The same through the solver, with an element floor of a third of the receiver: the receiver's
+// coupling to an emitter covering 70 % of it, 1 cm above.
+TEST(SolverTransport, CoarseReceiverUnderAnEmitterOutline) {
+    Settings st = Settings::preset("MEDIUM");
+    st.closure_rays = 0;
+    st.gather_rays = 0;
+    const Poly rcv = quad({0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0});
+    const Poly src = quad({0.3, -1, 0.01}, {0.3, 2, 0.01}, {3.3, 2, 0.01}, {3.3, -1, 0.01});
+    const double diag2 = 3.3 * 3.3 + 3 * 3 + 0.01 * 0.01;
+    st.min_area_fraction = 0.3 / diag2;
+    EXPECT_NEAR(solved_form_factor(rcv, src, st), 0.70, 0.02);
 }

@@ -87,3 +87,30 @@ TEST(Gaps, FloorUnderAFloatingSlabReadsWhatAFinerSolveReads) {
         EXPECT_NEAR(u.mean_ratio, 1.0, high ? 0.07 : 0.12) << preset;
     }
 }
+
+// A two-sided lamp 1 cm under the ceiling of a closed room: the ceiling over it is bright,
+// beside it dark, and a ceiling leaf across its outline shines its average past the lamp into
+// the room. A coarse element floor must not add light that way: what the room absorbs is
+// within 1 % of a solve with a 30 times finer floor.
+TEST(Gaps, CoarseSolutionAddsNoLightPastALampUnderTheCeiling) {
+    auto room_absorbs = [](double min_area_fraction) {
+        SceneDesc sc;
+        scenes::add_box(sc, "room", -1, {0, 0, 0}, {3, 3, 2.5}, 8, Rgb::all(0.7), Rgb{}, true, false);
+        const double z = 2.49;
+        scenes::add_grid(sc, "lamp", -1, {Vec3{1.2, 1.2, z}, Vec3{1.2, 1.8, z}, Vec3{1.8, 1.8, z}, Vec3{1.8, 1.2, z}}, 1, 1,
+                         Rgb{}, Rgb::all(10), true);
+        Settings st = Settings::preset("MEDIUM");
+        st.gather_rays = 0;
+        st.min_area_fraction = min_area_fraction;
+        Solver s(sc, st);
+        s.solve();
+        double absorbed = 0;
+        for (const Node& n : s.hierarchy().nodes)
+            if (!n.is_cluster() && n.children.empty() && !n.dead && n.object == 0)
+                absorbed += (1 - n.rho.g) * (n.L.g - n.emission.g) / n.rho.g * n.area;
+        return absorbed;
+    };
+    const double coarse = room_absorbs(1e-4), fine = room_absorbs(3e-6);
+    std::printf("room absorbs, coarse / fine floor: %.4f\n", coarse / fine);
+    EXPECT_NEAR(coarse / fine, 1.0, 0.01);
+}

@@ -162,6 +162,9 @@ private:
     Judgement judge(const Link& l) const;
     void apply(int link_id, const Judgement& j, std::vector<Candidate>& next);
     bool can_split(int node) const;
+    // Whether a link's receiver leaf may split below the area floor because an emitter's
+    // outline crosses it (refine.cpp).
+    bool splits_at_outline(const Link& l, double err_rcv, double threshold) const;
     // memory.cpp. Estimated bytes the solve holds with `more` links and nodes: nodes and
     // links as their vectors hold them (a vector that must grow holds its old and new blocks
     // at once), Embree's BVHs, and the final gather's trace (the one made, or the forecast of

@@ -87,6 +87,9 @@ bool hull_meets(const Vec3& x, const Aabb& box, const std::vector<Aabb>& clips);
 // Unoccluded element-to-element coupling of a receiver polygon (not necessarily a node yet)
 // from an element sender: the cubature average of the point-to-polygon form factor.
 double unoccluded_coupling(const Poly& rcv, const Vec3& rcv_n, const Node& src);
+// The same from the cubature of the receiver's 4^depth quadtree descendants: for kernels that
+// vary within the receiver more than a low-order rule can follow.
+double unoccluded_coupling(const Poly& rcv, const Vec3& rcv_n, const Node& src, int depth);
 
 // Radiance a link carries from its sender: an element's own radiance; for a cluster the
 // mean over the link's visible samples, else a projected-area estimate from the axis bins.

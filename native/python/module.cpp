@@ -167,6 +167,7 @@ PYBIND11_MODULE(radiosity_native, m) {
         .def_static("preset", &Settings::preset)
         .def_readwrite("error_threshold", &Settings::error_threshold)
         .def_readwrite("min_area_fraction", &Settings::min_area_fraction)
+        .def_readwrite("below_floor_levels", &Settings::below_floor_levels)
         .def_readwrite("max_elements", &Settings::max_elements)
         .def_readwrite("max_links", &Settings::max_links)
         .def_readwrite("max_memory_mb", &Settings::max_memory_mb)

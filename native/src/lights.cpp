@@ -532,7 +532,9 @@ bool Solver::light_refine() {
         for (int id : wave) {
             const Node& n = h_.nodes[id];
             if (n.dead || !n.children.empty()) continue;
-            if (n.rho.max() * lights_.spread[id] <= threshold_ || !can_split(id)) continue;
+            // A shadow's edge splits below the area floor too (may_split_below_floor): a floor
+            // leaf across it sends its half-lit average under the object that casts it.
+            if (n.rho.max() * lights_.spread[id] <= threshold_ || !(can_split(id) || may_split_below_floor(id))) continue;
             h_.subdivide(id);
             stats_.element_nodes += 4;
             for (int c : h_.nodes[id].children) kids.push_back(c);

@@ -26,16 +26,68 @@ bool Solver::can_split(int id) const {
 
 // An emitter's outline across a receiver leaf (a lamp just under a ceiling: the ceiling over it
 // bright, beside it dark, within one leaf): the leaf's average shines past the emitter into the
-// room as if the whole leaf were lit. Such a leaf splits on below the area floor, down to a
-// sixteenth of it, while the emitter's light on it is still well over the threshold: the
-// outline is a line, so this costs elements in proportion to its length, not to an area.
+// room as if the whole leaf were lit. Such a leaf splits on below the area floor
+// (may_split_below_floor) while the emitter's light on it is still well over the threshold:
+// the outline is a line, so this costs elements in proportion to its length, not to an area.
 bool Solver::splits_at_outline(const Link& l, double err_rcv, double threshold) const {
-    constexpr double kFloorShare = 1.0 / 16, kOverThreshold = 4.0;
+    constexpr double kOverThreshold = 4.0;
     const Node& P = h_.nodes[l.src];
-    const Node& Q = h_.nodes[l.rcv];
-    return l.outline && !l.cluster && P.emission.max() > 0 && !Q.is_cluster() && Q.children.empty() &&
-           Q.area * 0.25 >= kFloorShare * min_area_ && err_rcv > kOverThreshold * threshold &&
-           stats_.element_nodes + 4 <= settings_.max_elements;
+    return l.outline && !l.cluster && P.emission.max() > 0 && err_rcv > kOverThreshold * threshold &&
+           may_split_below_floor(l.rcv);
+}
+
+// A leaf element the rules above may split below the area floor: down to
+// Settings::below_floor_levels quadtree levels under it, within the element cap.
+bool Solver::may_split_below_floor(int id) const {
+    const Node& n = h_.nodes[id];
+    const double share = std::ldexp(1.0, -2 * settings_.below_floor_levels);
+    return settings_.below_floor_levels > 0 && !n.is_cluster() && n.children.empty() &&
+           n.area * 0.25 >= share * min_area_ && stats_.element_nodes + 4 <= settings_.max_elements;
+}
+
+namespace {
+
+// The distance between two elements' polygons, from nine points of each (corners, edge
+// midpoints, centre) to the other polygon: enough to tell a gap narrower than a leaf.
+double polygon_distance(const Node& a, const Node& b) {
+    auto to = [](const Node& p, const Vec3& x) {
+        const double h = dot(x - p.poly.v[0], p.normal), o = distance_outside(p.poly, p.normal, x);
+        return std::sqrt(h * h + o * o);
+    };
+    auto from = [&to](const Node& p, const Node& q) {
+        double m = to(q, p.center);
+        for (int k = 0; k < p.poly.n; ++k) {
+            const Vec3& v0 = p.poly.v[size_t(k)];
+            const Vec3& v1 = p.poly.v[size_t((k + 1) % p.poly.n)];
+            m = std::min({m, to(q, v0), to(q, (v0 + v1) * 0.5)});
+        }
+        return m;
+    };
+    return std::min(from(a, b), from(b, a));
+}
+
+// Whether a vertex of `p` lies on the plane of `q` (within tol): the two meet at a contact.
+bool touches_plane(const Node& p, const Node& q, double tol) {
+    for (int k = 0; k < p.poly.n; ++k)
+        if (std::fabs(dot(p.poly.v[size_t(k)] - q.poly.v[0], q.normal)) <= tol) return true;
+    return false;
+}
+
+}  // namespace
+
+// A narrow gap (a cabinet 2 cm from a wall): the leaves across its mouth hold the room's light
+// of their open part and pass it into the gap, and no single link into them is over the
+// threshold. A leaf whose linked element is nearer than twice its width, without touching it
+// (a contact is not a gap: the final gather resolves the corners there), splits below the
+// area floor (may_split_below_floor) while the link's error on its side is over the
+// threshold: a gap is as narrow as its walls are close, and costs elements along its mouth.
+bool Solver::splits_at_gap(int other, int id, const Link& l, double err, double threshold) const {
+    const Node& a = h_.nodes[other];
+    const Node& b = h_.nodes[id];
+    if (l.cluster || a.is_cluster() || err <= threshold || !may_split_below_floor(id)) return false;
+    const double size = std::sqrt(b.area), tol = 1e-3 * size;
+    const double d = polygon_distance(a, b);
+    return d > tol && d < 2.0 * size && !touches_plane(a, b, tol) && !touches_plane(b, a, tol);
 }
 
 // Jitter seeded by the two ends' stable keys: the same pair gets the same rays whether it
@@ -160,7 +212,8 @@ Solver::Judgement Solver::judge(const Link& l) const {
         err_src = rho * l.K * dLp;
     }
     if (std::max(err_rcv, err_src) <= threshold) return j;
-    const bool ps = can_split(l.src), qs = can_split(l.rcv) || splits_at_outline(l, err_rcv, threshold);
+    const bool ps = can_split(l.src) || splits_at_gap(l.rcv, l.src, l, err_src, threshold),
+               qs = can_split(l.rcv) || splits_at_outline(l, err_rcv, threshold) || splits_at_gap(l.src, l.rcv, l, err_rcv, threshold);
     if (!ps && !qs) return j;  // at the resolution limit
     // A partly occluded link into a cluster cannot tell which of its surfaces are hidden
     // (a closed object's inner faces, or the part in another object's shadow): sharing the

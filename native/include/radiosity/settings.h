@@ -14,6 +14,9 @@ struct Settings {
     // threshold everywhere (bench/results/presets_sweep.md).
     double threshold_floor = 1.0;
     double min_area_fraction = 1e-5;    // smallest element area / scene-diagonal^2
+    // Quadtree levels below that floor a leaf may still split where an emitter's outline, a
+    // narrow gap or a lamp's shadow edge crosses it (each level a quarter of the area).
+    int below_floor_levels = 2;
     int64_t max_elements = 2000000;     // refinement stops at these caps (stats say so)
     int64_t max_links = 10000000;
     // Refinement also stops when the solver's estimated memory (elements, links with their

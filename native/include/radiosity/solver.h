@@ -165,6 +165,12 @@ private:
     // Whether a link's receiver leaf may split below the area floor because an emitter's
     // outline crosses it (refine.cpp).
     bool splits_at_outline(const Link& l, double err_rcv, double threshold) const;
+    // Whether node `id`, one end of link l, may split below the area floor because the other
+    // end is across a narrow gap from it (refine.cpp). `err`: the link's error on id's side.
+    bool splits_at_gap(int other, int id, const Link& l, double err, double threshold) const;
+    // A leaf element those rules (and a lamp's shadow edge, lights.cpp) may split below the
+    // area floor: Settings::below_floor_levels levels under it, within the element cap.
+    bool may_split_below_floor(int id) const;
     // memory.cpp. Estimated bytes the solve holds with `more` links and nodes: nodes and
     // links as their vectors hold them (a vector that must grow holds its old and new blocks
     // at once), Embree's BVHs, and the final gather's trace (the one made, or the forecast of

@@ -11,7 +11,7 @@ Settings Settings::preset(const std::string& name) {
     if (name == "DRAFT") {
         s.error_threshold = 0.2;
         s.min_area_fraction = 1e-4;
-        s.below_floor_levels = 0;  // the floor holds everywhere: a third fewer rays in interiors
+        s.below_floor_levels = 0;  // the floor holds everywhere: leaves below it cost more than they give
         s.rays_per_link = 8;
         s.tolerance = 2e-4;
         s.gather_rays = 64;
@@ -41,6 +41,8 @@ Settings Settings::preset(const std::string& name) {
         s.error_threshold = 0.05;
         s.threshold_floor = 0.1;
         s.min_area_fraction = 1e-5;
+        // Its floor is fine enough: leaves below it cost links for no better error.
+        s.below_floor_levels = 0;
         s.rays_per_link = 32;
         s.tolerance = 1e-5;
         s.gather_rays = 1024;

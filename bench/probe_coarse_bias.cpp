@@ -30,10 +30,7 @@ int main(int argc, char** argv) {
     const std::string which = argc > 4 ? argv[4] : "box";
     SceneDesc scene;
     if (which == "lamp_gap") {
-        scenes::add_box(scene, "room", -1, {0, 0, 0}, {3, 3, 2.5}, 8, Rgb::all(0.7), Rgb{}, true, false);
-        const double z = 2.49;
-        scenes::add_grid(scene, "lamp", -1, {Vec3{1.2, 1.2, z}, Vec3{1.2, 1.8, z}, Vec3{1.8, 1.8, z}, Vec3{1.8, 1.2, z}}, 1,
-                         1, Rgb{}, Rgb::all(10), true);
+        scene = scenes::lamp_under_ceiling(0.01);
     } else if (which == "box") {
         scene = scenes::box_room(8);
     } else {

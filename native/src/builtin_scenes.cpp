@@ -56,6 +56,15 @@ int add_box(SceneDesc& s, const std::string& name, int cluster, Vec3 lo, Vec3 hi
     return s.add_object(std::move(o));
 }
 
+SceneDesc lamp_under_ceiling(double gap) {
+    SceneDesc s;
+    add_box(s, "room", -1, {0, 0, 0}, {3, 3, 2.5}, 8, Rgb::all(0.7), Rgb{}, true, false);
+    const double z = 2.5 - gap;
+    add_grid(s, "lamp", -1, {Vec3{1.2, 1.2, z}, Vec3{1.2, 1.8, z}, Vec3{1.8, 1.8, z}, Vec3{1.8, 1.2, z}}, 1, 1, Rgb{},
+             Rgb::all(10), true);
+    return s;
+}
+
 SceneDesc furnace_cube(double rho, double e, int n, double size) {
     SceneDesc s;
     add_box(s, "room", -1, {0, 0, 0}, {size, size, size}, n, Rgb::all(rho), Rgb::all(e), true);

@@ -31,9 +31,7 @@ bool Solver::can_split(int id) const {
 // the outline is a line, so this costs elements in proportion to its length, not to an area.
 bool Solver::splits_at_outline(const Link& l, double err_rcv, double threshold) const {
     constexpr double kOverThreshold = 4.0;
-    const Node& P = h_.nodes[l.src];
-    return l.outline && !l.cluster && P.emission.max() > 0 && err_rcv > kOverThreshold * threshold &&
-           may_split_below_floor(l.rcv);
+    return l.outline && err_rcv > kOverThreshold * threshold && may_split_below_floor(l.rcv);
 }
 
 // A leaf element the rules above may split below the area floor: down to

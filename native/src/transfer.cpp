@@ -137,8 +137,8 @@ bool in_front(const Poly& poly, const Vec3& p, const Vec3& n, double margin) {
 // A kernel whose range over a receiver exceeds this share of its largest value is integrated
 // densely (element_link).
 constexpr double kSteepKernel = 0.25;
-// A kernel that falls under this share of its largest value within the receiver: the sender's
-// outline crosses it (Link::outline).
+// An emitter's kernel that falls under this share of its largest value within the receiver:
+// the emitter's outline crosses it (Link::outline).
 constexpr double kOutline = 0.05;
 
 template <class Vis>
@@ -231,8 +231,9 @@ Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
     // visibility the rays measured kept. Emitters only: a reflector's light reaches the
     // output through the final gather's own point couplings, and where the receiver touches
     // the sender's plane (a contact) those rely on the solution's.
-    l.outline = fmax > 0 && fmin <= kOutline * fmax;
-    if (P.emission.max() > 0 && fmax > 0 && fmax - fmin > kSteepKernel * fmax && l.K_unoccluded > 0 &&
+    const bool emits = P.emission.max() > 0;
+    l.outline = emits && fmax > 0 && fmin <= kOutline * fmax;
+    if (emits && fmax > 0 && fmax - fmin > kSteepKernel * fmax && l.K_unoccluded > 0 &&
         in_front(Q.poly, P.poly.v[0], P.normal, 1e-3 * std::sqrt(Q.area))) {
         const double dense = unoccluded_coupling(Q.poly, Q.normal, P, 2);
         l.K *= dense / l.K_unoccluded;

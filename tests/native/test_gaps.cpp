@@ -94,11 +94,7 @@ TEST(Gaps, FloorUnderAFloatingSlabReadsWhatAFinerSolveReads) {
 // within 1 % of a solve with a 30 times finer floor.
 TEST(Gaps, CoarseSolutionAddsNoLightPastALampUnderTheCeiling) {
     auto room_absorbs = [](double min_area_fraction) {
-        SceneDesc sc;
-        scenes::add_box(sc, "room", -1, {0, 0, 0}, {3, 3, 2.5}, 8, Rgb::all(0.7), Rgb{}, true, false);
-        const double z = 2.49;
-        scenes::add_grid(sc, "lamp", -1, {Vec3{1.2, 1.2, z}, Vec3{1.2, 1.8, z}, Vec3{1.8, 1.8, z}, Vec3{1.8, 1.2, z}}, 1, 1,
-                         Rgb{}, Rgb::all(10), true);
+        const SceneDesc sc = scenes::lamp_under_ceiling(0.01);
         Settings st = Settings::preset("MEDIUM");
         st.gather_rays = 0;
         st.min_area_fraction = min_area_fraction;

@@ -15,6 +15,9 @@ int add_grid(SceneDesc& s, const std::string& name, int cluster, const std::arra
 int add_box(SceneDesc& s, const std::string& name, int cluster, Vec3 lo, Vec3 hi, int n, Rgb rho, Rgb emission,
             bool inward = false, bool two_sided = true);
 
+// An empty closed room (3 x 3 x 2.5, inward faces, 8 x 8 per face, reflectance 0.7) with a
+// two-sided 0.6 m square lamp (radiance 10, black) hanging `gap` under its ceiling.
+SceneDesc lamp_under_ceiling(double gap);
 // Closed cube room (inward faces) of edge `size`, uniform rho and emission: B = E / (1 - rho).
 SceneDesc furnace_cube(double rho, double emission, int n = 4, double size = 1.0);
 // A closed non-convex room (an L-shaped room built from two boxes sharing an opening is

@@ -27,7 +27,7 @@ struct Link {
     bool partial = false;  // some rays blocked, some not
     bool settled = false;  // the 3.5 criterion found the receiver's form factor converged
     bool must_refine = false;  // bounding spheres overlap: the point model is invalid
-    bool outline = false;  // the sender's outline crosses the receiver: its kernel falls to ~0 within it
+    bool outline = false;  // an emitting sender's outline crosses the receiver: its kernel falls to ~0 within it
     bool occluded = false; // fully occluded: kept (not gathered) so a move can reopen it
     // A cluster link whose rays were all blocked. It stays active with K = 0 so that the
     // oracle weighs the light the rays may have missed (refine.cpp) instead of splitting it

@@ -189,7 +189,8 @@ void FinalGather::near_field(const Solution& s, const Config& c, Point& pt, Coun
 FinalGather::NearField::NearField(const FinalGather& fg, const Solution& s, const Config& c, const Point& pt,
                                   Counts& counts)
     : fg_(fg), s_(s), c_(c), h_(s.h), pt_(pt), counts_(counts), own_(s.h.nodes[size_t(pt.leaf)]),
-      near_points_(std::max(4, c.rays / 32)), side_(int(std::ceil(std::sqrt(2.0 * near_points_)))) {}
+      near_points_(std::max(4, c.rays / 32)), side_(int(std::ceil(std::sqrt(2.0 * near_points_)))),
+      max_stars_(std::max(8, near_points_ / 2)) {}
 
 void FinalGather::NearField::read_surfaces() {
     seen_.clear();
@@ -287,8 +288,12 @@ FinalGather::NearField::Stars FinalGather::NearField::gather_stars(const Seen& s
     const int surface_root = h_.surfaces[size_t(sn.surface)].root;
     Vec3 u, v;
     frame(n, u, v);
-    Stars st;
-    stars_.clear();
+    // Where the whole hemisphere meets the near part (a sender facing the point across a gap,
+    // a board under a book) every stratum holds an s*: a stratified subset of them gathers,
+    // every k-th along the strata's diagonals, from max_stars_ to twice that many.
+    struct Candidate { int stratum; Vec3 p; int leaf; };
+    thread_local std::vector<Candidate> found;
+    found.clear();
     for (int tries = 0; tries < side_ * side_; ++tries) {
         const double r1 = (tries % side_ + rng.next()) / side_, r2 = (tries / side_ + rng.next()) / side_;
         const Vec3 w = cosine_direction(u, v, n, r1, r2);
@@ -299,10 +304,18 @@ FinalGather::NearField::Stars FinalGather::NearField::gather_stars(const Seen& s
         const Vec3 sp = x + w * t;
         if (distance_outside(root.poly, root.normal, sp) > 1e-9 * h_.scene_diag) continue;
         const int m_id = h_.leaf_at(surface_root, sp);
-        if (m_id < 0) continue;
+        if (m_id >= 0) found.push_back({tries, sp, m_id});
+    }
+    const int k = std::max(1, int(found.size()) / max_stars_);
+    const int pick = k > 1 ? std::min(k - 1, int(rng.next() * k)) : 0;
+    Stars st;
+    stars_.clear();
+    for (const Candidate& cand : found) {
+        if (k > 1 && (cand.stratum % side_ + cand.stratum / side_) % k != pick) continue;
+        const Vec3& sp = cand.p;
         wall_.seen.clear();
-        const Rgb Ls = fg_.radiance_at(s_, c_, m_id, sp, Hierarchy::mix(seed, uint64_t(tries)), counts_, &wall_);
-        const Rgb rho_s = h_.rho_at(m_id, sp);
+        const Rgb Ls = fg_.radiance_at(s_, c_, cand.leaf, sp, Hierarchy::mix(seed, uint64_t(cand.stratum)), counts_, &wall_);
+        const Rgb rho_s = h_.rho_at(cand.leaf, sp);
         st.B0 += Ls - rho_s * wall_.WL_all;
         if (vary) direct_->add_star(sp, rho_s, kNearReach * (dot(sp, n) - wall_.offset));
         st.Cout += rho_s * (wall_.F_all - wall_.F);

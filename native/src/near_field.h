@@ -118,8 +118,9 @@ private:
     const Node& own_;
     // Points s* per near sender: the light there can change within a hair (the shadow's edge
     // that starts at a box's foot), so they are many, each gathered with few rays: a share of
-    // the point's own budget (DRAFT 4, MEDIUM 16, HIGH 32); drawn over side_ x side_ strata.
-    const int near_points_, side_;
+    // the point's own budget (DRAFT 4, MEDIUM 16, HIGH 32); drawn over side_ x side_ strata,
+    // of which about max_stars_ gather where many meet the sender (gather_stars).
+    const int near_points_, side_, max_stars_;
     std::vector<Seen>& seen_ = seen_list();
     NearPlane& wall_ = wall_plane();
     std::vector<int>& coplanar_ = coplanar_list();

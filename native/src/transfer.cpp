@@ -390,16 +390,21 @@ public:
         double p = 1.0;
         while (h_.nodes[size_t(id)].is_cluster()) {
             const Node& n = h_.nodes[size_t(id)];
+            thread_local std::vector<double> ws;  // the children's weights, each read once
+            ws.clear();
             double total = 0;
-            for (int c : n.children) total += weight(c);
+            for (int c : n.children) {
+                ws.push_back(weight(c));
+                total += ws.back();
+            }
             if (!(total > 0)) return -1;
             double x = u * total, acc = 0;
             int pick = -1;
             double w_pick = 0;
-            for (int c : n.children) {
-                const double w = weight(c);
+            for (size_t i = 0; i < n.children.size(); ++i) {
+                const double w = ws[i];
                 if (w <= 0) continue;
-                pick = c, w_pick = w;
+                pick = n.children[i], w_pick = w;
                 if (x < acc + w) break;
                 acc += w;
             }
@@ -576,14 +581,14 @@ Link cluster_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
     return l;
 }
 
-// Samples that name the same leaf become one, with their weights summed, in the order of
-// their first appearance: a sender's radiance is the same weighted mean, and a third fewer
+// Samples (those from `first` on) that name the same leaf become one, with their weights
+// summed, in the order of their first appearance: a sender's radiance is the same weighted mean, and a third fewer
 // samples are stored, copied into each gather plan and read in each sweep (a link's 16 rays
 // land on 9 leaves on average in the box room at MEDIUM).
-void merge_samples(std::vector<std::pair<int, float>>& s) {
-    size_t n = 0;
-    for (size_t i = 0; i < s.size(); ++i) {
-        size_t j = 0;
+void merge_samples(std::vector<std::pair<int, float>>& s, size_t first = 0) {
+    size_t n = first;
+    for (size_t i = first; i < s.size(); ++i) {
+        size_t j = first;
         while (j < n && s[j].first != s[i].first) ++j;
         if (j < n) s[j].second += s[i].second;
         else s[n++] = s[i];
@@ -765,10 +770,7 @@ PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int s
         t.partial = clear_draws > 0 && clear_draws < t.cast;
     }
     // Same leaf twice: one sample (fewer to keep per point).
-    std::vector<std::pair<int, float>> mine(samples.begin() + std::ptrdiff_t(first), samples.end());
-    merge_samples(mine);
-    samples.resize(first);
-    samples.insert(samples.end(), mine.begin(), mine.end());
+    merge_samples(samples, first);
     return t;
 }
 

@@ -314,7 +314,9 @@ void Solver::link_from(std::vector<Candidate> wave) {
     while (!wave.empty()) {
         check_cancel();
         // Near the memory cap, the output's forecast follows the links wave by wave (memory.cpp).
-        if (memory_estimate() > 0.5 * memory_limit_) forecast_output();
+        // Once the output is traced (an update), the estimate counts the trace itself: no
+        // forecast, which would read every link and corner of the scene at each wave.
+        if (!output_.traced() && memory_estimate() > 0.5 * memory_limit_) forecast_output();
         std::vector<Candidate> eval, next;
         // A self-link of a cluster stands for all interactions inside it: expand it into
         // links between its children (and their own self-links) without evaluating it.

@@ -125,9 +125,10 @@ void FinalGather::clear() {
     points_.clear();
     corner_point_.clear();
     counts_ = Counts{};
+    bytes_ = 0;
 }
 
-size_t FinalGather::bytes() const {
+size_t FinalGather::measure_bytes() const {
     size_t b = points_.capacity() * sizeof(Point);
     for (const Point& p : points_)
         b += (p.samples.capacity() + p.borrow.capacity()) * sizeof(std::pair<int, float>) +
@@ -679,6 +680,7 @@ void FinalGather::run(const Solution& s, const Config& c, std::vector<Job>& jobs
     }
     if (progress) progress(1.0);
     occluded_ = OccludedLinks{};
+    bytes_ = measure_bytes();
     counts_.points = int64_t(jobs.size());
     counts_.corners = 0;
     for (const auto& v : corner_point_) counts_.corners += int64_t(v.size());

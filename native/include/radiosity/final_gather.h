@@ -149,8 +149,9 @@ public:
     std::vector<float> corner_radiance(const Hierarchy& h, int object) const { return values(h, object, false); }
     std::vector<float> corner_irradiance(const Hierarchy& h, int object) const { return values(h, object, true); }
     const Counts& counts() const { return counts_; }
-    // Bytes kept by the trace (points, their records and samples, the corner map).
-    size_t bytes() const;
+    // Bytes kept by the trace (points, their records and samples, the corner map), as
+    // measured when it was made: the solver asks at every link it makes.
+    size_t bytes() const { return bytes_; }
     // Bytes a trace of `points` points reading `records` point-link transfers in all is
     // expected to keep (the samples a transfer keeps after merging, on average).
     static double trace_bytes(double points, double records);
@@ -253,6 +254,8 @@ private:
     std::vector<Point> points_;
     std::vector<std::vector<int>> corner_point_;  // per object, per corner: its point (-1: none)
     Counts counts_;
+    size_t bytes_ = 0;
+    size_t measure_bytes() const;
 };
 
 }  // namespace radiosity

@@ -1,0 +1,58 @@
+"""One full solve of an exported interior and one incremental update after the benchmark's move
+(the armchair of room 1 and its parts moved by the scene's stored move and turned about the
+vertical through its centre), through the native module alone: where an update's time goes.
+
+    python3 bench/interior/update_native.py F.npz [PRESET] [--turn RAD]
+
+F.npz: an export of a make_interior.py scene (see solve_native.py). Prints the solve's and the
+update's wall times, the update's ratio to the solve and its phases (seconds and rays).
+"""
+import argparse
+import os
+import sys
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+# The native module, the add-on's core and accuracy_native, found as solve_native finds them.
+from solve_native import accuracy_native, rn, scene_data  # noqa: E402
+import update_examples  # noqa: E402  (moves: the stored move plus a turn; bench/ is on the path)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("npz")
+    ap.add_argument("preset", nargs="?", default="MEDIUM")
+    ap.add_argument("--turn", type=float, default=0.6)
+    a = ap.parse_args()
+    z = np.load(a.npz)
+    si, _ = accuracy_native.scene_input(z)
+    scene, _, _ = scene_data.build_native_scene(rn, si)
+    s = rn.Solver(scene, rn.Settings.preset(a.preset))
+    t0 = time.time()
+    s.solve()
+    full = time.time() - t0
+    # The stored move is the armchair's root object's; its parts (same name prefix, same
+    # room: no suffix) move with it, as the add-on moves a collection.
+    names = [str(o).split("\t")[0] for o in z["objects"]]
+    (root, m), = update_examples.moves(z, a.turn).items()
+    base = names[root]
+    suffix = base[len(base.rstrip("0123456789.R")):]
+    parts = [i for i, n in enumerate(names) if n.split(" ")[0] == base and n.endswith(suffix)]
+    for i in parts:
+        s.move_object(i, np.ascontiguousarray(m))
+    t0 = time.time()
+    s.update()
+    upd = time.time() - t0
+    st = s.stats()
+    rays = dict(st.get("phase_rays", {}))
+    print(f"{os.path.basename(a.npz)} {a.preset}: full {full:.1f} s, update {upd:.1f} s "
+          f"({100 * upd / full:.0f} % of the full solve), moved {[names[i] for i in parts]}")
+    print("  update phases: " + ", ".join(f"{k} {v:.1f} s ({rays.get(k, 0):,} rays)"
+                                          for k, v in st.get("phases", {}).items()))
+
+
+if __name__ == "__main__":
+    main()

@@ -34,13 +34,12 @@ def main():
     t0 = time.time()
     s.solve()
     full = time.time() - t0
-    # The stored move is the armchair's root object's; its parts (same name prefix, same
-    # room: no suffix) move with it, as the add-on moves a collection.
+    # The stored move is the armchair's root object's; its parts ("Armchair back": the root's
+    # name as first word; the other rooms' are "Armchair.R1 back") move with it, as the
+    # add-on moves a collection.
     names = [str(o).split("\t")[0] for o in z["objects"]]
     (root, m), = update_examples.moves(z, a.turn).items()
-    base = names[root]
-    suffix = base[len(base.rstrip("0123456789.R")):]
-    parts = [i for i, n in enumerate(names) if n.split(" ")[0] == base and n.endswith(suffix)]
+    parts = [i for i, n in enumerate(names) if n.split(" ")[0] == names[root]]
     for i in parts:
         s.move_object(i, np.ascontiguousarray(m))
     t0 = time.time()

@@ -582,9 +582,9 @@ Link cluster_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
 }
 
 // Samples (those from `first` on) that name the same leaf become one, with their weights
-// summed, in the order of their first appearance: a sender's radiance is the same weighted mean, and a third fewer
-// samples are stored, copied into each gather plan and read in each sweep (a link's 16 rays
-// land on 9 leaves on average in the box room at MEDIUM).
+// summed, in the order of their first appearance: a sender's radiance is the same weighted
+// mean, and a third fewer samples are stored, copied into each gather plan and read in each
+// sweep (a link's 16 rays land on 9 leaves on average in the box room at MEDIUM).
 void merge_samples(std::vector<std::pair<int, float>>& s, size_t first = 0) {
     size_t n = first;
     for (size_t i = first; i < s.size(); ++i) {

@@ -51,6 +51,9 @@ def main():
           f"({100 * upd / full:.0f} % of the full solve), moved {[names[i] for i in parts]}")
     print("  update phases: " + ", ".join(f"{k} {v:.1f} s ({rays.get(k, 0):,} rays)"
                                           for k, v in st.get("phases", {}).items()))
+    print("  output: " + ", ".join(f"{k} {st[k]:,}" for k in (
+        "gather_points", "gather_fresh_points", "gather_kept", "gather_replayed", "gather_rays",
+        "gather_lamp_rays", "gather_near_rays", "gather_shared")))
 
 
 if __name__ == "__main__":

@@ -132,7 +132,7 @@ size_t FinalGather::measure_bytes() const {
     size_t b = points_.capacity() * sizeof(Point);
     for (const Point& p : points_)
         b += (p.samples.capacity() + p.borrow.capacity()) * sizeof(std::pair<int, float>) +
-             p.records.capacity() * sizeof(Record);
+             p.records.capacity() * sizeof(Record) + p.lamp_rays.blocked.capacity() * sizeof(uint64_t);
     for (const auto& v : corner_point_) b += v.capacity() * sizeof(int);
     return b;
 }
@@ -179,10 +179,13 @@ void FinalGather::trace_lamps(const Solution& s, const Config& c, Point& pt, con
     const Hierarchy& h = s.h;
     const Vec3& x = pt.x;
     const Vec3& n = pt.n;
-    // Lamps: kept after a move when no shadow ray can meet a moved box (a point or spot light's
-    // segment hull; the sun's and the sky's rays go anywhere in front: cast again).
-    bool lamps_kept = old != nullptr && !old->sealed && !moves->cast_all && !moves->lights_changed;
-    if (old) {
+    // Lamps: after a move, a shadow ray that meets no moved box keeps its recorded outcome
+    // (the sun's and the sky's rays from a wall that misses the moved armchair's old and new
+    // boxes); a light whose every ray misses them is not even re-sampled.
+    const bool replay = old != nullptr && !old->sealed && !moves->cast_all && !moves->lights_changed &&
+                        old->lamp_rays.count > 0;
+    bool lamps_kept = replay;
+    if (replay) {
         for (const LightDesc& d : s.scene.lights()) {
             if (d.intensity.max() <= 0) continue;
             if (d.type == LightDesc::Type::Sun || d.type == LightDesc::Type::Sky) { lamps_kept = false; break; }
@@ -196,8 +199,11 @@ void FinalGather::trace_lamps(const Solution& s, const Config& c, Point& pt, con
     }
     if (lamps_kept) {
         pt.direct = old->direct;
+        pt.lamp_rays = old->lamp_rays;
     } else {
-        const PointLight lamp = direct_light_at(s.scene, h, s.vis, x, n, false, c.light_samples, pt.seed);
+        const PointLight lamp = direct_light_replay(s.scene, h, s.vis, x, n, c.light_samples, pt.seed,
+                                                    replay ? &old->lamp_rays : nullptr, replay ? &moves->clips : nullptr,
+                                                    pt.lamp_rays);
         pt.direct = lamp.E;
         counts.rays += lamp.rays;
         counts.lamp_rays += lamp.rays;

@@ -34,6 +34,7 @@ struct FinalGather::Point {
         samples.clear();
         records.clear();
         direct = Rgb{};
+        lamp_rays = LampRays{};
         near = Rgb{};
         escapes = -1;
         c_own = c_inherited = 1;
@@ -51,6 +52,7 @@ struct FinalGather::Point {
     // what the point gathers; -1 when the covering polygon is one-sided.
     int beyond = -1;
     Rgb direct;          // lamps' irradiance / pi
+    LampRays lamp_rays;  // its shadow rays' outcomes (replayed after a move)
     // Near-field correction (near_field.cpp), irradiance / pi: the senders a
     // hair from the point read at a point of theirs instead of their leaf's average.
     Rgb near;

@@ -96,9 +96,10 @@ struct Sampled {
 
 // Monte Carlo estimate of irradiance / pi over the points `where(i, rng)` gives (on a plane
 // of normal n) from one light, with visibility; m stratified samples.
-template <class Where, class Contact>
-Sampled estimate(const ILight& l, const Where& where, const Vec3& n, int m, Rng& rng, const Visibility& vis,
-                 double lift, double far, const Contact& contact) {
+// Shadow rays through `vis`: a Visibility, or a LampRayStream (a point's recorded rays).
+template <class Where, class Contact, class Rays>
+Sampled estimate(const ILight& l, const Where& where, const Vec3& n, int m, Rng& rng, Rays& vis, double lift,
+                 double far, const Contact& contact) {
     Rgb s1;  // sum of the samples' irradiance / pi, visibility included
     double s2 = 0, s_unocc = 0;
     int seen = 0, hidden = 0;
@@ -205,10 +206,35 @@ Sampled estimate(const ILight& l, const Where& where, const Vec3& n, int m, Rng&
     return r;
 }
 
-}  // namespace
+// A point's shadow rays, cast through `vis` or, with `old` (the same point's record, same
+// seed and lights) and `changed` (boxes where geometry moved since), a ray that meets none of
+// the boxes takes its recorded outcome.
+struct LampRayStream {
+    const Visibility& vis;
+    const LampRays* old = nullptr;
+    const std::vector<Aabb>* changed = nullptr;
+    LampRays out;
+    int cast = 0;
+    bool occluded(const Vec3& a, const Vec3& b) { return take(a, b, -1); }
+    bool occluded(const Vec3& a, const Vec3& b, double near) { return take(a, b, near); }
+    bool take(const Vec3& a, const Vec3& b, double near) {
+        const int k = out.count++;
+        bool blocked;
+        if (old && k < old->count && !meets_any(*changed, a, b)) {
+            blocked = (old->blocked[size_t(k) >> 6] >> (k & 63)) & 1;
+        } else {
+            blocked = near < 0 ? vis.occluded(a, b) : vis.occluded(a, b, near);
+            ++cast;
+        }
+        if ((size_t(k) >> 6) >= out.blocked.size()) out.blocked.push_back(0);
+        if (blocked) out.blocked[size_t(k) >> 6] |= uint64_t(1) << (k & 63);
+        return blocked;
+    }
+};
 
-PointLight direct_light_at(const SceneDesc& scene, const Hierarchy& h, const Visibility& vis, const Vec3& x,
-                           const Vec3& n, bool covered, int m, uint64_t seed) {
+template <class Rays>
+PointLight direct_light_with(const SceneDesc& scene, const Hierarchy& h, Rays& vis, const Vec3& x, const Vec3& n,
+                             bool covered, int m, uint64_t seed) {
     PointLight out;
     const double far = 4.0 * h.scene_diag, lift = 1e-5 * h.scene_diag;
     for (const ILight& l : internal_lights(scene, h)) {
@@ -224,6 +250,23 @@ PointLight direct_light_at(const SceneDesc& scene, const Hierarchy& h, const Vis
         out.rays += mm;
     }
     return out;
+}
+
+}  // namespace
+
+PointLight direct_light_at(const SceneDesc& scene, const Hierarchy& h, const Visibility& vis, const Vec3& x,
+                           const Vec3& n, bool covered, int m, uint64_t seed) {
+    return direct_light_with(scene, h, vis, x, n, covered, m, seed);
+}
+
+PointLight direct_light_replay(const SceneDesc& scene, const Hierarchy& h, const Visibility& vis, const Vec3& x,
+                               const Vec3& n, int m, uint64_t seed, const LampRays* old,
+                               const std::vector<Aabb>* changed, LampRays& out) {
+    LampRayStream rs{vis, old, changed, LampRays{}, 0};
+    PointLight r = direct_light_with(scene, h, rs, x, n, false, m, seed);
+    r.rays = rs.cast;
+    out = std::move(rs.out);
+    return r;
 }
 
 void Solver::set_light(int index, const LightDesc& l) {
@@ -257,18 +300,36 @@ double Solver::light_power(double total_area) const {
 }
 
 Rgb Solver::light_direct(int id) const {
-    return size_t(id) < lights_.have.size() && lights_.have[id] ? lights_.direct[id] : Rgb{};
+    return size_t(id) < lights_.have.size() && lights_.have[id] == LightState::kLit ? lights_.direct[id] : Rgb{};
 }
 
 double Solver::light_spread(int id) const {
-    return size_t(id) < lights_.have.size() && lights_.have[id] ? double(lights_.spread[id]) : 0.0;
+    return size_t(id) < lights_.have.size() && lights_.have[id] == LightState::kLit ? double(lights_.spread[id]) : 0.0;
 }
 
 void Solver::light_invalidate() {
     // Placements changed since the cache was made (an update moved objects): every shadow may
-    // have changed.
+    // have changed. A move that replays rays (moves only) leaves each node's shadow rays to be
+    // replayed: those that meet no moved box keep their outcome. A node whose box meets a
+    // moved one is lit afresh (what touches it, and so which of its rays are cast, may differ).
     if (poses_ != lights_.poses) {
-        std::fill(lights_.have.begin(), lights_.have.end(), 0);
+        const bool replay = update_run_ && update_run_->replaying && !lights_.poses.empty();
+        bool stale_left = false;
+        for (uint8_t v : lights_.have) stale_left |= v == LightState::kStale;
+        if (!stale_left) lights_.clips.clear();
+        if (replay) {
+            const std::vector<Aabb>& clips = update_run_->replay_clips;
+            lights_.clips.insert(lights_.clips.end(), clips.begin(), clips.end());
+            for (size_t id = 0; id < lights_.have.size(); ++id) {
+                if (lights_.have[id] == LightState::kNone) continue;
+                const Node& n = h_.nodes[id];
+                bool near = n.dead;
+                for (const Aabb& c : clips) near = near || c.overlaps(n.box);
+                lights_.have[id] = near || id >= lights_.rays.size() ? LightState::kNone : LightState::kStale;
+            }
+        } else {
+            std::fill(lights_.have.begin(), lights_.have.end(), LightState::kNone);
+        }
         lights_.recheck = !lights_.poses.empty();
         lights_.contacts.clear();
         lights_.poses = poses_;
@@ -281,7 +342,7 @@ void Solver::light_prepare() {
     light_invalidate();
     std::vector<int> todo;
     for (int id : leaves_)
-        if (!lights_.have[id]) todo.push_back(id);
+        if (lights_.have[id] != LightState::kLit) todo.push_back(id);
     light_compute(todo);
 }
 
@@ -380,9 +441,13 @@ void Solver::light_compute(const std::vector<int>& ids) {
     // whose hemisphere integral is noisier than a small light's. Fewer hid real shadow edges
     // behind the noise allowance below.
     const int m = std::max(4, settings_.rays_per_link / 2);
+    if (lights_.rays.size() < h_.nodes.size()) lights_.rays.resize(h_.nodes.size());
     parallel_for(ids.size(), settings_.threads, [&](size_t i) {
         const int id = ids[i];
         const Node& n = h_.nodes[id];
+        // Its shadow rays, replayed where a move left the node stale (light_invalidate).
+        const bool stale = lights_.have[id] == LightState::kStale;
+        LampRayStream rs{*vis_, stale ? &lights_.rays[id] : nullptr, stale ? &lights_.clips : nullptr, LampRays{}, 0};
         Rgb sum, lo = Rgb::all(1e300), hi = Rgb::all(-1e300);
         double area = 0, var_max = 0, edge = 0;
         for (int k = 0; k < 4; ++k) {
@@ -396,7 +461,7 @@ void Solver::light_compute(const std::vector<int>& ids) {
                 const int mm = sky ? 4 * m : m;
                 // Stratified over the child along its first coordinate.
                 auto where = [&c, mm](int s, Rng& g) { return c.sample((s + g.next()) / mm, g.next()); };
-                const Sampled r = estimate(l, where, n.normal, mm, rng, *vis_, lift, far,
+                const Sampled r = estimate(l, where, n.normal, mm, rng, rs, lift, far,
                                            [&](const Vec3& p) { return light_in_contact(n.surface, p); });
                 e += r.mean;
                 if (sky) var += r.var;
@@ -415,7 +480,8 @@ void Solver::light_compute(const std::vector<int>& ids) {
         // difference: the sky's occlusion is smooth, noise alone must not refine it to the
         // resolution limit), or a small light's shadow edge inside a child.
         lights_.spread[id] = float(std::max({0.0, (hi - lo).max() - std::sqrt(2.0 * var_max), edge}));
-        lights_.have[id] = 1;
+        lights_.have[id] = LightState::kLit;
+        lights_.rays[id] = std::move(rs.out);
     }, 8);
 }
 
@@ -434,7 +500,7 @@ void Solver::light_resize() {
     const size_t nn = h_.nodes.size();
     lights_.direct.resize(nn);
     lights_.spread.resize(nn, 0.f);
-    lights_.have.resize(nn, 0);
+    lights_.have.resize(nn, LightState::kNone);
     lights_.split.resize(nn, 0);
 }
 
@@ -452,7 +518,7 @@ void Solver::light_walk(const std::vector<char>& link_below, std::vector<int>& l
     while (!level.empty()) {
         std::vector<int> todo, next;
         for (int id : level)
-            if (lights_.split[id] && !h_.nodes[id].children.empty() && !lights_.have[id]) todo.push_back(id);
+            if (lights_.split[id] && !h_.nodes[id].children.empty() && lights_.have[id] != LightState::kLit) todo.push_back(id);
         light_compute(todo);
         for (int id : level) {
             const Node& n = h_.nodes[id];
@@ -525,7 +591,7 @@ bool Solver::light_refine() {
     // the resolution limit in one round.
     std::vector<int> wave;
     for (int id : leaves_)
-        if (size_t(id) < lights_.have.size() && lights_.have[id]) wave.push_back(id);
+        if (size_t(id) < lights_.have.size() && lights_.have[id] == LightState::kLit) wave.push_back(id);
     bool changed = false;
     while (!wave.empty()) {
         std::vector<int> kids;

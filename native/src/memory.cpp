@@ -2,6 +2,7 @@
 // before the gather runs (Solver::forecast_output): refinement stops at Settings::max_memory_mb
 // with room left for the output, so a bake does not outgrow the machine after refining.
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <unordered_set>
 #include <utility>
@@ -35,6 +36,13 @@ double Solver::memory_estimate(size_t more_links, size_t more_nodes) const {
                vector_bytes(links_.size(), links_.capacity(), more_links, sizeof(Link)) +
                double(links_.size() + more_links) * link_samples;
     if (vis_) b += double(std::max<int64_t>(0, vis_->bytes()));
+    // Per lit node, its recorded shadow rays (light_compute: four children, 4x for the sky).
+    if (!lights_.rays.empty()) {
+        const int m = std::max(4, settings_.rays_per_link / 2);
+        int per_node = 0;
+        for (const LightDesc& d : scene_.lights()) per_node += 4 * (d.type == LightDesc::Type::Sky ? 4 * m : m);
+        b += double(lights_.rays.capacity()) * (sizeof(LampRays) + 8.0 * std::ceil(per_node / 64.0));
+    }
     if (output_.traced()) {
         b += double(output_.bytes());
     } else if (output_forecast_ > 0) {

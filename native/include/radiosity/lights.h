@@ -58,12 +58,23 @@ struct LightDesc {
     }
 };
 
+// The outcomes of a point's or an element's shadow rays in the order cast (bit k of the words: ray k blocked).
+struct LampRays {
+    int count = 0;
+    std::vector<uint64_t> blocked;
+};
+
 // Per-node direct-light cache kept by the solver (lights.cpp). Values are irradiance / pi
 // (the unit of Node::G), so a leaf's outgoing radiance gains rho * direct.
 struct LightState {
     std::vector<Rgb> direct;       // per node: area mean of the direct term over the element
     std::vector<float> spread;     // per node: max - min over its four children's estimates
-    std::vector<uint8_t> have;     // per node: direct/spread computed for the current lights
+    // Per node: direct/spread computed for the current lights and placements (kLit); made
+    // before a move, its shadow rays to replay (kStale); or not at all.
+    enum : uint8_t { kNone = 0, kLit = 1, kStale = 2 };
+    std::vector<uint8_t> have;
+    std::vector<LampRays> rays;    // per node: the shadow rays its direct term was computed with
+    std::vector<Aabb> clips;       // where geometry moved since stale nodes were lit
     std::vector<uint8_t> split;    // per node: subdivided because its direct light varies
     std::vector<Rigid> poses;      // object placements the cache was made with
     std::vector<std::vector<int>> contacts;  // per surface: touching surfaces of other objects
@@ -86,6 +97,13 @@ struct PointLight {
 };
 PointLight direct_light_at(const SceneDesc& scene, const Hierarchy& h, const Visibility& vis, const Vec3& x,
                            const Vec3& n, bool covered, int m, uint64_t seed);
+// direct_light_at for an uncovered point, its shadow rays recorded in `out`. With `old` (the
+// same point's record: same seed and lights) and `changed` (the boxes where geometry moved
+// since), a ray that meets none of the boxes takes its recorded outcome: equal to tracing the
+// point afresh, at the cost of the rays a move can change. PointLight::rays counts rays cast.
+PointLight direct_light_replay(const SceneDesc& scene, const Hierarchy& h, const Visibility& vis, const Vec3& x,
+                               const Vec3& n, int m, uint64_t seed, const LampRays* old,
+                               const std::vector<Aabb>* changed, LampRays& out);
 
 // A mesh of leaf elements (adaptive-mesh output): world-space vertices, Blender's polygon
 // layout, one value per polygon. T-vertex free: a vertex of a finer neighbour that lies on a

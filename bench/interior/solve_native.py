@@ -5,9 +5,11 @@ elements, output points and rays it takes, without the add-on around it.
     python3 bench/export_scene.py-style export first, e.g. in PyPI bpy:
       python3 -c "import bpy, sys; bpy.ops.wm.open_mainfile(filepath='F.blend'); \\
                   sys.argv = ['x', '--', 'F.npz']; exec(open('bench/export_scene.py').read())"
-    python3 bench/interior/solve_native.py F.npz [PRESET] [NAME=VALUE ...]
+    python3 bench/interior/solve_native.py F.npz [PRESET] [NAME=VALUE ...] [--save OUT.npz]
 
-NAME=VALUE overrides a Settings field (e.g. gather_min_rays=1). The scene is built by the
+NAME=VALUE overrides a Settings field (e.g. gather_min_rays=1); --save writes every written
+object's corner radiance (one array per object, "o<index>") to compare two solves with
+bench/interior/compare_solves.py. The scene is built by the
 add-on's own core (objects, lights, world), as bench/accuracy_native.py does.
 """
 import os
@@ -28,10 +30,16 @@ from radiosity.core import scene_data  # noqa: E402
 
 
 def main():
-    path = sys.argv[1]
-    preset = sys.argv[2] if len(sys.argv) > 2 else "DRAFT"
+    args = sys.argv[1:]
+    save = None
+    if "--save" in args:
+        k = args.index("--save")
+        save = args[k + 1]
+        del args[k:k + 2]
+    path = args[0]
+    preset = args[1] if len(args) > 1 else "DRAFT"
     st = rn.Settings.preset(preset)
-    for kv in sys.argv[3:]:
+    for kv in args[2:]:
         k, v = kv.split("=", 1)
         t = type(getattr(st, k))
         setattr(st, k, v.lower() in ("1", "true", "yes", "on") if t is bool else t(v))
@@ -57,6 +65,9 @@ def main():
     rays = dict(stats.get("phase_rays", {}))
     print("  phases: " + ", ".join(f"{k} {v:.1f} s ({rays.get(k, 0):,} rays)"
                                    for k, v in stats.get("phases", {}).items()))
+    if save:
+        np.savez_compressed(save, **{f"o{i}": np.asarray(s.corner_radiance(i), dtype=np.float32)
+                                     for i, w in enumerate(written) if w})
 
 
 if __name__ == "__main__":

@@ -244,6 +244,11 @@ def evaluate(si, requests, depsgraph, materials, warnings):
     made_objects, made_meshes = [], []
     pieces = 0
     todo = []
+    # Requests whose key one in `todo` has too (the same mesh and materials: a room's floor
+    # and its copy in the next room) take that one's values: baked once, and what a later
+    # bake reads from the cache is what this one used.
+    same = []
+    baked = {}
     try:
         for r in requests:
             obj_eval = r.obj.evaluated_get(depsgraph)
@@ -251,6 +256,8 @@ def evaluate(si, requests, depsgraph, materials, warnings):
             hit = eval_cache.get(key)
             if hit is not None and len(hit[0]) == si.objects[r.index].polygon_count:
                 _apply(si.objects[r.index], r.slots, hit[0], hit[1])
+            elif any(k == key for _, _, k in todo):
+                same.append((r, key))
             else:
                 todo.append((r, obj_eval, key))
         if todo:
@@ -312,7 +319,10 @@ def evaluate(si, requests, depsgraph, materials, warnings):
                     values["pieces"] = (orig, centroid, areas, per_piece["DIFFUSE"], per_piece.get("EMIT"))
                 mi = _material_index(a.data)
                 eval_cache.put(key, (mi, values))
+                baked[key] = (mi, values)
                 _apply(o, r.slots, mi, values)
+            for r, key in same:
+                _apply(si.objects[r.index], r.slots, *baked[key])
     except Exception as exc:  # noqa: BLE001  (any failure of Blender's bake: fall back, warn)
         for why in materials.textured.values():
             warnings.append(why)

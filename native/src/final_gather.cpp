@@ -235,9 +235,16 @@ FinalGather::Record FinalGather::trace_transfer(const Solution& s, const Config&
     const int refined_rays = std::min(c.rays, 4 * rays);
     // The same link, or one new since (split on the receiver side, or made again) from a
     // sender the point read before: the same transfer.
-    if (old)
-        for (const Record& r : old->records)
-            if (r.src == src) { was = &r; break; }
+    // (Looked for first where it stood: an unchanged point reads its senders in the same order.)
+    if (old) {
+        const size_t at = pt.records.size();
+        if (at < old->records.size() && old->records[at].src == src) {
+            was = &old->records[at];
+        } else {
+            for (const Record& r : old->records)
+                if (r.src == src) { was = &r; break; }
+        }
+    }
     // Replayed only with the budget a fresh trace would give it now.
     if (was && int(was->rays) != (was->refined ? refined_rays : rays)) was = nullptr;
     // Its samples name leaves that are still leaves: the same rays would land on them again.

@@ -210,9 +210,12 @@ Sampled estimate(const ILight& l, const Where& where, const Vec3& n, int m, Rng&
 // seed and lights) and `changed` (boxes where geometry moved since), a ray that meets none of
 // the boxes takes its recorded outcome.
 struct LampRayStream {
+    LampRayStream(const Visibility& v, const LampRays* o, const std::vector<Aabb>* c)
+        : vis(v), old(o), changed(c), all(c ? union_of(*c) : Aabb{}) {}
     const Visibility& vis;
     const LampRays* old = nullptr;
     const std::vector<Aabb>* changed = nullptr;
+    Aabb all;  // union of `changed`
     LampRays out;
     int cast = 0;
     bool occluded(const Vec3& a, const Vec3& b) { return take(a, b, -1); }
@@ -220,7 +223,7 @@ struct LampRayStream {
     bool take(const Vec3& a, const Vec3& b, double near) {
         const int k = out.count++;
         bool blocked;
-        if (old && k < old->count && !meets_any(*changed, a, b)) {
+        if (old && k < old->count && !meets_any(*changed, all, a, b)) {
             blocked = (old->blocked[size_t(k) >> 6] >> (k & 63)) & 1;
         } else {
             blocked = near < 0 ? vis.occluded(a, b) : vis.occluded(a, b, near);
@@ -262,7 +265,7 @@ PointLight direct_light_at(const SceneDesc& scene, const Hierarchy& h, const Vis
 PointLight direct_light_replay(const SceneDesc& scene, const Hierarchy& h, const Visibility& vis, const Vec3& x,
                                const Vec3& n, int m, uint64_t seed, const LampRays* old,
                                const std::vector<Aabb>* changed, LampRays& out) {
-    LampRayStream rs{vis, old, changed, LampRays{}, 0};
+    LampRayStream rs(vis, old, changed);
     PointLight r = direct_light_with(scene, h, rs, x, n, false, m, seed);
     r.rays = rs.cast;
     out = std::move(rs.out);
@@ -447,7 +450,7 @@ void Solver::light_compute(const std::vector<int>& ids) {
         const Node& n = h_.nodes[id];
         // Its shadow rays, replayed where a move left the node stale (light_invalidate).
         const bool stale = lights_.have[id] == LightState::kStale;
-        LampRayStream rs{*vis_, stale ? &lights_.rays[id] : nullptr, stale ? &lights_.clips : nullptr, LampRays{}, 0};
+        LampRayStream rs(*vis_, stale ? &lights_.rays[id] : nullptr, stale ? &lights_.clips : nullptr);
         Rgb sum, lo = Rgb::all(1e300), hi = Rgb::all(-1e300);
         double area = 0, var_max = 0, edge = 0;
         for (int k = 0; k < 4; ++k) {

@@ -147,6 +147,20 @@ def test_texture_change_is_incremental(run_blender):
     assert r["world_cached"] == [False, True]
 
 
+def test_twin_textured_objects_are_evaluated_once_and_kept(run_blender):
+    # The same mesh and textured material in two places: one evaluation for both, so the
+    # values a later bake reads from the kept evaluations are those this bake used, and a move
+    # of another object is a move, not a texture change (which re-gathers every point).
+    r = run_blender("tex_twin_objects.py")
+    assert r["ok"], r["_log"]
+    if r.get("fake"):
+        pytest.skip("stand-in native module")
+    assert r["textured"] == 2 and r["baked"] == 1, r
+    assert r["mode"] == "incremental", r
+    assert r["texture_changed"] == 0 and r["reflectance_changed"] == 0, r
+    assert r["twin_lit"] > 0
+
+
 def test_single_quad_takes_the_texture_mean(run_blender):
     """A checker on a 4-vertex plane: the corners show two squares' colours, the polygon's
     reflectance (the transport's) is the checker's area mean, (red + white) / 2."""

@@ -118,6 +118,16 @@ inline bool meets_any(const std::vector<Aabb>& boxes, const Vec3& a, const Vec3&
         if (box.meets_segment(a, b)) return true;
     return false;
 }
+// The same, most segments turned away by `all`, the boxes' union (a moved collection's parts
+// give a dozen boxes in one place).
+inline bool meets_any(const std::vector<Aabb>& boxes, const Aabb& all, const Vec3& a, const Vec3& b) {
+    return all.meets_segment(a, b) && meets_any(boxes, a, b);
+}
+inline Aabb union_of(const std::vector<Aabb>& boxes) {
+    Aabb u;
+    for (const Aabb& b : boxes) u.grow(b);
+    return u;
+}
 
 constexpr double kPi = 3.14159265358979323846;
 

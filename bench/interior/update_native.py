@@ -9,6 +9,7 @@ update's wall times, the update's ratio to the solve and its phases (seconds and
 """
 import argparse
 import os
+import resource
 import sys
 import time
 
@@ -34,6 +35,7 @@ def main():
     t0 = time.time()
     s.solve()
     full = time.time() - t0
+    peak_full = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     # The stored move is the armchair's root object's; its parts ("Armchair back": the root's
     # name as first word; the other rooms' are "Armchair.R1 back") move with it, as the
     # add-on moves a collection.
@@ -47,8 +49,10 @@ def main():
     upd = time.time() - t0
     st = s.stats()
     rays = dict(st.get("phase_rays", {}))
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     print(f"{os.path.basename(a.npz)} {a.preset}: full {full:.1f} s, update {upd:.1f} s "
-          f"({100 * upd / full:.0f} % of the full solve), moved {[names[i] for i in parts]}")
+          f"({100 * upd / full:.0f} % of the full solve), moved {[names[i] for i in parts]}; "
+          f"peak RSS {peak_full:.0f} MB after the solve, {peak:.0f} MB after the update")
     print("  update phases: " + ", ".join(f"{k} {v:.1f} s ({rays.get(k, 0):,} rays)"
                                           for k, v in st.get("phases", {}).items()))
     print("  output: " + ", ".join(f"{k} {st[k]:,}" for k in (

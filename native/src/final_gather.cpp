@@ -668,6 +668,9 @@ void FinalGather::run(const Solution& s, const Config& c, std::vector<Job>& jobs
         Counts local;
         trace_point(s, c, pt, was, moves, local, emitters_only);
         pt.samples.shrink_to_fit();
+        // Each point is traced once: what it kept of its old self is copied, and the old one
+        // goes now rather than after the whole trace (an update held both traces at its peak).
+        if (was) old[at->second].release();
         n_links += local.links;
         n_rays += local.rays;
         object_rays[size_t(j.object)] += local.rays;

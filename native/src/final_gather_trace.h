@@ -41,6 +41,13 @@ struct FinalGather::Point {
         fill = 0;
         sealed = false;
     }
+    // Frees what a trace found (an old point once the retrace has read it).
+    void release() {
+        std::vector<std::pair<int, float>>().swap(samples);
+        std::vector<Record>().swap(records);
+        std::vector<std::pair<int, float>>().swap(borrow);
+        lamp_rays = LampRays{};
+    }
     int object = -1, prim = -1, k = 0;  // the corner it was made for (first of its corners)
     Vec3 x, n;
     uint64_t seed = 0;

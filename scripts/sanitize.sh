@@ -9,11 +9,11 @@
 # filtered: its furnace over every preset and the convergence / energy / dynamic-room
 # cases take minutes each in Release, far too long under ASan; the selection keeps one
 # case of each code path (furnace, clustering, scale, moves, material changes, bad moves,
-# replayed rays), and parallel_for on TBB (exceptions, nesting, arenas).
+# replayed rays, lamp rays included), and parallel_for on TBB (exceptions, nesting, arenas).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 JOBS=${RADIOSITY_SANITIZE_JOBS:-$(nproc)}
-DEFAULT_FILTER='Parallel.*:AnalyticKernel.*:FrontPart.*:SolverTransport.*:AllPresets/Furnace.ClosedCubeAndRoomWithBoxAreExact/3:Solver.NoEmitterGivesZerosAndAWarning:Solver.ScaleInvariance:Solver.BackFacesNothingLightsCostNothing:Solver.UniformlyLitWallStaysOneElement:Dynamic.FurnaceConservedAfterMoves:Dynamic.BadMovesAreRejectedOrSafe:Topology.FurnaceStaysExact:Topology.BadInputIsRefused:Topology.ExtremeChangesStaySafe:Topology.AddingIntoAClosedPocketSolvesInFull:Dynamic.ReplayedRaysGiveExactlyWhatCastingEveryRayGives:Environment.TexturePiecesGiveElementsAndPointsTheirOwnValue:Environment.TexturePiecesGiveElementsTheirOwnEmission:FinalGather.FurnaceStaysExact:SharedGather.CornersAtTheFootOfABoxKeepTheirOwnGather:Gaps.*'
+DEFAULT_FILTER='Parallel.*:AnalyticKernel.*:FrontPart.*:SolverTransport.*:AllPresets/Furnace.ClosedCubeAndRoomWithBoxAreExact/3:Solver.NoEmitterGivesZerosAndAWarning:Solver.ScaleInvariance:Solver.BackFacesNothingLightsCostNothing:Solver.UniformlyLitWallStaysOneElement:Dynamic.FurnaceConservedAfterMoves:Dynamic.BadMovesAreRejectedOrSafe:Topology.FurnaceStaysExact:Topology.BadInputIsRefused:Topology.ExtremeChangesStaySafe:Topology.AddingIntoAClosedPocketSolvesInFull:Dynamic.ReplayedRaysGiveExactlyWhatCastingEveryRayGives:Dynamic.ReplayedLampRaysGiveExactlyWhatCastingThemGives:Environment.TexturePiecesGiveElementsAndPointsTheirOwnValue:Environment.TexturePiecesGiveElementsTheirOwnEmission:FinalGather.FurnaceStaysExact:SharedGather.CornersAtTheFootOfABoxKeepTheirOwnGather:Gaps.*'
 FILTER=${RADIOSITY_SANITIZE_FILTER:-$DEFAULT_FILTER}
 
 # RelWithDebInfo: optimised enough to run in minutes, with line numbers in reports.

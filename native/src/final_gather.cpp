@@ -181,7 +181,8 @@ void FinalGather::trace_lamps(const Solution& s, const Config& c, Point& pt, con
     const Vec3& n = pt.n;
     // Lamps: after a move, a shadow ray that meets no moved box keeps its recorded outcome
     // (the sun's and the sky's rays from a wall that misses the moved armchair's old and new
-    // boxes); a light whose every ray misses them is not even re-sampled.
+    // boxes). Where no lamp's ray can meet one (only point and spot lights, each one's
+    // segment hull from the point missing the boxes), the lamps are not even re-sampled.
     const bool replay = old != nullptr && !old->sealed && !moves->cast_all && !moves->lights_changed &&
                         old->lamp_rays.count > 0;
     bool lamps_kept = replay;

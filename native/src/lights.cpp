@@ -211,11 +211,10 @@ Sampled estimate(const ILight& l, const Where& where, const Vec3& n, int m, Rng&
 // the boxes takes its recorded outcome.
 struct LampRayStream {
     LampRayStream(const Visibility& v, const LampRays* o, const std::vector<Aabb>* c)
-        : vis(v), old(o), changed(c), all(c ? union_of(*c) : Aabb{}) {}
+        : vis(v), old(o), changed(o ? c : nullptr) {}
     const Visibility& vis;
     const LampRays* old = nullptr;
-    const std::vector<Aabb>* changed = nullptr;
-    Aabb all;  // union of `changed`
+    MovedBoxes changed;
     LampRays out;
     int cast = 0;
     bool occluded(const Vec3& a, const Vec3& b) { return take(a, b, -1); }
@@ -223,7 +222,7 @@ struct LampRayStream {
     bool take(const Vec3& a, const Vec3& b, double near) {
         const int k = out.count++;
         bool blocked;
-        if (old && k < old->count && !meets_any(*changed, all, a, b)) {
+        if (old && k < old->count && !changed.meets(a, b)) {
             blocked = (old->blocked[size_t(k) >> 6] >> (k & 63)) & 1;
         } else {
             blocked = near < 0 ? vis.occluded(a, b) : vis.occluded(a, b, near);
@@ -270,6 +269,14 @@ PointLight direct_light_replay(const SceneDesc& scene, const Hierarchy& h, const
     r.rays = rs.cast;
     out = std::move(rs.out);
     return r;
+}
+
+int element_shadow_rays(int rays_per_link, LightDesc::Type type) {
+    // Half the link rays (an element costs two links), four times that for the sky, whose
+    // hemisphere integral is noisier than a small light's. Fewer hid real shadow edges behind
+    // the noise allowance of light_compute.
+    const int m = std::max(4, rays_per_link / 2);
+    return type == LightDesc::Type::Sky ? 4 * m : m;
 }
 
 void Solver::set_light(int index, const LightDesc& l) {
@@ -440,10 +447,6 @@ void Solver::light_compute(const std::vector<int>& ids) {
     if (lights_.contacts.size() != h_.surfaces.size()) light_contacts();
     const std::vector<ILight> ls = internal_lights(scene_, h_);
     const double far = 4.0 * h_.scene_diag, lift = 1e-5 * h_.scene_diag;
-    // Per child: half the link rays (an element costs two links), twice that for the sky,
-    // whose hemisphere integral is noisier than a small light's. Fewer hid real shadow edges
-    // behind the noise allowance below.
-    const int m = std::max(4, settings_.rays_per_link / 2);
     if (lights_.rays.size() < h_.nodes.size()) lights_.rays.resize(h_.nodes.size());
     parallel_for(ids.size(), settings_.threads, [&](size_t i) {
         const int id = ids[i];
@@ -461,7 +464,7 @@ void Solver::light_compute(const std::vector<int>& ids) {
             for (const ILight& l : ls) {
                 Rng rng(Hierarchy::mix(Hierarchy::mix(settings_.seed ^ l.salt, n.key), uint64_t(k)));
                 const bool sky = l.type == LightDesc::Type::Sky;
-                const int mm = sky ? 4 * m : m;
+                const int mm = element_shadow_rays(settings_.rays_per_link, l.type);
                 // Stratified over the child along its first coordinate.
                 auto where = [&c, mm](int s, Rng& g) { return c.sample((s + g.next()) / mm, g.next()); };
                 const Sampled r = estimate(l, where, n.normal, mm, rng, rs, lift, far,

@@ -38,9 +38,8 @@ double Solver::memory_estimate(size_t more_links, size_t more_nodes) const {
     if (vis_) b += double(std::max<int64_t>(0, vis_->bytes()));
     // Per lit node, its recorded shadow rays (light_compute: four children, 4x for the sky).
     if (!lights_.rays.empty()) {
-        const int m = std::max(4, settings_.rays_per_link / 2);
         int per_node = 0;
-        for (const LightDesc& d : scene_.lights()) per_node += 4 * (d.type == LightDesc::Type::Sky ? 4 * m : m);
+        for (const LightDesc& d : scene_.lights()) per_node += 4 * element_shadow_rays(settings_.rays_per_link, d.type);
         b += double(lights_.rays.capacity()) * (sizeof(LampRays) + 8.0 * std::ceil(per_node / 64.0));
     }
     if (output_.traced()) {

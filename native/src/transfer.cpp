@@ -779,7 +779,7 @@ PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int s
 bool PointRayStream::occluded(const Vec3& a, const Vec3& b) {
     const int k = n++;
     bool blocked;
-    if (old && old->count <= 64 && k < old->count && !meets_any(*changed, all, a, b)) {
+    if (old && old->count <= 64 && k < old->count && !changed.meets(a, b)) {
         blocked = ((old->blocked >> k) & 1) != 0;
     } else {
         blocked = vis.occluded(a, b);

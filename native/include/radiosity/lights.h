@@ -58,11 +58,15 @@ struct LightDesc {
     }
 };
 
-// The outcomes of a point's or an element's shadow rays in the order cast (bit k of the words: ray k blocked).
+// The outcomes of a point's or an element's shadow rays in the order cast (bit k of the
+// words: ray k blocked).
 struct LampRays {
     int count = 0;
     std::vector<uint64_t> blocked;
 };
+
+// Shadow rays an element's direct term casts per child and light (Solver::light_compute).
+int element_shadow_rays(int rays_per_link, LightDesc::Type type);
 
 // Per-node direct-light cache kept by the solver (lights.cpp). Values are irradiance / pi
 // (the unit of Node::G), so a leaf's outgoing radiance gains rho * direct.

@@ -67,11 +67,10 @@ struct PointRays {
 // along it are the same). `out` is the fresh record; `cast` counts the rays really cast.
 struct PointRayStream {
     explicit PointRayStream(const Visibility& v, const PointRays* o = nullptr, const std::vector<Aabb>* c = nullptr)
-        : vis(v), old(o), changed(c), all(o && c ? union_of(*c) : Aabb{}) {}
+        : vis(v), old(o), changed(o ? c : nullptr) {}
     const Visibility& vis;
     const PointRays* old = nullptr;
-    const std::vector<Aabb>* changed = nullptr;
-    Aabb all;  // union of `changed`
+    MovedBoxes changed;
     PointRays out;
     int n = 0;
     int64_t cast = 0;

@@ -118,16 +118,18 @@ inline bool meets_any(const std::vector<Aabb>& boxes, const Vec3& a, const Vec3&
         if (box.meets_segment(a, b)) return true;
     return false;
 }
-// The same, most segments turned away by `all`, the boxes' union (a moved collection's parts
-// give a dozen boxes in one place).
-inline bool meets_any(const std::vector<Aabb>& boxes, const Aabb& all, const Vec3& a, const Vec3& b) {
-    return all.meets_segment(a, b) && meets_any(boxes, a, b);
-}
-inline Aabb union_of(const std::vector<Aabb>& boxes) {
-    Aabb u;
-    for (const Aabb& b : boxes) u.grow(b);
-    return u;
-}
+// The boxes where geometry moved since some rays were recorded (a move's old and new boxes),
+// for a replay to ask which rays it must cast again; most segments are turned away by the
+// boxes' union first (a moved collection's parts give a dozen boxes in one place).
+struct MovedBoxes {
+    explicit MovedBoxes(const std::vector<Aabb>* b = nullptr) : boxes(b) {
+        if (b)
+            for (const Aabb& x : *b) all.grow(x);
+    }
+    bool meets(const Vec3& a, const Vec3& b) const { return all.meets_segment(a, b) && meets_any(*boxes, a, b); }
+    const std::vector<Aabb>* boxes;
+    Aabb all;
+};
 
 constexpr double kPi = 3.14159265358979323846;
 

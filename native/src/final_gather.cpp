@@ -373,7 +373,8 @@ void FinalGather::uses(const Solution& s, int leaf, std::vector<Use>& use) const
         const Node& src = s.h.nodes[size_t(l.src)];
         // The light at stake, for sharing the ray budget: the coupling as the link saw it
         // unoccluded, times the sender's brightest leaf.
-        use.push_back({li, own, l.K_unoccluded * std::max(src.Lmax.max(), src.L.max())});
+        use.push_back({li, own, l.K_unoccluded * std::max(src.Lmax.max(), src.L.max()),
+                       l.must_refine && !(l.K_unoccluded > 0)});
     }
 }
 
@@ -419,7 +420,7 @@ PointCouplings FinalGather::trace_transfers(const Solution& s, const Config& c, 
     for (const Use& u : use) {
         // A dark sender brings nothing, but in a closed pocket its coupling still counts
         // toward the closure.
-        if (!(u.weight > 0) && !enclosed) continue;
+        if (!(u.weight > 0) && !enclosed && !u.unknown) continue;
         const Link& l = s.links[size_t(u.link)];
         // A shared point traces these alone, with the budget of a full trace, so that the
         // two draw the same rays.

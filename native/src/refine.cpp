@@ -95,11 +95,17 @@ uint64_t Solver::link_seed(int src, int rcv) const {
 }
 
 Link Solver::evaluate(int src, int rcv) const {
-    return evaluate_link(h_, *vis_, src, rcv, settings_.rays_per_link, link_seed(src, rcv));
+    const uint64_t seed = link_seed(src, rcv);
+    const Link l = evaluate_link(h_, *vis_, src, rcv, settings_.rays_per_link, seed);
+    // At the resolution limit a link the point model cannot evaluate stays as it is: its
+    // coupling is then taken from point transfers (limit_link) instead of left at 0.
+    if (l.must_refine && !h_.nodes[size_t(rcv)].is_cluster() && !can_split(src) && !can_split(rcv))
+        return limit_link(h_, *vis_, l, settings_.rays_per_link, seed);
+    return l;
 }
 
 Link Solver::reevaluate(const Link& l) const {
-    if (!update_run_ || !update_run_->replaying) return evaluate(l.src, l.rcv);
+    if (!update_run_ || !update_run_->replaying || l.must_refine) return evaluate(l.src, l.rcv);
     return reevaluate_link(h_, *vis_, l, settings_.rays_per_link, link_seed(l.src, l.rcv), update_run_->replay_clips);
 }
 

@@ -795,6 +795,39 @@ PointTransfer point_transfer(const Hierarchy& h, PointRayStream& rays_out, int s
     return point_transfer_with(h, rays_out, src, x, n, rcv_leaf, rays, seed, samples);
 }
 
+Link limit_link(const Hierarchy& h, const Visibility& vis, const Link& base, int rays, uint64_t seed) {
+    Link l = base;
+    const Node& Q = h.nodes[size_t(l.rcv)];
+    if (Q.is_cluster()) return l;
+    const Cubature cub = cubature(Q.poly);
+    const int per_point = std::max(2, rays / std::max(cub.n, 1));
+    l.K = l.K_unoccluded = 0;
+    l.samples.clear();
+    double fmin = 1e300, fmax = 0;
+    bool any_clear = false, any_blocked = false;
+    for (int j = 0; j < cub.n; ++j) {
+        PointRayStream rs(vis);
+        const size_t first = l.samples.size();
+        const PointTransfer t = point_transfer(h, rs, l.src, cub.p[size_t(j)], Q.normal, l.rcv, per_point,
+                                               Hierarchy::mix(seed, uint64_t(j) + 1), l.samples);
+        const double w = cub.w[size_t(j)];
+        for (size_t k = first; k < l.samples.size(); ++k) l.samples[k].second *= float(w);
+        l.K += w * t.F;
+        l.K_unoccluded += w * t.F_unoccluded;
+        fmin = std::min(fmin, t.F_unoccluded);
+        fmax = std::max(fmax, t.F_unoccluded);
+        any_clear |= t.F > 0;
+        any_blocked |= t.partial || (t.F_unoccluded > 0 && !(t.F > 0));
+    }
+    merge_samples(l.samples);
+    l.vis = l.K_unoccluded > 0 ? l.K / l.K_unoccluded : 0.0;
+    l.dK = fmax > fmin ? fmax - fmin : 0.0;
+    l.partial = any_clear && any_blocked;
+    l.blocked = l.K_unoccluded > 0 && !any_clear;
+    l.ray_count = -1;  // its rays are the point transfers': none recorded for replay
+    return l;
+}
+
 Link evaluate_link(const Hierarchy& h, const Visibility& vis, int src, int rcv, int rays, uint64_t seed) {
     RayLog log{vis};
     Link l = evaluate_with(h, log, src, rcv, rays, seed);

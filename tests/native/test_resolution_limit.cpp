@@ -15,14 +15,20 @@ using namespace radiosity::testing;
 
 namespace {
 
-// A room lit by a ceiling lamp with a small trough on its floor: a half cylinder (radius
-// 0.15 m, 0.4 m long, Suzanne's size) open upward, of `around` x `along` quads, each seeing
-// most of the others across the hollow (an ear of a subdivided Suzanne).
-SceneDesc trough_room(int around, int along) {
+// A 4 x 4 x 2.5 m room (objects 0 and 1: the room and its ceiling lamp, a 1 m square emitter).
+SceneDesc lit_room() {
     SceneDesc s;
     scenes::add_box(s, "room", -1, {0, 0, 0}, {4, 4, 2.5}, 4, Rgb::all(0.6), {}, true);
     scenes::add_grid(s, "lamp", -1, {Vec3{1.5, 1.5, 2.49}, Vec3{1.5, 2.5, 2.49}, Vec3{2.5, 2.5, 2.49}, Vec3{2.5, 1.5, 2.49}}, 1,
                      1, {}, Rgb::all(10.0), false);
+    return s;
+}
+
+// A room lit by a ceiling lamp with a small trough on its floor: a half cylinder (radius
+// 0.15 m, 0.4 m long, Suzanne's size) open upward, of `around` x `along` quads, each seeing
+// most of the others across the hollow (an ear of a subdivided Suzanne).
+SceneDesc trough_room(int around, int along) {
+    SceneDesc s = lit_room();
     ObjectDesc o;
     o.name = "trough";
     o.cluster = s.add_cluster("trough");
@@ -85,4 +91,65 @@ TEST(ResolutionLimit, FinelyTessellatedFurnitureKeepsItsLightWithLinksInProporti
     std::printf("[ figure ] links x%.2f for x%.2f surfaces\n", double(finer.links) / double(coarse.links),
                 double(finer.surfaces) / double(coarse.surfaces));
     EXPECT_LT(finer.links, 10 * coarse.links);
+}
+
+namespace {
+
+// A corrugated sheet of one object over the floor of a lit room: three waves across, finely
+// tessellated (a subdivided Suzanne's folds). A face on one flank sees the next flank across
+// the trough, while the sub-cluster holding that flank straddles the face's plane or overlaps
+// it: the point model fails, and both ends are below the smallest element.
+SceneDesc corrugated_room(int n) {
+    SceneDesc s = lit_room();
+    ObjectDesc o;
+    o.name = "sheet";
+    o.cluster = s.add_cluster("sheet");
+    const int m = n / 4;
+    for (int j = 0; j <= m; ++j)
+        for (int i = 0; i <= n; ++i)
+            o.vertices.push_back({1.8 + 0.4 * i / n, 1.8 + 0.4 * j / m, 0.5 + 0.05 * std::sin(2 * kPi * 3 * i / n)});
+    for (int j = 0; j < m; ++j)
+        for (int i = 0; i < n; ++i) {
+            o.loop_starts.push_back(int32_t(o.corner_verts.size()));
+            o.loop_totals.push_back(4);
+            for (int32_t k : {j * (n + 1) + i, j * (n + 1) + i + 1, (j + 1) * (n + 1) + i + 1, (j + 1) * (n + 1) + i})
+                o.corner_verts.push_back(k);
+            o.reflectance.push_back(Rgb::all(0.7));
+            o.emission.push_back({});
+            o.two_sided.push_back(true);
+        }
+    s.add_object(std::move(o));
+    return s;
+}
+
+}  // namespace
+
+// A link whose point model fails (its ends overlap) where neither end may split any further
+// carries the coupling the exact kernel gives, not none: the light between the two sides of
+// a fold (a subdivided Suzanne's ear and cheek) stays in the solution.
+TEST(ResolutionLimit, LinksAtTheLimitCarryTheirCoupling) {
+    Solver s(corrugated_room(48), Settings::preset("DRAFT"));
+    s.solve();
+    const Hierarchy& h = s.hierarchy();
+    double K = 0, K_unoccluded = 0, exact = 0;
+    int count = 0;
+    for (const Link& l : s.links()) {
+        if (l.dead || !l.active || !l.must_refine || h.nodes[size_t(l.rcv)].is_cluster()) continue;
+        const Node& Q = h.nodes[size_t(l.rcv)];
+        const Node& P = h.nodes[size_t(l.src)];
+        if (Q.object != 2 || P.object != 2) continue;
+        ++count;
+        K += l.K;
+        K_unoccluded += l.K_unoccluded;
+        // Nothing stands between the fold's two sides: the unoccluded polygon-to-polygon form
+        // factor to every surface of the sender is the reference.
+        auto add = [&](const Poly& p) { exact += form_factor(Q.poly, p, 3); };
+        if (!P.is_cluster()) add(P.poly);
+        else
+            for (int i = P.surf_begin; i < P.surf_end; ++i) add(h.surface_geom[size_t(i)].poly);
+    }
+    std::printf("[ figure ] %d links at the limit: K %.4f unoccluded %.4f exact %.4f\n", count, K, K_unoccluded, exact);
+    ASSERT_GT(count, 10);
+    EXPECT_NEAR(K_unoccluded, exact, 0.1 * exact);
+    EXPECT_NEAR(K, exact, 0.1 * exact);
 }

@@ -190,7 +190,10 @@ private:
     // (its share of the ray budget), the nearest of them that brings none, whether a move left
     // the point's near field as it was, and the transfers traced (their couplings, for the
     // closure).
-    struct Use { int link; bool own; double weight; };
+    // weight: the light at stake (for the ray budget). unknown: a link whose point model failed
+    // and whose coupling the solver could not estimate (Link::must_refine into a cluster at the
+    // resolution limit): traced all the same, with the fewest rays.
+    struct Use { int link; bool own; double weight; bool unknown; };
     void uses(const Solution& s, int leaf, std::vector<Use>& use) const;
     static double nearest_dark(const Solution& s, const std::vector<Use>& use, const Vec3& x);
     static bool near_unchanged(const Solution& s, const Point& pt, const Point* old, const Moves* moves);

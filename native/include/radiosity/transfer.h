@@ -84,6 +84,15 @@ PointTransfer point_transfer(const Hierarchy& h, PointRayStream& rays_out, int s
 // their surfaces as margin).
 bool hull_meets(const Vec3& x, const Aabb& box, const std::vector<Aabb>& clips);
 
+// A link whose point model fails (Link::must_refine: the ends overlap or straddle each other's
+// planes) into an element receiver, when neither end may split further (the resolution limit:
+// a curved object's own small sub-clusters seen from its faces). evaluate_link leaves its
+// coupling 0 and the light it carries would be lost; here it is the cubature average of
+// point_transfer at the receiver's points, the output's own estimator (exact kernels for
+// element senders, projected-area draws for clusters), with visibility. Keeps must_refine; no
+// ray record (an update evaluates it afresh). A cluster receiver: `base` unchanged.
+Link limit_link(const Hierarchy& h, const Visibility& vis, const Link& base, int rays, uint64_t seed);
+
 // Unoccluded element-to-element coupling of a receiver polygon (not necessarily a node yet)
 // from an element sender: the cubature average of the point-to-polygon form factor.
 double unoccluded_coupling(const Poly& rcv, const Vec3& rcv_n, const Node& src);

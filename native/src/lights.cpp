@@ -94,12 +94,27 @@ struct Sampled {
     bool partial = false;  // some samples that could see the light did, some did not
 };
 
+// The two numbers that pick sample i of m on a light (a direction or a point on it): with
+// `strata`, the first k x k samples (k = floor(sqrt(m))) fill a jittered k x k grid of the
+// unit square, the rest are uniform. Each sample is still uniform on its own, so the mean
+// stays unbiased, and a smooth integrand (the sky seen past a chair, a sun's soft shadow)
+// comes out with far less noise than from independent samples.
+std::pair<double, double> light_sample_uv(int i, int m, bool strata, Rng& rng) {
+    const double a = rng.next(), b = rng.next();
+    if (!strata) return {a, b};
+    const int k = int(std::sqrt(double(m)));
+    if (i >= k * k) return {a, b};
+    return {(i % k + a) / k, (i / k + b) / k};
+}
+
 // Monte Carlo estimate of irradiance / pi over the points `where(i, rng)` gives (on a plane
-// of normal n) from one light, with visibility; m stratified samples.
+// of normal n) from one light, with visibility; m samples. With `strata` (a single point:
+// `where` constant) the light's samples are stratified (light_sample_uv); over an element
+// the points are stratified instead, and the two must not be paired by index.
 // Shadow rays through `vis`: a Visibility, or a LampRayStream (a point's recorded rays).
 template <class Where, class Contact, class Rays>
 Sampled estimate(const ILight& l, const Where& where, const Vec3& n, int m, Rng& rng, Rays& vis, double lift,
-                 double far, const Contact& contact) {
+                 double far, const Contact& contact, bool strata = false) {
     Rgb s1;  // sum of the samples' irradiance / pi, visibility included
     double s2 = 0, s_unocc = 0;
     int seen = 0, hidden = 0;
@@ -114,7 +129,10 @@ Sampled estimate(const ILight& l, const Where& where, const Vec3& n, int m, Rng&
     for (int i = 0; i < m; ++i) {
         const Vec3 p = where(i, rng);
         const Vec3 o = p + n * lift;
-        const double a = rng.next(), b = rng.next();
+        // (A map's two halves, cosine-weighted and by the map, are stratified apart.)
+        const bool halves = l.type == LightDesc::Type::Sky && l.env;
+        const auto [a, b] = halves ? light_sample_uv(i / 2, i % 2 ? m / 2 : (m + 1) / 2, strata, rng)
+                                   : light_sample_uv(i, m, strata, rng);
         const bool touching = contact(p);
         double f = 0, u = 0;  // scalar factor of `col`, with and without visibility
         Rgb col = l.I;
@@ -246,7 +264,7 @@ PointLight direct_light_with(const SceneDesc& scene, const Hierarchy& h, Rays& v
         const bool hard = (l.type == LightDesc::Type::Point || l.type == LightDesc::Type::Spot) && l.radius <= 0;
         const int mm = sky ? 4 * m : hard ? 1 : m;
         const Sampled r = estimate(l, [&x](int, Rng&) { return x; }, n, mm, rng, vis, lift, far,
-                                   [covered](const Vec3&) { return covered; });
+                                   [covered](const Vec3&) { return covered; }, true);
         out.E += r.mean;
         out.partial |= r.partial;
         out.rays += mm;

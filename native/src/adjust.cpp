@@ -706,7 +706,7 @@ bool Solver::update_adjust(UpdateRun& u, Control* control) {
     // addition or a removal changes which pocket a surface that stays is in, or puts new
     // surfaces into a closed pocket, solve in full (rare: an object put into or taken out
     // of a closed crate).
-    if (!reseal(known_surfaces, u.replaying ? &ch.clips : nullptr, &ch.moved)) {
+    if (!pockets_.reseal(h_, pocket_sight(), known_surfaces, u.replaying ? &ch.clips : nullptr, &ch.moved)) {
         solve_instead(control, u.topology ? "an object added or removed changed a closed pocket: solved in full"
                                           : "a move changed a closed pocket: solved in full");
         return false;

@@ -85,7 +85,7 @@ void Solver::solve(Control* control) {
         vis_->set_object_transform(int(o), p);
     }
     vis_->commit();
-    compute_pockets();  // pockets.cpp
+    pockets_.compute(h_, pocket_sight());
     compute_reference();
     stats_.seconds_build = since(t0);
     lap("build");
@@ -253,6 +253,8 @@ void Solver::compute_stats() {
         }
         if (r || h_.nodes[h_.surfaces[si].root].emission.max() > 0) s.elements += leaves;
     }
+    s.closed_pockets = pockets_.closed_pockets();
+    s.pocket_surfaces = pockets_.pocket_surfaces();
     s.rays = vis_ ? int64_t(vis_->rays()) : 0;
 }
 

@@ -16,6 +16,7 @@
 #include "radiosity/hierarchy.h"
 #include "radiosity/lights.h"
 #include "radiosity/link.h"
+#include "radiosity/pockets.h"
 #include "radiosity/rigid.h"
 #include "radiosity/scene.h"
 #include "radiosity/settings.h"
@@ -117,20 +118,14 @@ public:
     // only: the rays through no moved object's old or new box keep their recorded outcome
     // (reevaluate_link). Otherwise evaluate().
     Link reevaluate(const Link& l) const;
-    // What one escape ray of a surface hit: the side of the surface (-1: none, the back of a
-    // one-sided polygon, or a removed one) and how far along the ray (the ray's length when
-    // it hit nothing).
-    struct PocketRay {
-        int side;
-        double reach;
-    };
-    // pockets.cpp. Appends what each of `rays` escape rays of surface s hits. With `old` (that surface's
-    // rays as recorded, same stream) a ray that meets none of `changed` before its hit keeps
-    // its record instead of being cast.
+    // Closed pockets (pockets.h): Pockets::rays of surface s as the solver casts them, and
+    // each surface's escape rays at the last pocket computation.
+    using PocketRay = Pockets::Ray;
     void pocket_rays(int s, int rays, uint64_t stream, std::vector<PocketRay>& hits,
-                     const std::vector<Aabb>* changed = nullptr, const std::vector<PocketRay>* old = nullptr) const;
-    // Each surface's escape rays at the last pocket computation (kept for the next update).
-    const std::vector<std::vector<PocketRay>>& pocket_records() const { return pocket_hits_; }
+                     const std::vector<Aabb>* changed = nullptr, const std::vector<PocketRay>* old = nullptr) const {
+        pockets_.rays(h_, pocket_sight(), s, rays, stream, hits, changed, old);
+    }
+    const std::vector<std::vector<PocketRay>>& pocket_records() const { return pockets_.records(); }
     const Hierarchy& hierarchy() const { return h_; }
     const Visibility& visibility() const { return *vis_; }
     const std::vector<Link>& links() const { return links_; }
@@ -352,15 +347,8 @@ private:
     FinalGather output_;
     // solver.cpp
     void compute_reference();
-    // pockets.cpp: every surface's closed pocket (Node::pocket) and the clusters' pocket sets.
-    // With `changed` (after moves only: the moved objects' old and new boxes) and `moved` (per
-    // object), a surface that did not move keeps the recorded outcome of each ray that meets
-    // none of the boxes before its hit (pocket_hits_).
-    void compute_pockets(const std::vector<Aabb>* changed = nullptr, const std::vector<char>* moved = nullptr);
-    // Pockets again after placements or topology changed; false when a surviving surface
-    // changed pocket or a new one landed in a closed pocket of old ones (which links may exist
-    // changed: the caller solves in full). `changed`, `moved`: as for compute_pockets.
-    bool reseal(size_t known_surfaces, const std::vector<Aabb>* changed = nullptr, const std::vector<char>* moved = nullptr);
+    // What the pockets' escape rays are cast into (valid while vis_ is).
+    Pockets::Sight pocket_sight() const { return {*vis_, tri_prim_, settings_}; }
     void check_cancel() const;
     // An object's triangles (its primitives, quads as two) into Embree and tri_prim_.
     void add_object_geometry(int object, const std::vector<int>& prims);
@@ -407,8 +395,7 @@ private:
     // replays rays and closure passes keep to its moved boxes as it says.
     const UpdateRun* update_run_ = nullptr;
     int64_t lap_rays_ = 0;  // rays cast when lap_t_ was taken
-    int main_pocket_ = 0;  // the pocket of the largest space (open space, or a closed room)
-    std::vector<std::vector<PocketRay>> pocket_hits_;  // per surface: its escape rays at the last compute_pockets
+    Pockets pockets_;  // closed pockets and the escape rays that found them
     std::vector<std::vector<int>> tri_prim_;  // per object: Embree triangle -> primitive
 };
 

@@ -20,7 +20,6 @@ Solver::Solver(SceneDesc scene, Settings settings) : scene_(std::move(scene)), s
         const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
         memory_limit_ = pages > 0 && page > 0 ? 0.5 * double(pages) * double(page) : 4.0 * 1073741824.0;
     }
-    removed_.assign(scene_.objects().size(), 0);
 }
 
 void Solver::add_object_geometry(int o, const std::vector<int>& prims) {
@@ -77,9 +76,10 @@ void Solver::solve(Control* control) {
     min_area_ = settings_.min_area_fraction * h_.scene_diag * h_.scene_diag;
 
     // Placements from earlier moves survive a full re-solve.
-    poses_.resize(scene_.objects().size());
-    for (size_t o = 0; o < poses_.size(); ++o) {
-        const Rigid& p = poses_[o];
+    edits_.fit_poses(scene_.objects().size());
+    const std::vector<Rigid>& poses = edits_.poses();
+    for (size_t o = 0; o < poses.size(); ++o) {
+        const Rigid& p = poses[o];
         if (p.identity()) continue;
         h_.place_object(int(o), p);
         vis_->set_object_transform(int(o), p);
@@ -91,8 +91,8 @@ void Solver::solve(Control* control) {
     lap("build");
     set_progress(0.05);
 
-    pending_moves_.clear();
-    materials_changed_ = false;
+    edits_.take_moves();      // not applied: a move reaches a full solve as a placement (solve_instead)
+    edits_.take_materials();  // in scene_ already
     output_.clear();  // output.cpp: traced at the end, when there is light
     if (L_ref_ <= 0) {
         stats_.no_emitters = true;

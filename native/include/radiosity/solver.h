@@ -16,6 +16,7 @@
 #include "radiosity/hierarchy.h"
 #include "radiosity/lights.h"
 #include "radiosity/link.h"
+#include "radiosity/pending_edits.h"
 #include "radiosity/pockets.h"
 #include "radiosity/rigid.h"
 #include "radiosity/scene.h"
@@ -83,7 +84,7 @@ public:
     void remove_object(int object);
     // A new collection cluster (for objects added later); InputError for an unknown parent.
     int add_cluster(const std::string& name, int parent = -1);
-    bool removed(int object) const { return object >= 0 && size_t(object) < removed_.size() && removed_[object]; }
+    bool removed(int object) const { return edits_.removed(object); }
 
     // Live drag (preview.cpp): the corners whose colour changes, and their values, with the
     // objects in `moves` placed there (move_object's matrices, validated alike): the direct
@@ -213,6 +214,7 @@ private:
         std::vector<std::vector<int>> chains;  // root-first cluster paths, relinked against their siblings
         std::vector<Candidate> seeds;          // links to make besides (an added object's own links)
         std::vector<Aabb> now;                 // new boxes of the moved objects (exact, no margin)
+        std::map<int, Rigid> moves;            // the moves applied: object -> its new placement
     };
     // What one incremental update knows, handed from phase to phase (update()).
     struct UpdateRun {
@@ -385,11 +387,7 @@ private:
         ~SceneWideThreshold() { known = was; }
     };
     bool solved_ = false;
-    std::map<int, Rigid> pending_moves_;
-    std::vector<int> pending_adds_, pending_removes_;
-    std::vector<char> removed_;    // per object: removed (its slot stays, empty)
-    std::vector<Rigid> poses_;     // per object, current placement (internal frame)
-    bool materials_changed_ = false;
+    PendingEdits edits_;  // what changed since the last update, and each object's placement
     std::chrono::steady_clock::time_point lap_t_;
     // The update running, if any (update() sets it for its phases): link re-evaluation
     // replays rays and closure passes keep to its moved boxes as it says.

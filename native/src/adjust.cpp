@@ -239,10 +239,9 @@ void Solver::reopen_settled(const std::vector<int>& ids) {
 }
 
 void Solver::unrefine(int id) {
-    for (int c = links_[id].first_child; c >= 0; c = links_[c].next_sibling) kill(c);
-    links_[id].first_child = -1;
+    links_.kill_refined(h_, id);
     links_[id].closure_split = false;
-    activate(id);
+    links_.activate(h_, id);
     ++stats_.history_reactivated;
 }
 
@@ -412,7 +411,7 @@ std::vector<int> Solver::classify_links(const Change& ch) {
                 continue;
             }
             if (l.active) ++s.obj_env_links_removed;
-            if (l.parent < 0 || (!ch.inX[links_[l.parent].src] && !ch.inX[links_[l.parent].rcv])) kill(int(i));
+            if (l.parent < 0 || (!ch.inX[links_[l.parent].src] && !ch.inX[links_[l.parent].rcv])) links_.kill(h_, int(i));
             continue;
         }
         // Env-env: 3.3 pruning with the old and new boxes of every moved object.
@@ -494,10 +493,10 @@ void Solver::recompute_links(std::vector<int>& recompute, std::vector<int>& rech
         l.rejudge = true;
         const bool transports = f.transports();
         if (l.active && !transports) {
-            deactivate(recompute[k]);  // newly fully occluded: a new shadow
+            links_.deactivate(h_, recompute[k]);  // newly fully occluded: a new shadow
             l.occluded = true;
         } else if (l.occluded && transports) {
-            activate(recompute[k]);    // the view opened: an old shadow goes
+            links_.activate(h_, recompute[k]);    // the view opened: an old shadow goes
         }
         // Its history may coarsen back (an old shadow gone): the refined-from links up
         // the chain are asked again, coarsest first (paper 3.4).

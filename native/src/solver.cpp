@@ -55,7 +55,6 @@ void Solver::solve(Control* control) {
     lap_t_ = t0;
     lap_rays_ = 0;  // a new Visibility counts from 0
     links_.clear();
-    live_links_ = 0;
     lights_ = LightState{};  // lights.cpp: the hierarchy is rebuilt
     commit_topology();       // topology.cpp: objects removed since are left out
 

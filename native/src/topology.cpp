@@ -105,7 +105,7 @@ void Solver::apply_topology(Change& ch) {
             if (l.active) ++s.links_removed;
             doomed.push_back(int(i));
         }
-        for (int i : doomed) kill(i);  // dead nodes' link lists are empty already: no harm
+        for (int i : doomed) links_.kill(h_, i);  // dead nodes' link lists are empty already: no harm
     }
 
     // Additions.

@@ -16,6 +16,7 @@
 #include "radiosity/hierarchy.h"
 #include "radiosity/lights.h"
 #include "radiosity/link.h"
+#include "radiosity/link_store.h"
 #include "radiosity/pending_edits.h"
 #include "radiosity/pockets.h"
 #include "radiosity/rigid.h"
@@ -129,7 +130,7 @@ public:
     const std::vector<std::vector<PocketRay>>& pocket_records() const { return pockets_.records(); }
     const Hierarchy& hierarchy() const { return h_; }
     const Visibility& visibility() const { return *vis_; }
-    const std::vector<Link>& links() const { return links_; }
+    const std::vector<Link>& links() const { return links_.all(); }
     const Settings& settings() const { return settings_; }
     const SceneDesc& scene() const { return scene_; }
     double reference_radiance() const { return L_ref_; }
@@ -180,10 +181,6 @@ private:
     double output_forecast_ = 0;
     int64_t output_forecast_links_ = 0;
     uint64_t link_seed(int src, int rcv) const;
-    int add_link(Link l);
-    void deactivate(int link_id);
-    void activate(int link_id);
-    void kill(int link_id);  // a link and its history subtree, for good
     bool refine_round();
     bool refine_links(const std::vector<int>& ids);  // one round over these links only
     // gather.cpp. A sweep runs on plan_ (gather_plan.h), a snapshot of links, trees,
@@ -363,8 +360,7 @@ private:
     Settings settings_;
     Hierarchy h_;
     std::unique_ptr<Visibility> vis_;
-    std::vector<Link> links_;
-    int64_t live_links_ = 0;       // links_ that are not dead (what the max_links cap counts)
+    LinkStore links_;              // every link, with its history (link_store.h)
     std::vector<int> receivers_;   // nodes with active incoming links
     std::vector<int> leaves_;      // leaf elements (rebuilt with receivers_)
     GatherPlan plan_;              // invalidated by collect_receivers, built by ensure_plan

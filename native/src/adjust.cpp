@@ -60,7 +60,7 @@ void Solver::at_first_bounce_where_buried(const std::vector<Aabb>& now, const st
 void Solver::move_object(int object, const double m[16]) {
     if (!solved_) throw std::logic_error("move_object: solve the scene first");
     check_live(object, "move_object");  // topology.cpp
-    pending_moves_[object] = pose_of(object, m);
+    edits_.record_move(object, pose_of(object, m));
 }
 
 Rigid Solver::pose_of(int object, const double m[16]) const {
@@ -113,7 +113,7 @@ void Solver::set_material(int object, const std::vector<Rgb>& values, bool emiss
     }
     auto& dst = emission ? o.emission : o.reflectance;
     for (size_t f = 0; f < dst.size(); ++f) dst[f] = values.size() == 1 ? values[0] : values[f];
-    materials_changed_ = true;
+    edits_.record_materials();
 }
 
 void Solver::set_emission(int object, const std::vector<Rgb>& v) { set_material(object, v, true); }
@@ -136,7 +136,7 @@ void Solver::set_texture_pieces(int object, std::vector<TexturePiece> pieces, bo
     for (size_t p = 0; p < h_.prims.size(); ++p)
         if (h_.prims[p].object == object) ids.push_back(int(p));
     h_.bind_pieces(o, ids);
-    materials_changed_ = true;
+    edits_.record_materials();
 }
 
 void Solver::apply_materials() {
@@ -239,10 +239,9 @@ void Solver::reopen_settled(const std::vector<int>& ids) {
 }
 
 void Solver::unrefine(int id) {
-    for (int c = links_[id].first_child; c >= 0; c = links_[c].next_sibling) kill(c);
-    links_[id].first_child = -1;
+    links_.kill_refined(h_, id);
     links_[id].closure_split = false;
-    activate(id);
+    links_.activate(h_, id);
     ++stats_.history_reactivated;
 }
 
@@ -407,12 +406,12 @@ std::vector<int> Solver::classify_links(const Change& ch) {
             // Obj-obj (both ends inside one moved object): a rigid move keeps its form
             // factor; only the direction turns.
             if (a.object >= 0 && a.object == b.object && ch.moved[a.object]) {
-                l.dir = pending_moves_.at(a.object).dir(l.dir);
+                l.dir = ch.moves.at(a.object).dir(l.dir);
                 l.ray_count = -1;  // its rays moved with it: the record is of other segments
                 continue;
             }
             if (l.active) ++s.obj_env_links_removed;
-            if (l.parent < 0 || (!ch.inX[links_[l.parent].src] && !ch.inX[links_[l.parent].rcv])) kill(int(i));
+            if (l.parent < 0 || (!ch.inX[links_[l.parent].src] && !ch.inX[links_[l.parent].rcv])) links_.kill(h_, int(i));
             continue;
         }
         // Env-env: 3.3 pruning with the old and new boxes of every moved object.
@@ -494,10 +493,10 @@ void Solver::recompute_links(std::vector<int>& recompute, std::vector<int>& rech
         l.rejudge = true;
         const bool transports = f.transports();
         if (l.active && !transports) {
-            deactivate(recompute[k]);  // newly fully occluded: a new shadow
+            links_.deactivate(h_, recompute[k]);  // newly fully occluded: a new shadow
             l.occluded = true;
         } else if (l.occluded && transports) {
-            activate(recompute[k]);    // the view opened: an old shadow goes
+            links_.activate(h_, recompute[k]);    // the view opened: an old shadow goes
         }
         // Its history may coarsen back (an old shadow gone): the refined-from links up
         // the chain are asked again, coarsest first (paper 3.4).
@@ -541,7 +540,7 @@ void Solver::link_changed(const Change& ch) {
         if (pairs.insert({c.src, c.rcv}).second) wave.push_back(c);
     }
     // Unclustered scenes have no object cluster: link each moved surface with the rest.
-    for (auto& [obj, pose] : pending_moves_) {
+    for (auto& [obj, pose] : ch.moves) {
         (void)pose;
         if (h_.object_node[obj] >= 0) continue;
         for (int c : h_.nodes[h_.root].children) {
@@ -594,9 +593,9 @@ void Solver::update(Control* control) {
         return;
     }
     UpdateRun u;
-    u.topology = !pending_adds_.empty() || !pending_removes_.empty();
-    u.materials_changed = materials_changed_;
-    if (pending_moves_.empty() && !materials_changed_ && !u.topology) {
+    u.topology = edits_.topology();
+    u.materials_changed = edits_.materials();
+    if (!edits_.any()) {
         stats_.mode_incremental = true;
         stats_.seconds_adjust = 0;
         return;
@@ -616,7 +615,7 @@ void Solver::update(Control* control) {
     update_run_ = &u;
     update_begin(u);
     if (!update_materials(control)) return;
-    if (!pending_moves_.empty() || u.topology)
+    if (!edits_.moves().empty() || u.topology)
         if (!update_adjust(u, control)) return;
     update_history(u);
     update_resolve(u);
@@ -625,10 +624,9 @@ void Solver::update(Control* control) {
 
 void Solver::solve_instead(Control* control, const char* why) {
     // A full solve builds from scene_: additions are in, removals are committed by solve(),
-    // moves go into poses_.
-    poses_.resize(scene_.objects().size());  // a move can name an object added since (fuzzer finding)
-    for (auto& [obj, pose] : pending_moves_) poses_[obj] = pose;
-    pending_moves_.clear();
+    // moves become placements.
+    edits_.fit_poses(scene_.objects().size());  // a move can name an object added since (fuzzer finding)
+    for (const auto& [obj, pose] : edits_.take_moves()) edits_.place(obj, pose);
     solve(control);
     if (why) stats_.warnings.push_back(why);
 }
@@ -657,10 +655,7 @@ void Solver::update_begin(UpdateRun& u) {
 }
 
 bool Solver::update_materials(Control* control) {
-    if (materials_changed_) {
-        apply_materials();
-        materials_changed_ = false;
-    }
+    if (edits_.take_materials()) apply_materials();
     if (L_ref_ <= 0 || stats_.no_emitters) {
         // Dark now: a zero reference makes the oracle's threshold 0, and the update refined
         // every link to the caps (gigabytes, minutes). Dark before: solve() made no links,
@@ -674,15 +669,16 @@ bool Solver::update_materials(Control* control) {
 
 bool Solver::update_adjust(UpdateRun& u, Control* control) {
     Change ch;
+    ch.moves = edits_.take_moves();
     ch.inX.assign(h_.nodes.size(), 0);
     const size_t known_surfaces = h_.surfaces.size();
     if (u.topology) apply_topology(ch);  // topology.cpp
     // Geometry and Embree instances of moved objects.
     ch.moved.assign(scene_.objects().size(), 0);
-    for (auto& [obj, pose] : pending_moves_) {
+    for (auto& [obj, pose] : ch.moves) {
         ch.clips.push_back(h_.object_box(obj));
         h_.place_object(obj, pose);
-        poses_[obj] = pose;
+        edits_.place(obj, pose);
         vis_->set_object_transform(obj, pose);
         ch.clips.push_back(h_.object_box(obj));
         ch.now.push_back(ch.clips.back());
@@ -706,7 +702,7 @@ bool Solver::update_adjust(UpdateRun& u, Control* control) {
     // addition or a removal changes which pocket a surface that stays is in, or puts new
     // surfaces into a closed pocket, solve in full (rare: an object put into or taken out
     // of a closed crate).
-    if (!reseal(known_surfaces, u.replaying ? &ch.clips : nullptr, &ch.moved)) {
+    if (!pockets_.reseal(h_, pocket_sight(), known_surfaces, u.replaying ? &ch.clips : nullptr, &ch.moved)) {
         solve_instead(control, u.topology ? "an object added or removed changed a closed pocket: solved in full"
                                           : "a move changed a closed pocket: solved in full");
         return false;
@@ -725,7 +721,7 @@ bool Solver::update_adjust(UpdateRun& u, Control* control) {
         lap("topology");
     }
     // X: the moved objects' nodes and the clusters above them (their geometry changed).
-    for (auto& [obj, pose] : pending_moves_) {
+    for (auto& [obj, pose] : ch.moves) {
         (void)pose;
         for (int id : h_.object_nodes(obj)) ch.inX[id] = 1;
         std::vector<int> chain;
@@ -739,7 +735,6 @@ bool Solver::update_adjust(UpdateRun& u, Control* control) {
         ch.chains.push_back(chain);
     }
     adjust_links(ch, u.recheck_history);
-    pending_moves_.clear();
     u.now_boxes = ch.now;
     u.moved_objects = ch.moved;
     // The closure passes of this update split, away from the moved boxes, only the links

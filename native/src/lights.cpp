@@ -306,7 +306,7 @@ void Solver::set_light(int index, const LightDesc& l) {
     scene_.lights_mut()[index] = d;
     std::fill(lights_.have.begin(), lights_.have.end(), 0);
     lights_.recheck = true;
-    materials_changed_ = true;  // the update path re-derives the reference radiance and re-solves
+    edits_.record_materials();  // the update path re-derives the reference radiance and re-solves
 }
 
 double Solver::light_power(double total_area) const {
@@ -340,7 +340,7 @@ void Solver::light_invalidate() {
     // have changed. A move that replays rays (moves only) leaves each node's shadow rays to be
     // replayed: those that meet no moved box keep their outcome. A node whose box meets a
     // moved one is lit afresh (what touches it, and so which of its rays are cast, may differ).
-    if (poses_ != lights_.poses) {
+    if (edits_.poses() != lights_.poses) {
         const bool replay = update_run_ && update_run_->replaying && !lights_.poses.empty();
         bool stale_left = false;
         for (uint8_t v : lights_.have) stale_left |= v == LightState::kStale;
@@ -360,7 +360,7 @@ void Solver::light_invalidate() {
         }
         lights_.recheck = !lights_.poses.empty();
         lights_.contacts.clear();
-        lights_.poses = poses_;
+        lights_.poses = edits_.poses();
     }
     light_resize();
 }

@@ -47,7 +47,7 @@ double Solver::memory_estimate(size_t more_links, size_t more_nodes) const {
     } else if (output_forecast_ > 0) {
         // The forecast grows with the links that reach the output points (before the first
         // links, it holds the points alone).
-        const double now = double(live_links_ + int64_t(more_links));
+        const double now = double(links_.live() + int64_t(more_links));
         const double grown = output_forecast_links_ > 0 ? now / double(output_forecast_links_) : 1.0;
         b += output_forecast_ * std::max(1.0, grown);
     }
@@ -56,7 +56,7 @@ double Solver::memory_estimate(size_t more_links, size_t more_nodes) const {
 
 void Solver::forecast_output() {
     output_forecast_ = 0;
-    output_forecast_links_ = live_links_;
+    output_forecast_links_ = links_.live();
     if (settings_.gather_rays <= 0) return;
     // Per node, the links into it a point below reads (final_gather.cpp links_reaching):
     // active ones and fully occluded ones kept for a move.

@@ -13,11 +13,12 @@
 // component is confirmed with more rays (all but the largest, the room, whose confirmation
 // would cost the most and change nothing): one ray through a gap merges it with what it
 // sees, so a false pocket needs every confirmation ray to miss the gap.
+#include "radiosity/pockets.h"
+
 #include <cmath>
 #include <numeric>
 
 #include "radiosity/parallel.h"
-#include "radiosity/solver.h"
 
 namespace radiosity {
 
@@ -41,14 +42,14 @@ struct DisjointSets {
 
 }  // namespace
 
-void Solver::pocket_rays(int s, int rays, uint64_t stream, std::vector<PocketRay>& hits, const std::vector<Aabb>* changed,
-                         const std::vector<PocketRay>* old) const {
-    const Node& n = h_.nodes[size_t(h_.surfaces[size_t(s)].root)];
-    const double far = 4.0 * h_.scene_diag, lift = 1e-5 * h_.scene_diag;
-    Rng rng(Hierarchy::mix(settings_.seed ^ 0x5EA1ED ^ stream, n.key));
+void Pockets::rays(const Hierarchy& h, const Sight& sight, int s, int count, uint64_t stream, std::vector<Ray>& hits,
+                   const std::vector<Aabb>* changed, const std::vector<Ray>* old) const {
+    const Node& n = h.nodes[size_t(h.surfaces[size_t(s)].root)];
+    const double far = 4.0 * h.scene_diag, lift = 1e-5 * h.scene_diag;
+    Rng rng(Hierarchy::mix(sight.settings.seed ^ 0x5EA1ED ^ stream, n.key));
     Vec3 u, v;
     frame(n.normal, u, v);
-    for (int r = 0; r < rays; ++r) {
+    for (int r = 0; r < count; ++r) {
         // Cosine-distributed: the directions that carry the most light are tried most.
         const double r1 = rng.next(), r2 = rng.next();
         const Vec3 d = cosine_direction(u, v, n.normal, r1, r2);
@@ -62,44 +63,44 @@ void Solver::pocket_rays(int s, int rays, uint64_t stream, std::vector<PocketRay
         }
         int tri = -1;
         Vec3 at;
-        const int obj = vis_->hit_object(o, o + d * far, 0.0, &at, &tri);
+        const int obj = sight.vis.hit_object(o, o + d * far, 0.0, &at, &tri);
         int side = -1;
-        if (obj >= 0 && size_t(obj) < tri_prim_.size() && !tri_prim_[size_t(obj)].empty()) {
-            const auto& tp = tri_prim_[size_t(obj)];
-            const Primitive& hp = h_.prims[size_t(tp[std::min<size_t>(size_t(std::max(tri, 0)), tp.size() - 1)])];
+        if (obj >= 0 && size_t(obj) < sight.tri_prim.size() && !sight.tri_prim[size_t(obj)].empty()) {
+            const auto& tp = sight.tri_prim[size_t(obj)];
+            const Primitive& hp = h.prims[size_t(tp[std::min<size_t>(size_t(std::max(tri, 0)), tp.size() - 1)])];
             // The side the ray arrived at: the front when it travels against the normal.
-            side = dot(d, h_.nodes[size_t(h_.surfaces[size_t(hp.front)].root)].normal) < 0 ? hp.front : hp.back;
-            if (side >= 0 && h_.surface_dead(side)) side = -1;
+            side = dot(d, h.nodes[size_t(h.surfaces[size_t(hp.front)].root)].normal) < 0 ? hp.front : hp.back;
+            if (side >= 0 && h.surface_dead(side)) side = -1;
         }
         // A hair beyond the hit, so that a box the hit point lies on counts as met.
         hits.push_back({side, obj >= 0 ? length(at - o) * (1 + 1e-9) + lift : far});
     }
 }
 
-void Solver::compute_pockets(const std::vector<Aabb>* changed, const std::vector<char>* moved) {
-    const size_t ns = h_.surfaces.size();
-    std::vector<std::vector<PocketRay>> hits(ns);
-    parallel_for(ns, settings_.threads, [&](size_t s) {
-        if (h_.surface_dead(int(s))) return;
+void Pockets::compute(Hierarchy& h, const Sight& sight, const std::vector<Aabb>* changed, const std::vector<char>* moved) {
+    const size_t ns = h.surfaces.size();
+    std::vector<std::vector<Ray>> hits(ns);
+    parallel_for(ns, sight.settings.threads, [&](size_t s) {
+        if (h.surface_dead(int(s))) return;
         // A surface that moved casts all its rays again; another keeps those that meet no box
         // where the geometry changed before their hit.
-        const int obj = h_.nodes[size_t(h_.surfaces[s].root)].object;
-        const bool keep = changed && moved && s < pocket_hits_.size() && !(obj >= 0 && size_t(obj) < moved->size() && (*moved)[size_t(obj)]);
-        pocket_rays(int(s), kPocketRays, 0, hits[s], changed, keep ? &pocket_hits_[s] : nullptr);
+        const int obj = h.nodes[size_t(h.surfaces[s].root)].object;
+        const bool keep = changed && moved && s < records_.size() && !(obj >= 0 && size_t(obj) < moved->size() && (*moved)[size_t(obj)]);
+        rays(h, sight, int(s), kPocketRays, 0, hits[s], changed, keep ? &records_[s] : nullptr);
     }, 32);
-    pocket_hits_ = hits;  // before confirmation rays replace some
+    records_ = hits;  // before confirmation rays replace some
     DisjointSets sets(ns);
     std::vector<char> escaped(ns, 0);
     auto join = [&](const std::vector<size_t>& which) {
         for (size_t s : which)
-            for (const PocketRay& t : hits[s]) {
+            for (const Ray& t : hits[s]) {
                 if (t.side < 0) escaped[s] = 1;
                 else sets.unite(int(s), t.side);
             }
     };
     std::vector<size_t> live;
     for (size_t s = 0; s < ns; ++s)
-        if (!h_.surface_dead(int(s))) live.push_back(s);
+        if (!h.surface_dead(int(s))) live.push_back(s);
     join(live);
     // Per component (its representative): open, area.
     auto components = [&](std::vector<char>& open, std::vector<double>& area) {
@@ -108,7 +109,7 @@ void Solver::compute_pockets(const std::vector<Aabb>* changed, const std::vector
         for (size_t s : live) {
             const int c = sets.find(int(s));
             open[size_t(c)] |= escaped[s];
-            area[size_t(c)] += h_.nodes[size_t(h_.surfaces[s].root)].area;
+            area[size_t(c)] += h.nodes[size_t(h.surfaces[s].root)].area;
         }
     };
     std::vector<char> open;
@@ -124,52 +125,60 @@ void Solver::compute_pockets(const std::vector<Aabb>* changed, const std::vector
         if (!open[size_t(c)] && c != largest) confirm.push_back(s);
     }
     if (!confirm.empty()) {
-        parallel_for(confirm.size(), settings_.threads, [&](size_t k) {
+        parallel_for(confirm.size(), sight.settings.threads, [&](size_t k) {
             hits[confirm[k]].clear();
-            pocket_rays(int(confirm[k]), kConfirmRays, 0xC0F1A3, hits[confirm[k]]);
+            rays(h, sight, int(confirm[k]), kConfirmRays, 0xC0F1A3, hits[confirm[k]]);
         }, 8);
         join(confirm);
         components(open, area);
     }
+    std::vector<int> component(ns, -1);
+    for (size_t s : live) component[s] = sets.find(int(s));
+    label(h, live, component, open, area);
+    h.set_pocket_sets();
+    h.refresh_surface_geom();  // the samplers' copy of each surface's pocket
+}
+
+void Pockets::label(Hierarchy& h, const std::vector<size_t>& live, const std::vector<int>& component,
+                    const std::vector<char>& open, const std::vector<double>& area) {
     // Labels: 0 for open space, else 1 + the component's smallest surface id (the
     // representative): the same set of surfaces gets the same label after an update.
     double open_area = 0, main_area = -1;
     main_pocket_ = 0;
     for (size_t s : live) {
-        const int c = sets.find(int(s));
+        const int c = component[s];
         const int label = open[size_t(c)] ? 0 : c + 1;
         if (size_t(c) == s) {
             if (open[s]) open_area += area[s];
             else if (area[s] > main_area) main_area = area[s], main_pocket_ = label;
         }
-        std::vector<int> stack{h_.surfaces[s].root};  // the element tree below the surface too
+        std::vector<int> stack{h.surfaces[s].root};  // the element tree below the surface too
         while (!stack.empty()) {
-            Node& e = h_.nodes[size_t(stack.back())];
+            Node& e = h.nodes[size_t(stack.back())];
             stack.pop_back();
             e.pocket = label;
             stack.insert(stack.end(), e.children.begin(), e.children.end());
         }
     }
     if (open_area >= main_area) main_pocket_ = 0;
-    stats_.closed_pockets = stats_.pocket_surfaces = 0;
+    closed_pockets_ = pocket_surfaces_ = 0;
     for (size_t s : live) {
-        const int c = sets.find(int(s));
+        const int c = component[s];
         if (open[size_t(c)] || c + 1 == main_pocket_) continue;
-        stats_.closed_pockets += size_t(c) == s;
-        ++stats_.pocket_surfaces;
+        closed_pockets_ += size_t(c) == s;
+        ++pocket_surfaces_;
     }
-    h_.set_pocket_sets();
-    h_.refresh_surface_geom();  // the samplers' copy of each surface's pocket
 }
 
-bool Solver::reseal(size_t known, const std::vector<Aabb>* changed, const std::vector<char>* moved) {
+bool Pockets::reseal(Hierarchy& h, const Sight& sight, size_t known, const std::vector<Aabb>* changed,
+                     const std::vector<char>* moved) {
     std::vector<int> was(known, 0);
     for (size_t s = 0; s < known; ++s)
-        if (!h_.surface_dead(int(s))) was[s] = h_.nodes[size_t(h_.surfaces[s].root)].pocket;
-    compute_pockets(changed, moved);
-    for (size_t s = 0; s < h_.surfaces.size(); ++s) {
-        if (h_.surface_dead(int(s))) continue;
-        const int p = h_.nodes[size_t(h_.surfaces[s].root)].pocket;
+        if (!h.surface_dead(int(s))) was[s] = h.nodes[size_t(h.surfaces[s].root)].pocket;
+    compute(h, sight, changed, moved);
+    for (size_t s = 0; s < h.surfaces.size(); ++s) {
+        if (h.surface_dead(int(s))) continue;
+        const int p = h.nodes[size_t(h.surfaces[s].root)].pocket;
         if (s < known && was[s] != p) return false;
         // A new surface in a closed pocket that holds old ones (an object put into a closed
         // crate), unless that is the scene's main space (furniture added to a closed room).

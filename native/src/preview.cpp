@@ -319,7 +319,7 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
             if (placed.empty()) return;
             saved.restore(s->h_);
             try {
-                for (const auto& op : placed) put(op.first, s->poses_[size_t(op.first)]);
+                for (const auto& op : placed) put(op.first, s->edits_.poses()[size_t(op.first)]);
                 s->vis_->commit();
             } catch (...) {
                 // An Embree error here leaves rays as the preview placed them: the solution
@@ -337,7 +337,7 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
     FinalGather::PreviewCounts k;
     std::vector<CornerPatch> out;
     if (!placed.empty()) {
-        const FinalGather::Solution s{scene_, h_, *vis_, links_,
+        const FinalGather::Solution s{scene_, h_, *vis_, links_.all(),
                                       [this](int surface, const Vec3& q) { return light_contact(surface, q); }, &tri_prim_};
         out = preview_patches(output_.preview(s, p, k));
     }
@@ -352,9 +352,10 @@ void Solver::preview_moves(const std::map<int, std::array<double, 16>>& moves, F
     p.carry.assign(no, Rigid{});
     for (const auto& [object, m] : moves) {
         check_live(object, "preview");  // topology.cpp
-        if (size_t(object) >= poses_.size() || h_.object_node[size_t(object)] < 0) continue;
+        const std::vector<Rigid>& poses = edits_.poses();  // an object added since has none yet
+        if (size_t(object) >= poses.size() || h_.object_node[size_t(object)] < 0) continue;
         const Rigid to = pose_of(object, m.data());
-        const Rigid& from = poses_[size_t(object)];
+        const Rigid& from = poses[size_t(object)];
         if (to == from) continue;  // where the solution has it
         const Rigid& c = p.carry[size_t(object)] = to.relative_to(from);
         const Aabb was = h_.object_box(object);

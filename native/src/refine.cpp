@@ -109,51 +109,6 @@ Link Solver::reevaluate(const Link& l) const {
     return reevaluate_link(h_, *vis_, l, settings_.rays_per_link, link_seed(l.src, l.rcv), update_run_->replay_clips);
 }
 
-int Solver::add_link(Link l) {
-    int id = int(links_.size());
-    if (l.active) {
-        h_.nodes[l.rcv].in_links.push_back(id);
-        h_.nodes[l.src].out_links.push_back(id);
-    }
-    if (l.parent >= 0) {
-        l.next_sibling = links_[l.parent].first_child;
-        links_[l.parent].first_child = id;
-    }
-    links_.push_back(l);
-    ++live_links_;
-    return id;
-}
-
-void Solver::activate(int id) {
-    Link& l = links_[id];
-    if (l.active) return;
-    l.active = true;
-    l.occluded = false;
-    h_.nodes[l.rcv].in_links.push_back(id);
-    h_.nodes[l.src].out_links.push_back(id);
-}
-
-void Solver::kill(int id) {
-    if (links_[id].dead) return;
-    if (links_[id].active) deactivate(id);
-    links_[id].dead = true;
-    --live_links_;
-    for (int c = links_[id].first_child; c >= 0; c = links_[c].next_sibling) kill(c);
-    links_[id].first_child = -1;
-}
-
-void Solver::deactivate(int id) {
-    Link& l = links_[id];
-    if (!l.active) return;
-    l.active = false;
-    auto drop = [id](std::vector<int>& v) {
-        auto it = std::find(v.begin(), v.end(), id);
-        if (it != v.end()) { *it = v.back(); v.pop_back(); }
-    };
-    drop(h_.nodes[l.rcv].in_links);
-    drop(h_.nodes[l.src].out_links);
-}
-
 // The threshold a link's errors are compared with: threshold_ = error_threshold * L_ref (a
 // scene-wide reference radiance), independent of scene scale and light intensity; once the
 // light is known, scaled by the receiver's radiance relative to L_ref, down to threshold_floor
@@ -289,7 +244,7 @@ void Solver::apply(int id, const Judgement& j, std::vector<Candidate>& next) {
     // an update) do not count: they hold no memory beyond their slot, and counting them made
     // later updates stop refining early (an object removed and added back came out 50 % too
     // bright where its cluster links stayed coarse).
-    if (live_links_ + int64_t(next.size()) + 4 > settings_.max_links) {
+    if (links_.live() + int64_t(next.size()) + 4 > settings_.max_links) {
         stats_.capped = true;
         return;
     }
@@ -308,7 +263,7 @@ void Solver::apply(int id, const Judgement& j, std::vector<Candidate>& next) {
         stats_.element_nodes += 4;
     }
     const Link l = links_[id];
-    deactivate(id);
+    links_.deactivate(h_, id);
     ++stats_.refined_by_oracle;
     for (int c : h_.nodes[split].children) {
         if (j.side == Side::Src) next.push_back({c, l.rcv, id});
@@ -349,12 +304,12 @@ void Solver::link_from(std::vector<Candidate> wave) {
                     l.parent = eval[i].parent;
                     l.occluded = true;
                     l.active = false;
-                    add_link(l);
+                    links_.add(h_, l);
                 }
                 continue;
             }
             l.parent = eval[i].parent;
-            ids.push_back(add_link(l));
+            ids.push_back(links_.add(h_, l));
         }
         std::vector<Judgement> js(ids.size());
         parallel_for(ids.size(), settings_.threads, [&](size_t i) { js[i] = judge(links_[ids[i]]); }, 16);

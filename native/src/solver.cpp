@@ -20,7 +20,6 @@ Solver::Solver(SceneDesc scene, Settings settings) : scene_(std::move(scene)), s
         const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
         memory_limit_ = pages > 0 && page > 0 ? 0.5 * double(pages) * double(page) : 4.0 * 1073741824.0;
     }
-    removed_.assign(scene_.objects().size(), 0);
 }
 
 void Solver::add_object_geometry(int o, const std::vector<int>& prims) {
@@ -56,7 +55,6 @@ void Solver::solve(Control* control) {
     lap_t_ = t0;
     lap_rays_ = 0;  // a new Visibility counts from 0
     links_.clear();
-    live_links_ = 0;
     lights_ = LightState{};  // lights.cpp: the hierarchy is rebuilt
     commit_topology();       // topology.cpp: objects removed since are left out
 
@@ -77,22 +75,23 @@ void Solver::solve(Control* control) {
     min_area_ = settings_.min_area_fraction * h_.scene_diag * h_.scene_diag;
 
     // Placements from earlier moves survive a full re-solve.
-    poses_.resize(scene_.objects().size());
-    for (size_t o = 0; o < poses_.size(); ++o) {
-        const Rigid& p = poses_[o];
+    edits_.fit_poses(scene_.objects().size());
+    const std::vector<Rigid>& poses = edits_.poses();
+    for (size_t o = 0; o < poses.size(); ++o) {
+        const Rigid& p = poses[o];
         if (p.identity()) continue;
         h_.place_object(int(o), p);
         vis_->set_object_transform(int(o), p);
     }
     vis_->commit();
-    compute_pockets();  // pockets.cpp
+    pockets_.compute(h_, pocket_sight());
     compute_reference();
     stats_.seconds_build = since(t0);
     lap("build");
     set_progress(0.05);
 
-    pending_moves_.clear();
-    materials_changed_ = false;
+    edits_.take_moves();      // not applied: a move reaches a full solve as a placement (solve_instead)
+    edits_.take_materials();  // in scene_ already
     output_.clear();  // output.cpp: traced at the end, when there is light
     if (L_ref_ <= 0) {
         stats_.no_emitters = true;
@@ -253,6 +252,8 @@ void Solver::compute_stats() {
         }
         if (r || h_.nodes[h_.surfaces[si].root].emission.max() > 0) s.elements += leaves;
     }
+    s.closed_pockets = pockets_.closed_pockets();
+    s.pocket_surfaces = pockets_.pocket_surfaces();
     s.rays = vis_ ? int64_t(vis_->rays()) : 0;
 }
 

@@ -24,24 +24,16 @@ int Solver::add_cluster(const std::string& name, int parent) { return scene_.add
 
 int Solver::add_object(ObjectDesc object) {
     const int id = scene_.add_object(std::move(object));  // validates: InputError names the problem
-    removed_.resize(scene_.objects().size(), 0);
     // Before a first solve (or after a cancelled one) the next solve builds it with the rest.
-    if (solved_) pending_adds_.push_back(id);
+    if (solved_) edits_.record_add(id);
     return id;
 }
 
 void Solver::remove_object(int object) {
     check_live(object, "remove_object");
-    removed_[object] = 1;
-    pending_moves_.erase(object);
-    auto it = std::find(pending_adds_.begin(), pending_adds_.end(), object);
-    if (it != pending_adds_.end()) {  // added and removed before an update: never built
-        pending_adds_.erase(it);
-        blank_object(object);
-        return;
-    }
-    if (solved_) pending_removes_.push_back(object);
-    else blank_object(object);
+    // Not built into a solution (added and removed before an update, or not solved yet): its
+    // slot is emptied now; otherwise the next update takes it out.
+    if (!edits_.record_remove(object, solved_)) blank_object(object);
 }
 
 void Solver::blank_object(int object) {
@@ -51,18 +43,16 @@ void Solver::blank_object(int object) {
     empty.cluster = o.cluster;
     empty.occluder = o.occluder;
     o = std::move(empty);
-    if (size_t(object) < poses_.size()) poses_[object] = Rigid{};
+    edits_.unplace(object);
 }
 
 void Solver::commit_topology() {
-    removed_.resize(scene_.objects().size(), 0);
-    for (int r : pending_removes_) blank_object(r);
-    pending_removes_.clear();
-    pending_adds_.clear();  // already in scene_: the full solve builds them
+    for (int r : edits_.take_removes()) blank_object(r);
+    edits_.take_adds();  // already in scene_: the full solve builds them
 }
 
 bool Solver::changes_outgrow_frame() const {
-    if (pending_adds_.empty() && pending_removes_.empty()) return false;
+    if (!edits_.topology()) return false;
     // The frame a full solve would derive (hierarchy.cpp: the box of every corner-used vertex
     // as given, placements aside) against the one this solution was built in.
     Aabb all;
@@ -95,8 +85,9 @@ void Solver::apply_topology(Change& ch) {
 
     // Removals: the nodes leave the tree, then every link with a dead end goes (the object's
     // own, and those of collection clusters it left empty) with the history below it.
-    if (!pending_removes_.empty()) {
-        for (int r : pending_removes_) {
+    const std::vector<int> removes = edits_.take_removes();
+    if (!removes.empty()) {
+        for (int r : removes) {
             const Aabb b = h_.object_box(r);
             if (!b.empty()) ch.clips.push_back(b);
             for (int id : h_.object_nodes(r))
@@ -114,17 +105,15 @@ void Solver::apply_topology(Change& ch) {
             if (l.active) ++s.links_removed;
             doomed.push_back(int(i));
         }
-        for (int i : doomed) kill(i);  // dead nodes' link lists are empty already: no harm
-        pending_removes_.clear();
+        for (int i : doomed) links_.kill(h_, i);  // dead nodes' link lists are empty already: no harm
     }
 
     // Additions.
     const size_t no = scene_.objects().size();
-    poses_.resize(no);
+    edits_.fit_poses(no);
     tri_prim_.resize(no);
-    removed_.resize(no, 0);
     const size_t first_new_node = h_.nodes.size();
-    for (int a : pending_adds_) {
+    for (int a : edits_.take_adds()) {
         const size_t first_prim = h_.prims.size(), first_surface = h_.surfaces.size();
         const int top = h_.add_object(scene_, a, settings_.use_clustering);
         stats_.element_nodes += int64_t(h_.surfaces.size() - first_surface);
@@ -155,7 +144,6 @@ void Solver::apply_topology(Change& ch) {
                 }
         }
     }
-    pending_adds_.clear();
     ch.inX.resize(h_.nodes.size(), 0);
     for (size_t id = first_new_node; id < h_.nodes.size(); ++id) ch.inX[id] = 1;
     // A later removal in this update may have taken a cluster of an earlier chain with it.

@@ -145,7 +145,7 @@ template <class Vis>
 Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node& Q, int rays, uint64_t seed) {
     Link l;
     const double eps = 1e-7 * h.scene_diag;
-    if (P.pocket != Q.pocket) return l;  // closed pockets (compute_pockets): nothing gets in or out
+    if (P.pocket != Q.pocket) return l;  // closed pockets (Pockets::compute): nothing gets in or out
     if (!can_face(P.poly, P.normal, Q.poly, Q.normal, eps)) return l;
     Cubature cub = receiver_cubature(Q.poly, P.poly.v[0], P.normal);
     const int per_point = std::max(1, rays / cub.n);

@@ -59,7 +59,7 @@ struct Node {
     int decider = -1;
     int8_t escape_ray = -1;
     bool dead = false;               // un-refined away (the slot is not reused)
-    // Elements: the pocket the surface faces into (Solver::compute_pockets): a set of surfaces,
+    // Elements: the pocket the surface faces into (Pockets::compute): a set of surfaces,
     // across objects, whose escape rays meet only each other -- the inside of a closed crate and
     // the outside of what lies in it. Light passes only between surfaces of one pocket. Every
     // surface that sees open space shares pocket 0.

@@ -16,6 +16,9 @@
 #include "radiosity/hierarchy.h"
 #include "radiosity/lights.h"
 #include "radiosity/link.h"
+#include "radiosity/link_store.h"
+#include "radiosity/pending_edits.h"
+#include "radiosity/pockets.h"
 #include "radiosity/rigid.h"
 #include "radiosity/scene.h"
 #include "radiosity/settings.h"
@@ -82,7 +85,7 @@ public:
     void remove_object(int object);
     // A new collection cluster (for objects added later); InputError for an unknown parent.
     int add_cluster(const std::string& name, int parent = -1);
-    bool removed(int object) const { return object >= 0 && size_t(object) < removed_.size() && removed_[object]; }
+    bool removed(int object) const { return edits_.removed(object); }
 
     // Live drag (preview.cpp): the corners whose colour changes, and their values, with the
     // objects in `moves` placed there (move_object's matrices, validated alike): the direct
@@ -117,23 +120,17 @@ public:
     // only: the rays through no moved object's old or new box keep their recorded outcome
     // (reevaluate_link). Otherwise evaluate().
     Link reevaluate(const Link& l) const;
-    // What one escape ray of a surface hit: the side of the surface (-1: none, the back of a
-    // one-sided polygon, or a removed one) and how far along the ray (the ray's length when
-    // it hit nothing).
-    struct PocketRay {
-        int side;
-        double reach;
-    };
-    // pockets.cpp. Appends what each of `rays` escape rays of surface s hits. With `old` (that surface's
-    // rays as recorded, same stream) a ray that meets none of `changed` before its hit keeps
-    // its record instead of being cast.
+    // Closed pockets (pockets.h): Pockets::rays of surface s as the solver casts them, and
+    // each surface's escape rays at the last pocket computation.
+    using PocketRay = Pockets::Ray;
     void pocket_rays(int s, int rays, uint64_t stream, std::vector<PocketRay>& hits,
-                     const std::vector<Aabb>* changed = nullptr, const std::vector<PocketRay>* old = nullptr) const;
-    // Each surface's escape rays at the last pocket computation (kept for the next update).
-    const std::vector<std::vector<PocketRay>>& pocket_records() const { return pocket_hits_; }
+                     const std::vector<Aabb>* changed = nullptr, const std::vector<PocketRay>* old = nullptr) const {
+        pockets_.rays(h_, pocket_sight(), s, rays, stream, hits, changed, old);
+    }
+    const std::vector<std::vector<PocketRay>>& pocket_records() const { return pockets_.records(); }
     const Hierarchy& hierarchy() const { return h_; }
     const Visibility& visibility() const { return *vis_; }
-    const std::vector<Link>& links() const { return links_; }
+    const std::vector<Link>& links() const { return links_.all(); }
     const Settings& settings() const { return settings_; }
     const SceneDesc& scene() const { return scene_; }
     double reference_radiance() const { return L_ref_; }
@@ -184,10 +181,6 @@ private:
     double output_forecast_ = 0;
     int64_t output_forecast_links_ = 0;
     uint64_t link_seed(int src, int rcv) const;
-    int add_link(Link l);
-    void deactivate(int link_id);
-    void activate(int link_id);
-    void kill(int link_id);  // a link and its history subtree, for good
     bool refine_round();
     bool refine_links(const std::vector<int>& ids);  // one round over these links only
     // gather.cpp. A sweep runs on plan_ (gather_plan.h), a snapshot of links, trees,
@@ -218,6 +211,7 @@ private:
         std::vector<std::vector<int>> chains;  // root-first cluster paths, relinked against their siblings
         std::vector<Candidate> seeds;          // links to make besides (an added object's own links)
         std::vector<Aabb> now;                 // new boxes of the moved objects (exact, no margin)
+        std::map<int, Rigid> moves;            // the moves applied: object -> its new placement
     };
     // What one incremental update knows, handed from phase to phase (update()).
     struct UpdateRun {
@@ -352,15 +346,8 @@ private:
     FinalGather output_;
     // solver.cpp
     void compute_reference();
-    // pockets.cpp: every surface's closed pocket (Node::pocket) and the clusters' pocket sets.
-    // With `changed` (after moves only: the moved objects' old and new boxes) and `moved` (per
-    // object), a surface that did not move keeps the recorded outcome of each ray that meets
-    // none of the boxes before its hit (pocket_hits_).
-    void compute_pockets(const std::vector<Aabb>* changed = nullptr, const std::vector<char>* moved = nullptr);
-    // Pockets again after placements or topology changed; false when a surviving surface
-    // changed pocket or a new one landed in a closed pocket of old ones (which links may exist
-    // changed: the caller solves in full). `changed`, `moved`: as for compute_pockets.
-    bool reseal(size_t known_surfaces, const std::vector<Aabb>* changed = nullptr, const std::vector<char>* moved = nullptr);
+    // What the pockets' escape rays are cast into (valid while vis_ is).
+    Pockets::Sight pocket_sight() const { return {*vis_, tri_prim_, settings_}; }
     void check_cancel() const;
     // An object's triangles (its primitives, quads as two) into Embree and tri_prim_.
     void add_object_geometry(int object, const std::vector<int>& prims);
@@ -373,8 +360,7 @@ private:
     Settings settings_;
     Hierarchy h_;
     std::unique_ptr<Visibility> vis_;
-    std::vector<Link> links_;
-    int64_t live_links_ = 0;       // links_ that are not dead (what the max_links cap counts)
+    LinkStore links_;              // every link, with its history (link_store.h)
     std::vector<int> receivers_;   // nodes with active incoming links
     std::vector<int> leaves_;      // leaf elements (rebuilt with receivers_)
     GatherPlan plan_;              // invalidated by collect_receivers, built by ensure_plan
@@ -397,18 +383,13 @@ private:
         ~SceneWideThreshold() { known = was; }
     };
     bool solved_ = false;
-    std::map<int, Rigid> pending_moves_;
-    std::vector<int> pending_adds_, pending_removes_;
-    std::vector<char> removed_;    // per object: removed (its slot stays, empty)
-    std::vector<Rigid> poses_;     // per object, current placement (internal frame)
-    bool materials_changed_ = false;
+    PendingEdits edits_;  // what changed since the last update, and each object's placement
     std::chrono::steady_clock::time_point lap_t_;
     // The update running, if any (update() sets it for its phases): link re-evaluation
     // replays rays and closure passes keep to its moved boxes as it says.
     const UpdateRun* update_run_ = nullptr;
     int64_t lap_rays_ = 0;  // rays cast when lap_t_ was taken
-    int main_pocket_ = 0;  // the pocket of the largest space (open space, or a closed room)
-    std::vector<std::vector<PocketRay>> pocket_hits_;  // per surface: its escape rays at the last compute_pockets
+    Pockets pockets_;  // closed pockets and the escape rays that found them
     std::vector<std::vector<int>> tri_prim_;  // per object: Embree triangle -> primitive
 };
 

@@ -309,7 +309,7 @@ void Solver::prune_elements() {
     std::vector<int> refs(h_.nodes.size(), 0);
     for (const Link& l : links_)
         if (!l.dead) ++refs[l.src], ++refs[l.rcv];
-    light_keep(refs);  // lights.cpp
+    direct_light_.keep(h_, light_sight(), threshold_, refs);  // children the direct light needs
     std::function<bool(int)> prune = [&](int id) -> bool {  // true: the subtree has no reference
         Node& n = h_.nodes[id];
         bool empty = refs[id] == 0;
@@ -372,7 +372,7 @@ std::vector<float> Solver::judging_radiance(const std::vector<float>& snap) cons
     // Per node, the radiance a full solve settles links (3.5) on: in a lit scene the lamps'
     // first bounce, which its first linking judges by (see at_first_bounce); otherwise the
     // gathered radiance of its refinement rounds (`snap`, from snapshot()).
-    if (!scene_.lights().empty()) return first_bounce();  // lights.cpp
+    if (!scene_.lights().empty()) return direct_light_.first_bounce(h_);
     std::vector<float> v(snap.size() / 6);
     for (size_t i = 0; i < v.size(); ++i) v[i] = std::max({snap[6 * i], snap[6 * i + 1], snap[6 * i + 2]});
     return v;
@@ -685,9 +685,9 @@ bool Solver::update_adjust(UpdateRun& u, Control* control) {
         ch.moved[obj] = 1;
     }
     vis_->commit();
-    // lights.cpp: which polygons lie on which follows the placements (the lights' code clears
-    // it only when the scene has lights; the output's contact test needs it either way).
-    lights_.contacts.clear();
+    // Which polygons lie on which follows the placements (DirectLight::invalidate forgets it
+    // only when the scene has lights; the output's contact test needs it either way).
+    direct_light_.forget_contacts();
     lap("place");
     for (Aabb& c : ch.clips) {  // ray ends are lifted off surfaces: a hair of margin
         c.lo -= Vec3{1e-5, 1e-5, 1e-5};
@@ -756,7 +756,7 @@ void Solver::update_history(UpdateRun& u) {
         if (!links_[id].dead && !links_[id].active && !links_[id].occluded) unrefine_if_acceptable(id);
     stats_.seconds_adjust = since(u.t0);
     lap("history");
-    light_update();  // lights.cpp: drop light splits the new direct light does not need
+    light_update();  // solver_lights.cpp: drop light splits the new direct light does not need
     lap("lights");
 }
 
@@ -813,7 +813,7 @@ void Solver::update_resolve(UpdateRun& u) {
         for (Link& l : links_) l.rejudge = false;
         const std::vector<float> snap = snapshot();
         judged_from = int64_t(links_.size());
-        const bool lit = light_refine();  // lights.cpp: where direct light varies
+        const bool lit = light_refine();  // solver_lights.cpp: where direct light varies
         bool more = lit;
         // A lit scene's first judgement on the radiance a full solve's first linking sees.
         if (round == 0 && !scene_.lights().empty())

@@ -20,7 +20,9 @@ void Solver::collect_receivers() {
         if (!n.in_links.empty()) receivers_.push_back(int(i));
         if (!n.is_cluster() && n.is_leaf()) leaves_.push_back(int(i));
     }
-    light_prepare();  // lights.cpp: direct light of new leaves
+    // The direct light of the leaves lacking it: new ones, and every one after a light changed
+    // or objects moved.
+    direct_light_.prepare(h_, light_sight(), leaves_, edits_.poses(), light_replay());
     plan_.invalidate();  // links, nodes or materials may have changed since it was built
 }
 
@@ -32,7 +34,7 @@ void Solver::ensure_plan(bool radiometry) {
         plan_.build(h_, links_.all(), settings_.threads);
         ++stats_.gather_plans;
     }
-    if (radiometry) plan_.prepare_radiometry(h_, links_.all(), [this](int id) { return light_direct(id); }, settings_.threads);  // lights.cpp
+    if (radiometry) plan_.prepare_radiometry(h_, links_.all(), [this](int id) { return direct_light_.direct(id); }, settings_.threads);
     stats_.seconds_gather_plan += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 

@@ -1,14 +1,15 @@
 // Direct light of Blender point, spot and sun lights and of a uniform world at the leaf
-// elements (see lights.h). Each leaf keeps the area mean of its four children's estimates as
+// elements (see lights.h), which DirectLight (direct_light.h) keeps per node. Each leaf keeps the area mean of its four children's estimates as
 // its direct term and their spread as the refinement criterion, so a leaf split for its direct
 // light already knows what its children will see.
 #include "radiosity/lights.h"
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
+#include "radiosity/direct_light.h"
 #include "radiosity/parallel.h"
-#include "radiosity/solver.h"
 
 namespace radiosity {
 
@@ -292,29 +293,64 @@ PointLight direct_light_replay(const SceneDesc& scene, const Hierarchy& h, const
 int element_shadow_rays(int rays_per_link, LightDesc::Type type) {
     // Half the link rays (an element costs two links), four times that for the sky, whose
     // hemisphere integral is noisier than a small light's. Fewer hid real shadow edges behind
-    // the noise allowance of light_compute.
+    // the noise allowance of DirectLight::compute.
     const int m = std::max(4, rays_per_link / 2);
     return type == LightDesc::Type::Sky ? 4 * m : m;
 }
 
-void Solver::set_light(int index, const LightDesc& l) {
-    if (index < 0 || index >= int(scene_.lights().size()))
-        throw InputError("set_light: unknown light " + std::to_string(index));
-    l.validate();
-    LightDesc d = l;
-    d.direction = normalize(d.direction);
-    scene_.lights_mut()[index] = d;
-    std::fill(lights_.have.begin(), lights_.have.end(), 0);
-    lights_.recheck = true;
-    edits_.record_materials();  // the update path re-derives the reference radiance and re-solves
+namespace {
+
+// Per element: a node strictly below it is referenced. Children have larger ids than their
+// parents (subdivide appends), so one pass from the back sees every child first.
+std::vector<char> link_below(const Hierarchy& h, const std::vector<char>& referenced) {
+    std::vector<char> below(h.nodes.size(), 0);
+    for (size_t i = h.nodes.size(); i-- > 0;) {
+        const Node& n = h.nodes[i];
+        if (n.dead || n.is_cluster() || n.parent < 0) continue;
+        if (referenced[i] || below[i]) below[n.parent] = 1;
+    }
+    return below;
 }
 
-double Solver::light_power(double total_area) const {
-    // Flux the lights bring into the scene, in radiance x internal area (the units of the
-    // emitters' sum in compute_reference): a Lambertian emitter of radiance L and area A
-    // radiates pi L A, so each light counts as power / pi.
+}  // namespace
+
+Rgb DirectLight::direct(int id) const {
+    return size_t(id) < have_.size() && have_[id] == kLit ? direct_[id] : Rgb{};
+}
+
+double DirectLight::spread(int id) const {
+    return size_t(id) < have_.size() && have_[id] == kLit ? double(spread_[id]) : 0.0;
+}
+
+std::vector<float> DirectLight::first_bounce(const Hierarchy& h) const {
+    // light_initial's sweep (solver_lights.cpp) leaves this radiance, before any link exists,
+    // so the settlements (3.5) a full solve's first linking makes hold for it.
+    const size_t nn = h.nodes.size();
+    std::vector<Rgb> sum(nn);
+    std::vector<double> area(nn, 0.0);
+    std::vector<float> out(nn, 0.f);
+    for (size_t i = nn; i-- > 0;) {  // children (larger ids) before their parents
+        const Node& n = h.nodes[i];
+        if (n.dead || n.is_cluster()) continue;
+        if (n.children.empty()) {
+            const Rgb d = i < direct_.size() ? direct_[i] : Rgb{};
+            sum[i] = (n.emission + n.rho * d) * n.area;
+            area[i] = n.area;
+        }
+        if (area[i] > 0) out[i] = float((sum[i] / area[i]).max());
+        if (n.parent >= 0 && !h.nodes[n.parent].is_cluster()) {
+            sum[n.parent] += sum[i];
+            area[n.parent] += area[i];
+        }
+    }
+    return out;
+}
+
+double DirectLight::power(const SceneDesc& scene, const Hierarchy& h, double total_area) {
+    // In the units of the emitters' sum in compute_reference: a Lambertian emitter of
+    // radiance L and area A radiates pi L A, so each light counts as power / pi.
     double p = 0;
-    for (const ILight& l : internal_lights(scene_, h_)) {
+    for (const ILight& l : internal_lights(scene, h)) {
         switch (l.type) {
             case LightDesc::Type::Point: p += 4 * l.I.max(); break;
             case LightDesc::Type::Spot: p += 2 * (1 - l.cos_half) * l.I.max(); break;
@@ -327,79 +363,79 @@ double Solver::light_power(double total_area) const {
     return p;
 }
 
-Rgb Solver::light_direct(int id) const {
-    return size_t(id) < lights_.have.size() && lights_.have[id] == LightState::kLit ? lights_.direct[id] : Rgb{};
+double DirectLight::bytes(const SceneDesc& scene, int rays_per_link) const {
+    // Per lit node, its recorded shadow rays (compute: four children, 4x for the sky).
+    if (rays_.empty()) return 0.0;
+    int per_node = 0;
+    for (const LightDesc& d : scene.lights()) per_node += 4 * element_shadow_rays(rays_per_link, d.type);
+    return double(rays_.capacity()) * (sizeof(LampRays) + 8.0 * std::ceil(per_node / 64.0));
 }
 
-double Solver::light_spread(int id) const {
-    return size_t(id) < lights_.have.size() && lights_.have[id] == LightState::kLit ? double(lights_.spread[id]) : 0.0;
+void DirectLight::clear() { *this = DirectLight{}; }
+
+void DirectLight::relight() {
+    std::fill(have_.begin(), have_.end(), 0);
+    recheck_ = true;
 }
 
-void Solver::light_invalidate() {
-    // Placements changed since the cache was made (an update moved objects): every shadow may
-    // have changed. A move that replays rays (moves only) leaves each node's shadow rays to be
-    // replayed: those that meet no moved box keep their outcome. A node whose box meets a
-    // moved one is lit afresh (what touches it, and so which of its rays are cast, may differ).
-    if (edits_.poses() != lights_.poses) {
-        const bool replay = update_run_ && update_run_->replaying && !lights_.poses.empty();
+void DirectLight::forget_contacts() { contacts_.clear(); }
+
+bool DirectLight::take_recheck() { return std::exchange(recheck_, false); }
+
+void DirectLight::resize(size_t nn) {
+    direct_.resize(nn);
+    spread_.resize(nn, 0.f);
+    have_.resize(nn, kNone);
+    split_.resize(nn, 0);
+}
+
+void DirectLight::invalidate(const Hierarchy& h, const std::vector<Rigid>& poses, const std::vector<Aabb>* replay) {
+    // Every shadow may have changed. A node whose box meets a moved one is lit afresh (what
+    // touches it, and so which of its rays are cast, may differ).
+    if (poses != poses_) {
+        const bool replaying = replay && !poses_.empty();
         bool stale_left = false;
-        for (uint8_t v : lights_.have) stale_left |= v == LightState::kStale;
-        if (!stale_left) lights_.clips.clear();
-        if (replay) {
-            const std::vector<Aabb>& clips = update_run_->replay_clips;
-            lights_.clips.insert(lights_.clips.end(), clips.begin(), clips.end());
-            for (size_t id = 0; id < lights_.have.size(); ++id) {
-                if (lights_.have[id] == LightState::kNone) continue;
-                const Node& n = h_.nodes[id];
+        for (uint8_t v : have_) stale_left |= v == kStale;
+        if (!stale_left) clips_.clear();
+        if (replaying) {
+            clips_.insert(clips_.end(), replay->begin(), replay->end());
+            for (size_t id = 0; id < have_.size(); ++id) {
+                if (have_[id] == kNone) continue;
+                const Node& n = h.nodes[id];
                 bool near = n.dead;
-                for (const Aabb& c : clips) near = near || c.overlaps(n.box);
-                lights_.have[id] = near || id >= lights_.rays.size() ? LightState::kNone : LightState::kStale;
+                for (const Aabb& c : *replay) near = near || c.overlaps(n.box);
+                have_[id] = near || id >= rays_.size() ? kNone : kStale;
             }
         } else {
-            std::fill(lights_.have.begin(), lights_.have.end(), LightState::kNone);
+            std::fill(have_.begin(), have_.end(), kNone);
         }
-        lights_.recheck = !lights_.poses.empty();
-        lights_.contacts.clear();
-        lights_.poses = edits_.poses();
+        recheck_ = !poses_.empty();
+        contacts_.clear();
+        poses_ = poses;
     }
-    light_resize();
+    resize(h.nodes.size());
 }
 
-void Solver::light_prepare() {
-    if (scene_.lights().empty()) return;
-    light_invalidate();
+void DirectLight::prepare(const Hierarchy& h, const Sight& sight, const std::vector<int>& leaves,
+                          const std::vector<Rigid>& poses, const std::vector<Aabb>* replay) {
+    if (sight.scene.lights().empty()) return;
+    invalidate(h, poses, replay);
     std::vector<int> todo;
-    for (int id : leaves_)
-        if (lights_.have[id] != LightState::kLit) todo.push_back(id);
-    light_compute(todo);
+    for (int id : leaves)
+        if (have_[id] != kLit) todo.push_back(id);
+    compute(h, sight, todo);
 }
 
-void Solver::light_update() {
-    // An update's first step for the lights (adjust.cpp): lights or placements changed, so
-    // the splits the new direct light does not need go before the remaining leaves are lit
-    // again (the old leaves there would cost rays for nothing), and the new light splits
-    // where it needs, as light_initial does before a full solve's first linking: the oracle
-    // then judges links by the radiances the new light's elements give. (Split only in the
-    // first refinement round, after the first gather, links were judged on the old, coarser
-    // light elements and refined for good: 0.09-0.14 % NRMSE more on two of eight moves.)
-    if (scene_.lights().empty()) return;
-    light_invalidate();
-    if (!lights_.recheck) return;
-    lights_.recheck = false;
-    light_coarsen();
-    collect_receivers();
-    if (light_refine()) collect_receivers();
-}
-
-void Solver::light_contacts() {
+void DirectLight::find_contacts(const Hierarchy& h, const SceneDesc& scene, int threads) {
     // Surfaces of other objects lying in the same plane and facing the other way: where they
     // overlap, the two touch (a box standing on a floor). Rays from there start between the
     // two and would escape through the other one; Cycles finds such points unlit, and so
     // does a real contact. Found by walking the cluster tree by boxes.
-    lights_.contacts.assign(h_.surfaces.size(), {});
-    const double tol = 1e-7 * h_.scene_diag;
-    parallel_for(h_.surfaces.size(), settings_.threads, [&](size_t si) {
-        const Node& n = h_.nodes[h_.surfaces[si].root];
+    if (contacts_.size() == h.surfaces.size()) return;
+    contacts_.assign(h.surfaces.size(), {});
+    const double tol = 1e-7 * h.scene_diag;
+    parallel_for(h.surfaces.size(), threads, [&](size_t si) {
+        const Node& n = h.nodes[h.surfaces[si].root];
         if (n.dead) return;  // of a removed object
         Aabb b = n.box;
         b.lo -= Vec3{tol, tol, tol};
@@ -409,16 +445,16 @@ void Solver::light_contacts() {
                 if (o.lo[a] > b.hi[a] || o.hi[a] < b.lo[a]) return false;
             return true;
         };
-        const bool own_back = h_.surfaces[si].back;
+        const bool own_back = h.surfaces[si].back;
         // Polygons of its own object looked at, at most: the pieces of a fanned n-gon all share
         // its apex, so every piece's box meets every other's (100k pieces: 10^10 tests). Real
         // meshes meet a few neighbours.
         int same_left = 4096;
-        std::vector<int> stack{h_.root};
+        std::vector<int> stack{h.root};
         while (!stack.empty()) {
             const int id = stack.back();
             stack.pop_back();
-            const Node& m = h_.nodes[id];
+            const Node& m = h.nodes[id];
             if (!overlaps(m.box)) continue;
             // Within one object only front sides touch (below): a back surface skips its own
             // object's clusters (a 100k-piece fanned disc: every piece's box meets every other's).
@@ -430,48 +466,46 @@ void Solver::light_contacts() {
             // Another object's polygon, or a front side of another polygon of the same object (a
             // chair's back resting on its seat: Cycles finds that contact unlit too). Not the
             // back of a neighbouring piece of the same plane (a two-sided fanned n-gon).
-            if (m.object == n.object && (own_back || --same_left < 0 || h_.surfaces[size_t(m.surface)].back)) continue;
-            if (h_.surfaces[size_t(m.surface)].prim == h_.surfaces[si].prim || dot(m.normal, n.normal) > -1 + 1e-9) continue;
+            if (m.object == n.object && (own_back || --same_left < 0 || h.surfaces[size_t(m.surface)].back)) continue;
+            if (h.surfaces[size_t(m.surface)].prim == h.surfaces[si].prim || dot(m.normal, n.normal) > -1 + 1e-9) continue;
             if (std::fabs(dot(m.poly.v[0] - n.poly.v[0], n.normal)) > tol) continue;
-            if (!scene_.objects()[m.object].occluder) continue;
-            lights_.contacts[si].push_back(m.surface);
+            if (!scene.objects()[m.object].occluder) continue;
+            contacts_[si].push_back(m.surface);
         }
     }, 32);
 }
 
-bool Solver::light_in_contact(int surface, const Vec3& p) const { return light_contact(surface, p) >= 0; }
-
-int Solver::light_contact(int surface, const Vec3& p) const {
-    if (size_t(surface) >= lights_.contacts.size()) return -1;
-    const double tol = 1e-9 * h_.scene_diag;
-    for (int t : lights_.contacts[surface]) {
-        const Node& m = h_.nodes[h_.surfaces[t].root];
+int DirectLight::contact(const Hierarchy& h, int surface, const Vec3& p) const {
+    if (size_t(surface) >= contacts_.size()) return -1;
+    const double tol = 1e-9 * h.scene_diag;
+    for (int t : contacts_[surface]) {
+        const Node& m = h.nodes[h.surfaces[t].root];
         if (within_edges(m.poly, m.normal, p, tol)) return t;
     }
     return -1;
 }
 
-bool Solver::light_corner_in_contact(const Primitive& p, int k) const {
+bool DirectLight::corner_in_contact(const Hierarchy& h, const Primitive& p, int k) const {
     // Cycles shades each corner inside its own face: at the foot of a box standing on the
     // floor, the floor corners under the box are unlit and those beside it lit. Corners in
     // contact are therefore not averaged with the others (output.cpp).
-    if (lights_.contacts.empty() || p.front < 0) return false;
+    if (contacts_.empty() || p.front < 0) return false;
     const Vec3 inside = p.poly.v[k] + (p.poly.centroid() - p.poly.v[k]) * 1e-4;
-    return light_in_contact(p.front, inside);
+    return contact(h, p.front, inside) >= 0;
 }
 
-void Solver::light_compute(const std::vector<int>& ids) {
+void DirectLight::compute(const Hierarchy& h, const Sight& sight, const std::vector<int>& ids) {
     if (ids.empty()) return;
-    if (lights_.contacts.size() != h_.surfaces.size()) light_contacts();
-    const std::vector<ILight> ls = internal_lights(scene_, h_);
-    const double far = 4.0 * h_.scene_diag, lift = 1e-5 * h_.scene_diag;
-    if (lights_.rays.size() < h_.nodes.size()) lights_.rays.resize(h_.nodes.size());
-    parallel_for(ids.size(), settings_.threads, [&](size_t i) {
+    find_contacts(h, sight.scene, sight.settings.threads);
+    const std::vector<ILight> ls = internal_lights(sight.scene, h);
+    const double far = 4.0 * h.scene_diag, lift = 1e-5 * h.scene_diag;
+    if (rays_.size() < h.nodes.size()) rays_.resize(h.nodes.size());
+    parallel_for(ids.size(), sight.settings.threads, [&](size_t i) {
         const int id = ids[i];
-        const Node& n = h_.nodes[id];
-        // Its shadow rays, replayed where a move left the node stale (light_invalidate).
-        const bool stale = lights_.have[id] == LightState::kStale;
-        LampRayStream rs(*vis_, stale ? &lights_.rays[id] : nullptr, stale ? &lights_.clips : nullptr);
+        const Node& n = h.nodes[id];
+        // Its shadow rays, replayed where a move left the node stale (invalidate).
+        const bool stale = have_[id] == kStale;
+        LampRayStream rs(sight.vis, stale ? &rays_[id] : nullptr, stale ? &clips_ : nullptr);
         Rgb sum, lo = Rgb::all(1e300), hi = Rgb::all(-1e300);
         double area = 0, var_max = 0, edge = 0;
         for (int k = 0; k < 4; ++k) {
@@ -480,13 +514,13 @@ void Solver::light_compute(const std::vector<int>& ids) {
             Rgb e;
             double var = 0;
             for (const ILight& l : ls) {
-                Rng rng(Hierarchy::mix(Hierarchy::mix(settings_.seed ^ l.salt, n.key), uint64_t(k)));
+                Rng rng(Hierarchy::mix(Hierarchy::mix(sight.settings.seed ^ l.salt, n.key), uint64_t(k)));
                 const bool sky = l.type == LightDesc::Type::Sky;
-                const int mm = element_shadow_rays(settings_.rays_per_link, l.type);
+                const int mm = element_shadow_rays(sight.settings.rays_per_link, l.type);
                 // Stratified over the child along its first coordinate.
                 auto where = [&c, mm](int s, Rng& g) { return c.sample((s + g.next()) / mm, g.next()); };
                 const Sampled r = estimate(l, where, n.normal, mm, rng, rs, lift, far,
-                                           [&](const Vec3& p) { return light_in_contact(n.surface, p); });
+                                           [&](const Vec3& p) { return contact(h, n.surface, p) >= 0; });
                 e += r.mean;
                 if (sky) var += r.var;
                 // A shadow edge of a small light crosses this child (the HR visibility error):
@@ -499,58 +533,40 @@ void Solver::light_compute(const std::vector<int>& ids) {
             hi = cmax(hi, e);
             var_max = std::max(var_max, var);
         }
-        lights_.direct[id] = area > 0 ? sum / area : Rgb{};
+        direct_[id] = area > 0 ? sum / area : Rgb{};
         // Spread of the children beyond what the sky's noise explains (one sigma of a
         // difference: the sky's occlusion is smooth, noise alone must not refine it to the
         // resolution limit), or a small light's shadow edge inside a child.
-        lights_.spread[id] = float(std::max({0.0, (hi - lo).max() - std::sqrt(2.0 * var_max), edge}));
-        lights_.have[id] = LightState::kLit;
-        lights_.rays[id] = std::move(rs.out);
+        spread_[id] = float(std::max({0.0, (hi - lo).max() - std::sqrt(2.0 * var_max), edge}));
+        have_[id] = kLit;
+        rays_[id] = std::move(rs.out);
     }, 8);
 }
 
-void Solver::light_initial() {
-    // The initial linking judges links by their senders' radiance: without this, surfaces lit
-    // only by lamps would look dark to it (their light arrives only with the first sweep) and
-    // the first links would be too coarse, leaving the refinement rounds to catch up.
-    if (scene_.lights().empty()) return;
-    collect_receivers();
-    light_refine();
-    collect_receivers();
-    sweep(false, nullptr);
-}
-
-void Solver::light_resize() {
-    const size_t nn = h_.nodes.size();
-    lights_.direct.resize(nn);
-    lights_.spread.resize(nn, 0.f);
-    lights_.have.resize(nn, LightState::kNone);
-    lights_.split.resize(nn, 0);
-}
-
-void Solver::light_walk(const std::vector<char>& link_below, std::vector<int>& lit, std::vector<int>& drop) {
+void DirectLight::walk(const Hierarchy& h, const Sight& sight, double threshold, const std::vector<char>& link_below,
+                       std::vector<int>& lit, std::vector<int>& drop) {
     // Top-down, level by level, as a full solve splits for the light: a node's children are
     // there for the light only if it was split for it and its direct light still varies by
     // more than the threshold. Below a node whose children neither the light nor a link
     // needs nothing is visited, so the splits down there are never evaluated. (Judged
     // bottom-up, a light right above a node's centre kept its children: they agree with each
     // other by symmetry, so a full solve never splits it, but their own children differ.)
-    light_resize();
+    resize(h.nodes.size());
     std::vector<int> level;
-    for (const Surface& s : h_.surfaces)
-        if (!h_.nodes[s.root].dead) level.push_back(s.root);
+    for (const Surface& s : h.surfaces)
+        if (!h.nodes[s.root].dead) level.push_back(s.root);
     while (!level.empty()) {
         std::vector<int> todo, next;
         for (int id : level)
-            if (lights_.split[id] && !h_.nodes[id].children.empty() && lights_.have[id] != LightState::kLit) todo.push_back(id);
-        light_compute(todo);
+            if (split_[id] && !h.nodes[id].children.empty() && have_[id] != kLit) todo.push_back(id);
+        compute(h, sight, todo);
         for (int id : level) {
-            const Node& n = h_.nodes[id];
+            const Node& n = h.nodes[id];
             if (n.children.empty()) continue;
-            if (lights_.split[id] && n.rho.max() * lights_.spread[id] > threshold_) {
+            if (split_[id] && n.rho.max() * spread_[id] > threshold) {
                 lit.push_back(id);
             } else {
-                lights_.split[id] = 0;
+                split_[id] = 0;
                 if (!link_below[id]) {
                     drop.push_back(id);
                     continue;
@@ -562,205 +578,57 @@ void Solver::light_walk(const std::vector<char>& link_below, std::vector<int>& l
     }
 }
 
-std::vector<char> Solver::link_below(const std::vector<char>& referenced) const {
-    // Per element: a node strictly below it is referenced. Children have larger ids than
-    // their parents (subdivide appends), so one pass from the back sees every child first.
-    std::vector<char> below(h_.nodes.size(), 0);
-    for (size_t i = h_.nodes.size(); i-- > 0;) {
-        const Node& n = h_.nodes[i];
-        if (n.dead || n.is_cluster() || n.parent < 0) continue;
-        if (referenced[i] || below[i]) below[n.parent] = 1;
-    }
-    return below;
-}
-
-bool Solver::light_coarsen() {
-    // After a light moved or changed (or objects moved), elements split only for the old
-    // direct light merge back where the new light does not need them, so an incremental
-    // update ends with the elements a full solve would make (3.4's un-refinement, for
-    // lights). Done before the direct light of the old leaves is recomputed: the merged ones
-    // cost no rays.
-    std::vector<char> referenced(h_.nodes.size(), 0);
-    for (const Link& l : links_)
-        if (!l.dead) referenced[l.src] = referenced[l.rcv] = 1;
+std::vector<int> DirectLight::coarsen(const Hierarchy& h, const Sight& sight, double threshold,
+                                      const std::vector<char>& referenced) {
+    // 3.4's un-refinement, for lights: done before the direct light of the old leaves is
+    // computed again, so the children dropped cost no rays.
     std::vector<int> lit, drop;
-    light_walk(link_below(referenced), lit, drop);
-    for (int id : drop) {
-        std::vector<int> stack(h_.nodes[id].children.begin(), h_.nodes[id].children.end());
+    walk(h, sight, threshold, link_below(h, referenced), lit, drop);
+    for (int id : drop) {  // their subtrees go with them
+        std::vector<int> stack(h.nodes[id].children.begin(), h.nodes[id].children.end());
         while (!stack.empty()) {
-            Node& c = h_.nodes[stack.back()];
-            lights_.split[stack.back()] = 0;
+            const int c = stack.back();
             stack.pop_back();
-            for (int k : c.children) stack.push_back(k);
-            c.children.clear();
-            c.dead = true;
-            std::vector<int>().swap(c.in_links);
-            std::vector<int>().swap(c.out_links);
-            --stats_.element_nodes;
+            split_[c] = 0;
+            stack.insert(stack.end(), h.nodes[c].children.begin(), h.nodes[c].children.end());
         }
-        h_.nodes[id].children.clear();
     }
-    if (!drop.empty()) collect_receivers();
-    return !drop.empty();
+    return drop;
 }
 
-bool Solver::light_refine() {
-    if (scene_.lights().empty()) return false;
-    if (lights_.recheck) {
-        lights_.recheck = false;
-        light_coarsen();
-    }
-    // Leaves whose direct light varies across them more than the threshold split; their
-    // children are evaluated at once and split again if needed, so a shadow edge reaches
-    // the resolution limit in one round.
+bool DirectLight::refine(const Hierarchy& h, const Sight& sight, double threshold, const std::vector<int>& leaves,
+                         const std::function<bool(int)>& split) {
     std::vector<int> wave;
-    for (int id : leaves_)
-        if (size_t(id) < lights_.have.size() && lights_.have[id] == LightState::kLit) wave.push_back(id);
+    for (int id : leaves)
+        if (size_t(id) < have_.size() && have_[id] == kLit) wave.push_back(id);
     bool changed = false;
     while (!wave.empty()) {
         std::vector<int> kids;
         for (int id : wave) {
-            const Node& n = h_.nodes[id];
-            if (n.dead || !n.children.empty()) continue;
-            // A shadow's edge splits below the area floor too (may_split_below_floor): a floor
-            // leaf across it sends its half-lit average under the object that casts it.
-            if (n.rho.max() * lights_.spread[id] <= threshold_ || !(can_split(id) || may_split_below_floor(id))) continue;
-            h_.subdivide(id);
-            stats_.element_nodes += 4;
-            for (int c : h_.nodes[id].children) kids.push_back(c);
+            // `split` grows h.nodes: no reference into it is held across the call.
+            if (h.nodes[id].dead || !h.nodes[id].children.empty()) continue;
+            if (h.nodes[id].rho.max() * spread_[id] <= threshold || !split(id)) continue;
+            for (int c : h.nodes[id].children) kids.push_back(c);
             changed = true;
         }
-        light_resize();
-        for (int c : kids) lights_.split[h_.nodes[c].parent] = 1;
-        light_compute(kids);
+        resize(h.nodes.size());
+        for (int c : kids) split_[h.nodes[c].parent] = 1;
+        compute(h, sight, kids);
         wave.swap(kids);
     }
     return changed;
 }
 
-void Solver::light_keep(std::vector<int>& refs) {
+void DirectLight::keep(const Hierarchy& h, const Sight& sight, double threshold, std::vector<int>& refs) {
     // Children made for the direct light are referenced by it (pruning must keep them) while
     // the light still varies across their parent and the parent itself stays; otherwise the
     // split is forgotten and the children go like any unreferenced element.
-    std::vector<char> referenced(h_.nodes.size(), 0);
+    std::vector<char> referenced(h.nodes.size(), 0);
     for (size_t i = 0; i < refs.size() && i < referenced.size(); ++i) referenced[i] = refs[i] > 0;
     std::vector<int> lit, drop;
-    light_walk(link_below(referenced), lit, drop);
+    walk(h, sight, threshold, link_below(h, referenced), lit, drop);
     for (int id : lit)
-        for (int c : h_.nodes[id].children) ++refs[c];
-}
-
-std::vector<float> Solver::first_bounce() const {
-    // Per element node: emission + rho x the direct light of the lamps, the area mean over its
-    // leaves (largest channel). This is the radiance a full solve's first linking judges links
-    // by (light_initial's sweep, before any link exists), so the settlements (3.5) it makes
-    // then hold for it. The cached direct terms are used as they are: before an update
-    // recomputes them they are the old lights'.
-    const size_t nn = h_.nodes.size();
-    std::vector<Rgb> sum(nn);
-    std::vector<double> area(nn, 0.0);
-    std::vector<float> out(nn, 0.f);
-    for (size_t i = nn; i-- > 0;) {  // children (larger ids) before their parents
-        const Node& n = h_.nodes[i];
-        if (n.dead || n.is_cluster()) continue;
-        if (n.children.empty()) {
-            const Rgb d = i < lights_.direct.size() ? lights_.direct[i] : Rgb{};
-            sum[i] = (n.emission + n.rho * d) * n.area;
-            area[i] = n.area;
-        }
-        if (area[i] > 0) out[i] = float((sum[i] / area[i]).max());
-        if (n.parent >= 0 && !h_.nodes[n.parent].is_cluster()) {
-            sum[n.parent] += sum[i];
-            area[n.parent] += area[i];
-        }
-    }
-    return out;
-}
-
-void Solver::at_first_bounce(const std::function<void()>& judge_links, const std::vector<char>* only) {
-    // A full solve of a lit scene makes its first linking on the radiance light_initial's
-    // sweep leaves (emission + rho x lamp light, no interreflection yet), and most of its
-    // oracle decisions then stand: a settlement (3.5) is never judged again. An update's
-    // first judgement of links whose senders' light changed is made on that same radiance,
-    // swapped in for it and back; judged on converged radiance instead, links beside a box's
-    // foot that a full solve settles were split (0.64 % NRMSE after one light move).
-    // `only`: the leaves to swap (per node); the others keep their radiance, and their element
-    // ancestors and clusters are averaged again over both.
-    const size_t nn = h_.nodes.size();
-    // The solved radiance comes back however judge_links ends (a cancel throws).
-    struct Saved {
-        Hierarchy& h;
-        size_t nn;
-        std::vector<Rgb> L, lo, hi;
-        std::vector<std::array<Rgb, kBins>> S;
-        ~Saved() {
-            for (size_t i = 0; i < nn; ++i) {
-                Node& n = h.nodes[i];
-                n.L = L[i], n.Lmin = lo[i], n.Lmax = hi[i], n.S = S[i];
-            }
-            // Elements split meanwhile inherit their parent's radiance, as subdivide does.
-            for (size_t i = nn; i < h.nodes.size(); ++i) {
-                Node& n = h.nodes[i];
-                if (n.is_cluster() || n.parent < 0) continue;
-                n.L = n.Lmin = n.Lmax = h.nodes[n.parent].L;
-            }
-        }
-    } saved{h_, nn, std::vector<Rgb>(nn), std::vector<Rgb>(nn), std::vector<Rgb>(nn),
-            std::vector<std::array<Rgb, kBins>>(nn)};
-    for (size_t i = 0; i < nn; ++i) {
-        const Node& n = h_.nodes[i];
-        saved.L[i] = n.L, saved.lo[i] = n.Lmin, saved.hi[i] = n.Lmax, saved.S[i] = n.S;
-    }
-    for (size_t i = nn; i-- > 0;) {  // children (larger ids) before their parents
-        Node& n = h_.nodes[i];
-        if (n.dead || n.is_cluster()) continue;
-        if (n.children.empty()) {
-            if (!only || (i < only->size() && (*only)[i])) n.L = n.Lmin = n.Lmax = n.emission + n.rho * light_direct(int(i));
-            continue;
-        }
-        Rgb sum, mn = Rgb::all(1e300), mx = Rgb::all(-1e300);
-        double area = 0;
-        for (int c : n.children) {
-            const Node& k = h_.nodes[c];
-            sum += k.L * k.area;
-            area += k.area;
-            mn = cmin(mn, k.Lmin);
-            mx = cmax(mx, k.Lmax);
-        }
-        n.L = area > 0 ? sum / area : n.emission;
-        n.Lmin = mn;
-        n.Lmax = mx;
-    }
-    pull_up_clusters();
-    judge_links();
-}
-
-Rgb Solver::leaf_irradiance(int id) const {
-    // What push_down gathers for this leaf (gather.cpp), without the reflectance: light
-    // arriving through element links on the leaf and its ancestors, and through cluster links
-    // above its surface times its own cosine; closure-corrected; plus the direct term.
-    const Node& n = h_.nodes[id];
-    Rgb acc;
-    for (int a = id; a >= 0 && !h_.nodes[a].is_cluster(); a = h_.nodes[a].parent)
-        if (!h_.nodes[a].in_links.empty()) acc += h_.nodes[a].G;
-    for (int a : h_.ancestors_of_surface(n.surface))
-        for (int li : h_.nodes[a].in_links) {
-            const Link& l = links_[li];
-            double c = -dot(n.normal, l.dir);
-            if (c > 0 && h_.holds_pocket(l.src, n.pocket)) acc += l.value * c;  // gather_plan.cpp's rule
-        }
-    const Rgb own = n.in_links.empty() ? Rgb{} : n.G;
-    return closure_gathered(own, acc, n.closure_own, n.closure, n.closure_fill, n.L) + light_direct(id);
-}
-
-std::vector<float> Solver::corner_irradiance(int object) const {
-    if (object < 0 || object >= int(scene_.objects().size()))
-        throw std::out_of_range("unknown object " + std::to_string(object));
-    if (settings_.gather_rays > 0) {  // output.cpp: the final gather's points
-        std::vector<float> v = output_.corner_irradiance(h_, object);
-        if (v.size() == scene_.objects()[size_t(object)].corner_count() * 3) return v;
-    }
-    return corner_values(object, [this](int id) { return leaf_irradiance(id); });
+        for (int c : h.nodes[id].children) ++refs[c];
 }
 
 }  // namespace radiosity

@@ -36,12 +36,7 @@ double Solver::memory_estimate(size_t more_links, size_t more_nodes) const {
                vector_bytes(links_.size(), links_.capacity(), more_links, sizeof(Link)) +
                double(links_.size() + more_links) * link_samples;
     if (vis_) b += double(std::max<int64_t>(0, vis_->bytes()));
-    // Per lit node, its recorded shadow rays (light_compute: four children, 4x for the sky).
-    if (!lights_.rays.empty()) {
-        int per_node = 0;
-        for (const LightDesc& d : scene_.lights()) per_node += 4 * element_shadow_rays(settings_.rays_per_link, d.type);
-        b += double(lights_.rays.capacity()) * (sizeof(LampRays) + 8.0 * std::ceil(per_node / 64.0));
-    }
+    b += direct_light_.bytes(scene_, settings_.rays_per_link);
     if (output_.traced()) {
         b += double(output_.bytes());
     } else if (output_forecast_ > 0) {

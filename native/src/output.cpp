@@ -68,7 +68,7 @@ void Solver::final_gather(double from, double to, const FinalGather::Moves* move
         forecast_output();
         stats_.gather_forecast_bytes = int64_t(output_forecast_);
     }
-    if (lights_.contacts.size() != h_.surfaces.size()) light_contacts();  // lights.cpp
+    direct_light_.find_contacts(h_, scene_, settings_.threads);
     h_.index_emitters();  // the near field asks per point whether a cluster emits
     FinalGather::Config c;
     c.rays = settings_.gather_rays;
@@ -80,7 +80,7 @@ void Solver::final_gather(double from, double to, const FinalGather::Moves* move
     c.cycles_points = settings_.cycles_corner_points;
     c.sealed_solids = settings_.gather_sealed_solids;
     const FinalGather::Solution s{scene_, h_, *vis_, links_.all(),
-                                  [this](int surface, const Vec3& p) { return light_contact(surface, p); }, &tri_prim_};
+                                  [this](int surface, const Vec3& p) { return direct_light_.contact(h_, surface, p); }, &tri_prim_};
     auto progress = [&](double f) {
         check_cancel();
         set_progress(from + (to - from) * f);
@@ -130,7 +130,7 @@ std::vector<float> Solver::corner_values(int object, const std::function<Rgb(int
         face_n[p.face] = root.normal;
         for (int k = 0; k < p.poly.n; ++k) {
             int c = p.corner[k];
-            touching[c] = light_corner_in_contact(p, k);  // lights.cpp
+            touching[c] = direct_light_.corner_in_contact(h_, p, k);
             double w = std::max(corner_angle(p.poly, k), 1e-6);
             val[c] += leaf_value(corner_leaf(h_, h_.surfaces[p.front].root, k)) * w;
             wsum[c] += w;

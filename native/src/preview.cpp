@@ -280,13 +280,13 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
     FinalGather::Preview p;
     std::vector<std::pair<int, Rigid>> placed;
     preview_moves(moves, p, placed);
-    // (light_contact's test, with the moved objects where they are now.)
+    // (DirectLight::contact's test, with the moved objects where they are now.)
     const std::vector<PlacedPolygon> polys = placed_polygons(p);
     const double tol = 1e-7 * h_.scene_diag;
     const double inside_tol = 1e-9 * h_.scene_diag;
     p.covered = [&](int surface, const Vec3& x, const Vec3& n) {
-        if (surface >= 0 && size_t(surface) < lights_.contacts.size())
-            for (int t : lights_.contacts[size_t(surface)]) {
+        if (surface >= 0 && size_t(surface) < direct_light_.contacts().size())
+            for (int t : direct_light_.contacts()[size_t(surface)]) {
                 const Node& m = h_.nodes[size_t(h_.surfaces[size_t(t)].root)];
                 if (m.object >= 0 && p.moved[size_t(m.object)]) continue;  // where it was
                 if (within_edges(m.poly, m.normal, x, inside_tol)) return true;
@@ -338,7 +338,7 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
     std::vector<CornerPatch> out;
     if (!placed.empty()) {
         const FinalGather::Solution s{scene_, h_, *vis_, links_.all(),
-                                      [this](int surface, const Vec3& q) { return light_contact(surface, q); }, &tri_prim_};
+                                      [this](int surface, const Vec3& q) { return direct_light_.contact(h_, surface, q); }, &tri_prim_};
         out = preview_patches(output_.preview(s, p, k));
     }
     if (counts) *counts = k;
@@ -375,7 +375,7 @@ void Solver::preview_moves(const std::map<int, std::array<double, 16>>& moves, F
 }
 
 std::vector<Solver::PlacedPolygon> Solver::placed_polygons(const FinalGather::Preview& p) const {
-    // As light_contacts: coplanar within 1e-7 of the scene, facing the other way, the point inside.
+    // As DirectLight::find_contacts: coplanar within 1e-7 of the scene, facing the other way, the point inside.
     std::vector<PlacedPolygon> polys;
     const double tol = 1e-7 * h_.scene_diag;
     const size_t no = scene_.objects().size();

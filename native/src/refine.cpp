@@ -132,7 +132,7 @@ Solver::Judgement Solver::judge(const Link& l) const {
     // leaf's average as if it were uniform (a slab's underside 15 cm over the floor lit
     // through the average of the shadowed floor under it and the lit floor past its edge).
     double dLp = (P.Lmax - P.Lmin).max();
-    if (!P.is_cluster() && P.children.empty()) dLp = std::max(dLp, P.rho.max() * light_spread(l.src));
+    if (!P.is_cluster() && P.children.empty()) dLp = std::max(dLp, P.rho.max() * direct_light_.spread(l.src));
     double err_rcv = 0, err_src = 0;
     if (l.must_refine) {
         err_rcv = err_src = 1e300;
@@ -319,7 +319,7 @@ void Solver::link_from(std::vector<Candidate> wave) {
 }
 
 bool Solver::refine_round() {
-    const bool lights_split = light_refine();  // lights.cpp: where direct light varies
+    const bool lights_split = light_refine();  // solver_lights.cpp: where direct light varies
     std::vector<int> active;
     for (size_t i = 0; i < links_.size(); ++i)
         if (links_[i].active) active.push_back(int(i));

@@ -55,7 +55,7 @@ void Solver::solve(Control* control) {
     lap_t_ = t0;
     lap_rays_ = 0;  // a new Visibility counts from 0
     links_.clear();
-    lights_ = LightState{};  // lights.cpp: the hierarchy is rebuilt
+    direct_light_.clear();   // the hierarchy is rebuilt
     commit_topology();       // topology.cpp: objects removed since are left out
 
     h_.build(scene_, settings_.use_clustering);
@@ -98,7 +98,7 @@ void Solver::solve(Control* control) {
         stats_.warnings.push_back("the scene has no emitter: every radiance is 0");
     } else {
         const auto t1 = Clock::now();
-        light_initial();  // lights.cpp: lit surfaces get their first-bounce radiance before linking
+        light_initial();  // solver_lights.cpp: lit surfaces get their first-bounce radiance before linking
         h_.index_emitters();  // can_split: small emitting clusters still split
         forecast_output();    // memory.cpp: refinement leaves room for the output (link_from keeps it)
         link_from({{h_.root, h_.root, -1}});
@@ -195,7 +195,7 @@ void Solver::compute_reference() {
         a += e.area;
     }
     double rho_mean = a > 0 ? std::min(ar / a, 0.95) : 0.0;
-    ae += light_power(a) * std::max(rho_mean, 0.1);  // lights.cpp: Blender lights and world
+    ae += DirectLight::power(scene_, h_, a) * std::max(rho_mean, 0.1);  // Blender lights and world
     L_ref_ = a > 0 ? ae / a / (1.0 - rho_mean) : 0.0;
     threshold_ = settings_.error_threshold * L_ref_;
 }
@@ -246,7 +246,7 @@ void Solver::compute_stats() {
             stack.pop_back();
             const Node& n = h_.nodes[id];
             r |= !n.in_links.empty() || !n.out_links.empty();
-            r |= n.children.empty() && light_direct(id).max() > 0;  // lights.cpp: lit by a lamp
+            r |= n.children.empty() && direct_light_.direct(id).max() > 0;  // lit by a lamp
             if (n.children.empty()) ++leaves;
             for (int c : n.children) stack.push_back(c);
         }

@@ -169,9 +169,8 @@ void Solver::apply_topology(Change& ch) {
     }
     // The direct light of every leaf may have a new shadow (or lost one), as after a move;
     // contacts refer to surfaces that may be gone.
-    std::fill(lights_.have.begin(), lights_.have.end(), 0);
-    lights_.recheck = true;
-    lights_.contacts.clear();
+    direct_light_.relight();
+    direct_light_.forget_contacts();
 }
 
 

@@ -65,25 +65,8 @@ struct LampRays {
     std::vector<uint64_t> blocked;
 };
 
-// Shadow rays an element's direct term casts per child and light (Solver::light_compute).
+// Shadow rays an element's direct term casts per child and light (DirectLight, direct_light.h).
 int element_shadow_rays(int rays_per_link, LightDesc::Type type);
-
-// Per-node direct-light cache kept by the solver (lights.cpp). Values are irradiance / pi
-// (the unit of Node::G), so a leaf's outgoing radiance gains rho * direct.
-struct LightState {
-    std::vector<Rgb> direct;       // per node: area mean of the direct term over the element
-    std::vector<float> spread;     // per node: max - min over its four children's estimates
-    // Per node: direct/spread computed for the current lights and placements (kLit); made
-    // before a move, its shadow rays to replay (kStale); or not at all.
-    enum : uint8_t { kNone = 0, kLit = 1, kStale = 2 };
-    std::vector<uint8_t> have;
-    std::vector<LampRays> rays;    // per node: the shadow rays its direct term was computed with
-    std::vector<Aabb> clips;       // where geometry moved since stale nodes were lit
-    std::vector<uint8_t> split;    // per node: subdivided because its direct light varies
-    std::vector<Rigid> poses;      // object placements the cache was made with
-    std::vector<std::vector<int>> contacts;  // per surface: touching surfaces of other objects
-    bool recheck = false;          // lights or placements changed: try merging light splits
-};
 
 class Hierarchy;
 class SceneDesc;

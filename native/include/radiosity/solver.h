@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "radiosity/direct_light.h"
 #include "radiosity/final_gather.h"
 #include "radiosity/gather_plan.h"
 #include "radiosity/hierarchy.h"
@@ -135,7 +136,7 @@ public:
     const SceneDesc& scene() const { return scene_; }
     double reference_radiance() const { return L_ref_; }
 
-    // --- Lights and world (lights.cpp, leaf_mesh.cpp).
+    // --- Lights and world (solver_lights.cpp, leaf_mesh.cpp).
     // Replaces light `index` of the scene; the next update() recomputes the direct light.
     void set_light(int index, const LightDesc& light);
     // Irradiance / pi arriving at the front side at every corner (lighting only: what a white
@@ -165,8 +166,8 @@ private:
     // Whether node `id`, one end of link l, may split below the area floor because the other
     // end is across a narrow gap from it (refine.cpp). `err`: the link's error on id's side.
     bool splits_at_gap(int other, int id, const Link& l, double err, double threshold) const;
-    // A leaf element those rules (and a lamp's shadow edge, lights.cpp) may split below the
-    // area floor: Settings::below_floor_levels levels under it, within the element cap.
+    // A leaf element those rules (and a lamp's shadow edge, DirectLight::refine) may split
+    // below the area floor: Settings::below_floor_levels levels under it, within the element cap.
     bool may_split_below_floor(int id) const;
     // memory.cpp. Estimated bytes the solve holds with `more` links and nodes: nodes and
     // links as their vectors hold them (a vector that must grow holds its old and new blocks
@@ -305,38 +306,27 @@ private:
     // the largest channel of `snap`).
     std::vector<float> judging_radiance(const std::vector<float>& snap) const;
     void prune_elements();
-    // lights.cpp
-    void light_prepare();                        // direct term of every leaf lacking it
-    void light_invalidate();                     // placements changed: every direct term is stale
-    void light_compute(const std::vector<int>& ids);
-    bool light_refine();                         // split leaves whose direct light varies
-    bool light_coarsen();                        // merge light splits no longer needed
-    void light_update();                         // before an update's solve: invalidate, coarsen
-    void light_resize();                         // per-node light arrays to the node count
-    // Top-down over the element trees: nodes whose children the light needs (`lit`), and
-    // nodes whose children neither the light nor a link below needs (`drop`).
-    void light_walk(const std::vector<char>& link_below, std::vector<int>& lit, std::vector<int>& drop);
-    std::vector<char> link_below(const std::vector<char>& referenced) const;
-    void light_initial();                        // before the first linking: split and light
-    void light_contacts();                       // coplanar touching surfaces (a box on a floor)
-    bool light_in_contact(int surface, const Vec3& p) const;
-    int light_contact(int surface, const Vec3& p) const;  // the surface touching there, or -1
-    bool light_corner_in_contact(const Primitive& p, int k) const;
-    void light_keep(std::vector<int>& refs);     // pruning keeps light-split children
-    double light_power(double total_area) const; // for the reference radiance
-    Rgb light_direct(int node) const;
-    // The spread of a leaf's direct light over its four children (0 when not computed).
-    double light_spread(int node) const;
-    // Per node: emission + rho x lamp light, the radiance a full solve's first linking sees.
-    std::vector<float> first_bounce() const;
-    // Runs `judge_links` with every node's radiance set to first_bounce's (then restored).
+    // solver_lights.cpp: the steps that light, split and coarsen elements through
+    // direct_light_ (the hierarchy and the element count stay the solver's). What its shadow
+    // rays are cast into (valid while vis_ is), and the boxes an update that replays rays
+    // (update_run_) moved geometry in: outside them a recorded ray keeps its outcome.
+    DirectLight::Sight light_sight() const { return {scene_, *vis_, settings_}; }
+    const std::vector<Aabb>* light_replay() const {
+        return update_run_ && update_run_->replaying ? &update_run_->replay_clips : nullptr;
+    }
+    void light_initial();  // before the first linking: split and light
+    void light_update();   // before an update's solve: invalidate, coarsen, split again
+    bool light_refine();   // split leaves whose direct light varies (DirectLight::refine)
+    bool light_coarsen();  // drop the children of light splits no longer needed
+    // Runs `judge_links` with every node's radiance set to DirectLight::first_bounce's (then
+    // restored); `only`: per node, the leaves to set (the rest keep theirs).
     void at_first_bounce(const std::function<void()>& judge_links, const std::vector<char>* only = nullptr);
     // adjust.cpp: runs `judge_links` with the leaves a move buried (those of unmoved objects
     // inside a moved object's new box, `now`) at first-bounce radiance, the rest as solved;
     // see Solver::update for why. Without such leaves it just runs it.
     void at_first_bounce_where_buried(const std::vector<Aabb>& now, const std::vector<char>& moved,
                                       const std::function<void()>& judge_links);
-    LightState lights_;
+    DirectLight direct_light_;  // direct_light.h
     // output.cpp: per-corner values of any per-leaf quantity (gather_rays = 0)
     std::vector<float> corner_values(int object, const std::function<Rgb(int)>& leaf_value) const;
     // output.cpp: the final gather at every output point (the "output" phase of a solve or an

@@ -9,6 +9,8 @@
 #include <optional>
 #include <unordered_map>
 
+#include <tbb/enumerable_thread_specific.h>
+
 #include "radiosity/gather_plan.h"
 #include "radiosity/lights.h"
 #include "radiosity/parallel.h"
@@ -16,12 +18,7 @@
 #include "radiosity/transfer.h"
 
 namespace radiosity {
-
-FinalGather::FinalGather() = default;
-FinalGather::~FinalGather() = default;
-FinalGather::FinalGather(FinalGather&&) noexcept = default;
-FinalGather& FinalGather::operator=(FinalGather&&) noexcept = default;
-
+namespace fg {
 namespace {
 
 // Corners of one vertex with the same normal and contact state share one point (traced at the
@@ -74,7 +71,7 @@ Vec3 sample_point(const ObjectDesc& o, const Primitive& p, int k, const Hierarch
 // point, just inside the face.
 // Returns the node beyond the contact (the covering polygon's other side's leaf there, or -2
 // for a one-sided one), or -1 when the corner is not covered.
-int corner_covered(const FinalGather::Solution& s, const Primitive& p, const Vec3& inside) {
+int corner_covered(const Solution& s, const Primitive& p, const Vec3& inside) {
     if (!s.contact) return -1;
     const int t = s.contact(p.front, inside);
     if (t < 0) return -1;
@@ -93,6 +90,7 @@ bool sender_emits(const Hierarchy& h, int src) {
 }
 
 }  // namespace
+}  // namespace fg
 
 // The closure at an output point: its couplings must sum to 1 where the point sees no open
 // space. A shortfall is filled as at a leaf (closure_factors: with the leaf's own radiance).
@@ -120,62 +118,15 @@ ClosureFactors point_closure_factors(double own, double inherited, double s_own,
 }
 
 
-void FinalGather::clear() {
-    traced_ = false;
-    points_.clear();
-    corner_point_.clear();
-    counts_ = Counts{};
-    bytes_ = 0;
-}
+namespace fg {
+namespace {
 
-size_t FinalGather::measure_bytes() const {
-    size_t b = points_.capacity() * sizeof(Point);
-    for (const Point& p : points_)
-        b += (p.samples.capacity() + p.borrow.capacity()) * sizeof(std::pair<int, float>) +
-             p.records.capacity() * sizeof(Record) + p.lamp_rays.blocked.capacity() * sizeof(uint64_t);
-    for (const auto& v : corner_point_) b += v.capacity() * sizeof(int);
-    return b;
-}
+constexpr int kDeepRays = 8;
 
-double FinalGather::trace_bytes(double points, double records) {
-    constexpr double kSamplesPerRecord = 4.0;
-    return points * double(sizeof(Point) + 2 * sizeof(int)) +
-           records * double(sizeof(Record) + kSamplesPerRecord * sizeof(std::pair<int, float>));
-}
-
-void FinalGather::links_reaching(const Solution& s, int leaf, std::vector<std::pair<int, bool>>& out) const {
-    const Hierarchy& h = s.h;
-    out.clear();
-    auto take = [&](int node, bool own) {
-        for (int li : h.nodes[size_t(node)].in_links) {
-            const Link& l = s.links[size_t(li)];
-            if (!l.dead && l.active && !l.occluded) out.emplace_back(li, own);
-        }
-        // Links the solver found fully occluded from the receiver's cubature points are still
-        // part of what the receiver covers (they are kept for a move to reopen): a point of
-        // it may see the sender all the same, e.g. a corner on the rim of a shadow that covers
-        // the rest of a large leaf. (Known during a trace only: a preview goes without.)
-        if (occluded_.begin.empty()) return;
-        for (int32_t k = occluded_.begin[size_t(node)]; k < occluded_.begin[size_t(node) + 1]; ++k)
-            out.emplace_back(occluded_.links[size_t(k)], own);
-    };
-    for (int a = leaf; a >= 0 && !h.nodes[size_t(a)].is_cluster(); a = h.nodes[size_t(a)].parent) take(a, a == leaf);
-    for (int a : h.ancestors_of_surface(h.nodes[size_t(leaf)].surface)) take(a, false);
-}
-
-static constexpr int kDeepRays = 8;
-
-int FinalGather::ray_share(int budget, double weight, double total, int lo, int hi) {
-    int n = lo;
-    if (total > 0 && weight > 0) {
-        const double want = budget * weight / total;
-        n = want >= 1 ? 1 << int(std::lround(std::log2(want))) : 1;
-    }
-    return std::min(std::max(n, lo), hi);
-}
-
-void FinalGather::trace_lamps(const Solution& s, const Config& c, Point& pt, const Point* old, const Moves* moves,
-                              Counts& counts) const {
+// The point's lamps (kept after a move that cannot shade them).
+void trace_lamps(const Run& run, Point& pt, const Point* old, Counts& counts) {
+    const Solution& s = run.s;
+    const Moves* moves = run.moves;
     const Hierarchy& h = s.h;
     const Vec3& x = pt.x;
     const Vec3& n = pt.n;
@@ -202,7 +153,7 @@ void FinalGather::trace_lamps(const Solution& s, const Config& c, Point& pt, con
         pt.direct = old->direct;
         pt.lamp_rays = old->lamp_rays;
     } else {
-        const PointLight lamp = direct_light_replay(s.scene, h, s.vis, x, n, c.light_samples, pt.seed,
+        const PointLight lamp = direct_light_replay(s.scene, h, s.vis, x, n, run.c.light_samples, pt.seed,
                                                     replay ? &old->lamp_rays : nullptr, replay ? &moves->clips : nullptr,
                                                     pt.lamp_rays);
         pt.direct = lamp.E;
@@ -211,12 +162,56 @@ void FinalGather::trace_lamps(const Solution& s, const Config& c, Point& pt, con
     }
 }
 
-FinalGather::Record FinalGather::trace_transfer(const Solution& s, const Config& c, Point& pt, const Point* old,
-                                                const Moves* moves, Counts& counts, int src, double weight, double total,
-                                                size_t links) const {
-    // One sender's transfer to the point: kept from the last trace when no ray of it can meet
-    // a moved box, its rays replayed when some can, else traced afresh with the point's share
-    // of the budget for it (more where a shadow edge crosses it). Appends its samples.
+// trace_transfer's transfer traced afresh with `rays` (its share of the budget), again with more
+// where a shadow edge crosses it: fills rec's coupling, rays and outcomes.
+void trace_afresh(const Run& run, Point& pt, Counts& counts, Record& rec, uint64_t lseed, int rays, int refined_rays,
+                  double weight, double total, size_t links) {
+    const Solution& s = run.s;
+    const Config& c = run.c;
+    const Hierarchy& h = s.h;
+    const Vec3& x = pt.x;
+    const Vec3& n = pt.n;
+    const int src = rec.src;
+    PointRayStream rs(s.vis);
+    PointTransfer t = point_transfer(h, rs, src, x, n, pt.leaf, rays, lseed, pt.samples);
+    counts.rays += rs.cast;
+    rec.outcome = rs.out;
+    // The transfer again with more rays (and another seed), in place of the last.
+    auto retrace_with = [&](int more, uint64_t seed_step) {
+        pt.samples.resize(rec.begin);
+        rays = more;
+        PointRayStream again(s.vis);
+        t = point_transfer(h, again, src, x, n, pt.leaf, rays, lseed + seed_step, pt.samples);
+        counts.rays += again.cast;
+        rec.outcome = again.out;
+        rec.refined = true;
+        ++counts.refined;
+    };
+    // A shadow edge crosses what this point sees of a sender that matters: four times
+    // the rays (a corner at the rim of a lamp's footprint needs more than one mid-wall).
+    if (t.partial && rays < c.rays && total > 0 && weight > total / (4.0 * double(links)))
+        retrace_with(refined_rays, 1);
+    // Deep in a penumbra of the sender that brings most of the point's light (under a
+    // tenth of it seen), the estimate rests on the few rays that get through: 1 /
+    // sqrt(rays seen), 13 % for a floor corner in a floating crate's shadow that sees
+    // 6 % of the lamp with 1024 rays. Eight times the budget there.
+    if (t.partial && total > 0 && weight > 0.5 * total && t.F < 0.1 * t.F_unoccluded &&
+        rays < kDeepRays * c.rays)
+        retrace_with(std::min(kDeepRays * c.rays, 65535), 2);
+    rec.F = float(t.F);
+    rec.inv_dist = float(t.inv_dist);
+    rec.rays = uint16_t(std::min(rays, 65535));
+}
+
+// One sender's transfer to the point (`weight` its light at stake, of `total` over `links`
+// links): kept from the last trace when no ray of it can meet a moved box, its rays replayed
+// when some can, else traced afresh with the point's share of the budget for it (more where a
+// shadow edge crosses it). Appends its samples.
+Record trace_transfer(const Run& run, Point& pt, const Point* old, Counts& counts, int src, double weight, double total,
+                      size_t links) {
+    const Solution& s = run.s;
+    const Config& c = run.c;
+    const Moves* moves = run.moves;
     const Hierarchy& h = s.h;
     const Vec3& x = pt.x;
     const Vec3& n = pt.n;
@@ -278,96 +273,18 @@ FinalGather::Record FinalGather::trace_transfer(const Solution& s, const Config&
         counts.rays += rs.cast;
         ++counts.replayed;
     } else {
-        PointRayStream rs(s.vis);
-        PointTransfer t = point_transfer(h, rs, src, x, n, pt.leaf, rays, lseed, pt.samples);
-        counts.rays += rs.cast;
-        rec.outcome = rs.out;
-        // The transfer again with more rays (and another seed), in place of the last.
-        auto retrace_with = [&](int more, uint64_t seed_step) {
-            pt.samples.resize(rec.begin);
-            rays = more;
-            PointRayStream again(s.vis);
-            t = point_transfer(h, again, src, x, n, pt.leaf, rays, lseed + seed_step, pt.samples);
-            counts.rays += again.cast;
-            rec.outcome = again.out;
-            rec.refined = true;
-            ++counts.refined;
-        };
-        // A shadow edge crosses what this point sees of a sender that matters: four times
-        // the rays (a corner at the rim of a lamp's footprint needs more than one mid-wall).
-        if (t.partial && rays < c.rays && total > 0 && weight > total / (4.0 * double(links)))
-            retrace_with(refined_rays, 1);
-        // Deep in a penumbra of the sender that brings most of the point's light (under a
-        // tenth of it seen), the estimate rests on the few rays that get through: 1 /
-        // sqrt(rays seen), 13 % for a floor corner in a floating crate's shadow that sees
-        // 6 % of the lamp with 1024 rays. Eight times the budget there.
-        if (t.partial && total > 0 && weight > 0.5 * total && t.F < 0.1 * t.F_unoccluded &&
-            rays < kDeepRays * c.rays)
-            retrace_with(std::min(kDeepRays * c.rays, 65535), 2);
-        rec.F = float(t.F);
-        rec.inv_dist = float(t.inv_dist);
-        rec.rays = uint16_t(std::min(rays, 65535));
+        trace_afresh(run, pt, counts, rec, lseed, rays, refined_rays, weight, total, links);
     }
     return rec;
 }
 
-void FinalGather::trace_point(const Solution& s, const Config& c, Point& pt, const Point* old, const Moves* moves,
-                              Counts& counts, bool emitters_only) const {
-    pt.reset(!emitters_only);
-    // Inside a closed solid (the floor inside a bottomless block, under a box's bottom):
-    // nothing lights it, whatever the leaves around say. One ray tells most points they are
-    // not (it escapes or meets a face's front).
-    if (sealed_rule_ && (!pt.covered || pt.beyond >= 0) &&
-        point_sealed(s, pt.x + pt.n * (1e-5 * s.h.scene_diag), pt.n, Hierarchy::mix(pt.seed, 0x5ea1edu), counts)) {
-        pt.sealed = true;
-        pt.beyond = -1;
-        return;
-    }
-    if (pt.covered) return;
-    const Node& L = s.h.nodes[size_t(pt.leaf)];
-    trace_lamps(s, c, pt, old, moves, counts);
-    thread_local std::vector<Use> use;
-    uses(s, pt.leaf, use);
-    // (A shared point's closure and near field are its lenders'.)
-    const bool enclosed = L.enclosed == 1 && !emitters_only;
-    const double dark = c.share > 0 && !emitters_only ? nearest_dark(s, use, pt.x) : std::numeric_limits<double>::infinity();
-    const bool unchanged = near_unchanged(s, pt, old, moves);
-    const PointCouplings couplings = trace_transfers(s, c, pt, old, moves, counts, use, enclosed, emitters_only);
-    if (emitters_only) return;
-    if (c.share > 0) pt.reach = lend_reach(pt, dark);
-    // Closure at the point, as the solver's at the leaf: where no escape ray of the leaf found
-    // open space, the point's couplings must sum to 1 -- unless the point itself sees out.
-    // A ceiling leaf over a lamp hung 1 mm below it finds no way out with its 32 rays, but its
-    // points near the lamp's rim see 3 % of their hemisphere through the gap, dark: filling
-    // that with the leaf's own radiance read them 3 % too bright.
-    if (enclosed)
-        pt.escapes = unchanged && old->escapes >= 0 ? old->escapes : int8_t(point_escapes(s, pt.x, pt.n, pt.seed, counts));
-    if (enclosed && pt.escapes == 0) {
-        const ClosureFactors cf = couplings.closure();
-        pt.c_own = cf.c_own;
-        pt.c_inherited = cf.c_inherited;
-        pt.fill = cf.fill;
-    }
-    // Kept after a move that comes nowhere near the point: the senders it corrects lie within
-    // 20 d of it, and what a distant move changes there it changes about as much in their
-    // leaves' averages, which the samples read afresh; the correction is the difference of
-    // the two (L(s*) - the average), so keeping it errs by the difference of the changes.
-    if (unchanged && old->leaf == pt.leaf)  // (the correction reads the leaf's own values)
-        pt.near = old->near;
-    else {
-        const int64_t before = counts.rays;
-        near_field(s, c, pt, counts);  // after the closure: it reads the point's full irradiance
-        counts.near_rays += counts.rays - before;
-    }
-}
-
-void FinalGather::uses(const Solution& s, int leaf, std::vector<Use>& use) const {
+void uses(const Run& run, int leaf, std::vector<std::pair<int, bool>>& reaching, std::vector<Use>& use) {
     // The links that bring the leaf its light: at the leaf itself (its own), at its element
     // ancestors and at the clusters above its surface (inherited). Together they cover what
     // the leaf sees once, the invariant of hierarchical radiosity, and so do they for a point.
-    thread_local std::vector<std::pair<int, bool>> reaching;
+    const Solution& s = run.s;
     use.clear();
-    links_reaching(s, leaf, reaching);
+    links_reaching(s, &run.occluded, leaf, reaching);
     for (const auto& [li, own] : reaching) {
         const Link& l = s.links[size_t(li)];
         const Node& src = s.h.nodes[size_t(l.src)];
@@ -378,7 +295,7 @@ void FinalGather::uses(const Solution& s, int leaf, std::vector<Use>& use) const
     }
 }
 
-double FinalGather::nearest_dark(const Solution& s, const std::vector<Use>& use, const Vec3& x) {
+double nearest_dark(const Solution& s, const std::vector<Use>& use, const Vec3& x) {
     // The nearest sender that brings no light (no samples tell where it is): a black sofa
     // beside a floor point shades the floor near it all the same. (A cluster around the
     // point says nothing of where its surfaces are.)
@@ -395,13 +312,15 @@ double FinalGather::nearest_dark(const Solution& s, const std::vector<Use>& use,
     return dark;
 }
 
-bool FinalGather::near_unchanged(const Solution& s, const Point& pt, const Point* old, const Moves* moves) {
+// Whether a move left the point's near field as it was.
+bool near_unchanged(const Run& run, const Point& pt, const Point* old) {
+    const Moves* moves = run.moves;
     // (Also when every ray is cast again, Settings::replay_rays off: that mode checks that
     // replayed rays are exact, not this.)
     if (!(old != nullptr && old->gathered && !old->sealed && !moves->lights_changed && !moves->materials_changed))
         return false;
     // Nothing moved within 5 % of the scene's size of the point.
-    const double r = 0.05 * s.h.scene_diag;
+    const double r = 0.05 * run.s.h.scene_diag;
     Aabb around;
     around.lo = pt.x - Vec3{r, r, r};
     around.hi = pt.x + Vec3{r, r, r};
@@ -410,9 +329,10 @@ bool FinalGather::near_unchanged(const Solution& s, const Point& pt, const Point
     return true;
 }
 
-PointCouplings FinalGather::trace_transfers(const Solution& s, const Config& c, Point& pt, const Point* old,
-                                            const Moves* moves, Counts& counts, const std::vector<Use>& use,
-                                            bool enclosed, bool emitters_only) const {
+// The transfers traced from the links `use` (their couplings, for the closure).
+PointCouplings trace_transfers(const Run& run, Point& pt, const Point* old, Counts& counts, const std::vector<Use>& use,
+                               bool enclosed, bool emitters_only) {
+    const Solution& s = run.s;
     const Hierarchy& h = s.h;
     double total = 0;
     for (const Use& u : use) total += u.weight;
@@ -426,7 +346,7 @@ PointCouplings FinalGather::trace_transfers(const Solution& s, const Config& c, 
         // two draw the same rays.
         const bool emits = sender_emits(h, l.src);
         if (emitters_only && !emits) continue;
-        Record rec = trace_transfer(s, c, pt, old, moves, counts, l.src, u.weight, total, use.size());
+        Record rec = trace_transfer(run, pt, old, counts, l.src, u.weight, total, use.size());
         rec.own = u.own;
         rec.emits = emits;
         ++counts.links;
@@ -438,7 +358,8 @@ PointCouplings FinalGather::trace_transfers(const Solution& s, const Config& c, 
     return couplings;
 }
 
-bool FinalGather::point_escapes(const Solution& s, const Vec3& x, const Vec3& n, uint64_t seed, Counts& counts) {
+// Whether an escape ray from x finds open space (the point is not enclosed).
+bool point_escapes(const Solution& s, const Vec3& x, const Vec3& n, uint64_t seed, Counts& counts) {
     // Cosine-distributed, stratified over an 8 x 8 grid of the unit square: a gap of a fraction
     // g of the projected hemisphere goes unseen with probability about (1 - g)^64, and what it
     // then costs (a fill of g) is at most 1 / (64 e) = 0.6 % of the leaf's radiance.
@@ -458,7 +379,9 @@ bool FinalGather::point_escapes(const Solution& s, const Vec3& x, const Vec3& n,
     return false;
 }
 
-bool FinalGather::point_sealed(const Solution& s, const Vec3& o, const Vec3& n, uint64_t seed, Counts& counts) {
+// Whether every one of 64 stratified rays from o (already off its surface) over the
+// hemisphere of n reaches the back of a face: o lies inside a closed solid.
+bool point_sealed(const Solution& s, const Vec3& o, const Vec3& n, uint64_t seed, Counts& counts) {
     // As point_escapes: stratified and cosine-distributed; a gap in the solid (a crack under
     // a wall standing a hair above the floor) lets light in and is found with the same odds.
     constexpr int kSide = 8;
@@ -499,7 +422,9 @@ bool FinalGather::point_sealed(const Solution& s, const Vec3& o, const Vec3& n, 
     return nways >= 3;
 }
 
-bool FinalGather::light_sealed_in(const Solution& s, Counts& counts) {
+// Whether the sealed rule holds for this scene: no lamp and no emitting face lies inside a
+// closed solid (a lamp in a closed box, a room whose normals all point outward).
+bool light_sealed_in(const Solution& s, Counts& counts) {
     const Hierarchy& h = s.h;
     const double lift = 1e-5 * h.scene_diag;
     // A lamp at a point: inside a solid when both hemispheres are sealed.
@@ -525,7 +450,96 @@ bool FinalGather::light_sealed_in(const Solution& s, Counts& counts) {
     return false;
 }
 
-void FinalGather::OccludedLinks::build(const Hierarchy& h, const std::vector<Link>& links) {
+}  // namespace
+
+void links_reaching(const Solution& s, const OccludedLinks* occluded, int leaf, std::vector<std::pair<int, bool>>& out) {
+    const Hierarchy& h = s.h;
+    out.clear();
+    auto take = [&](int node, bool own) {
+        for (int li : h.nodes[size_t(node)].in_links) {
+            const Link& l = s.links[size_t(li)];
+            if (!l.dead && l.active && !l.occluded) out.emplace_back(li, own);
+        }
+        // Links the solver found fully occluded from the receiver's cubature points are still
+        // part of what the receiver covers (they are kept for a move to reopen): a point of
+        // it may see the sender all the same, e.g. a corner on the rim of a shadow that covers
+        // the rest of a large leaf. (Known during a trace only: a preview goes without.)
+        if (!occluded || occluded->begin.empty()) return;
+        for (int32_t k = occluded->begin[size_t(node)]; k < occluded->begin[size_t(node) + 1]; ++k)
+            out.emplace_back(occluded->links[size_t(k)], own);
+    };
+    for (int a = leaf; a >= 0 && !h.nodes[size_t(a)].is_cluster(); a = h.nodes[size_t(a)].parent) take(a, a == leaf);
+    for (int a : h.ancestors_of_surface(h.nodes[size_t(leaf)].surface)) take(a, false);
+}
+
+int ray_share(int budget, double weight, double total, int lo, int hi) {
+    int n = lo;
+    if (total > 0 && weight > 0) {
+        const double want = budget * weight / total;
+        n = want >= 1 ? 1 << int(std::lround(std::log2(want))) : 1;
+    }
+    return std::min(std::max(n, lo), hi);
+}
+
+Rgb record_light(const Hierarchy& h, const Point& p, const Record& r) {
+    Rgb g;
+    for (uint32_t i = r.begin; i < r.end; ++i)
+        g += h.nodes[size_t(h.live_element(p.samples[i].first))].L * double(p.samples[i].second);
+    return g;
+}
+
+void trace_point(const Run& run, Point& pt, const Point* old, Counts& counts, Scratch& scratch, bool emitters_only) {
+    const Solution& s = run.s;
+    const Config& c = run.c;
+    pt.reset(!emitters_only);
+    // Inside a closed solid (the floor inside a bottomless block, under a box's bottom):
+    // nothing lights it, whatever the leaves around say. One ray tells most points they are
+    // not (it escapes or meets a face's front).
+    if (run.sealed_rule && (!pt.covered || pt.beyond >= 0) &&
+        point_sealed(s, pt.x + pt.n * (1e-5 * s.h.scene_diag), pt.n, Hierarchy::mix(pt.seed, 0x5ea1edu), counts)) {
+        pt.sealed = true;
+        pt.beyond = -1;
+        return;
+    }
+    if (pt.covered) return;
+    const Node& L = s.h.nodes[size_t(pt.leaf)];
+    trace_lamps(run, pt, old, counts);
+    std::vector<Use>& use = scratch.use;
+    uses(run, pt.leaf, scratch.reaching, use);
+    // (A shared point's closure and near field are its lenders'.)
+    const bool enclosed = L.enclosed == 1 && !emitters_only;
+    const double dark = c.share > 0 && !emitters_only ? nearest_dark(s, use, pt.x) : std::numeric_limits<double>::infinity();
+    const bool unchanged = near_unchanged(run, pt, old);
+    const PointCouplings couplings = trace_transfers(run, pt, old, counts, use, enclosed, emitters_only);
+    if (emitters_only) return;
+    if (c.share > 0) pt.reach = lend_reach(pt, dark);
+    // Closure at the point, as the solver's at the leaf: where no escape ray of the leaf found
+    // open space, the point's couplings must sum to 1 -- unless the point itself sees out.
+    // A ceiling leaf over a lamp hung 1 mm below it finds no way out with its 32 rays, but its
+    // points near the lamp's rim see 3 % of their hemisphere through the gap, dark: filling
+    // that with the leaf's own radiance read them 3 % too bright.
+    if (enclosed)
+        pt.escapes = unchanged && old->escapes >= 0 ? old->escapes : int8_t(point_escapes(s, pt.x, pt.n, pt.seed, counts));
+    if (enclosed && pt.escapes == 0) {
+        const ClosureFactors cf = couplings.closure();
+        pt.c_own = cf.c_own;
+        pt.c_inherited = cf.c_inherited;
+        pt.fill = cf.fill;
+    }
+    // Kept after a move that comes nowhere near the point: the senders it corrects lie within
+    // 20 d of it, and what a distant move changes there it changes about as much in their
+    // leaves' averages, which the samples read afresh; the correction is the difference of
+    // the two (L(s*) - the average), so keeping it errs by the difference of the changes.
+    if (unchanged && old->leaf == pt.leaf)  // (the correction reads the leaf's own values)
+        pt.near = old->near;
+    else {
+        const int64_t before = counts.rays;
+        near_field(run, pt, counts, scratch.near);  // after the closure: it reads the point's full irradiance
+        counts.near_rays += counts.rays - before;
+    }
+}
+
+void OccludedLinks::build(const Hierarchy& h, const std::vector<Link>& links) {
     begin.assign(h.nodes.size() + 1, 0);
     for (const Link& l : links)
         if (!l.dead && l.occluded && !l.active && size_t(l.rcv) < h.nodes.size()) ++begin[size_t(l.rcv) + 1];
@@ -538,14 +552,103 @@ void FinalGather::OccludedLinks::build(const Hierarchy& h, const std::vector<Lin
     }
 }
 
-std::vector<FinalGather::Job> FinalGather::make_jobs(const Solution& s) {
+}  // namespace fg
+
+FinalGather::FinalGather() : impl_(std::make_unique<Impl>()) {}
+FinalGather::~FinalGather() = default;
+FinalGather::FinalGather(FinalGather&&) noexcept = default;
+FinalGather& FinalGather::operator=(FinalGather&&) noexcept = default;
+
+// (A moved-from FinalGather holds no trace: the calls below that read one ask traced() first.)
+bool FinalGather::traced() const { return impl_ && impl_->traced; }
+
+const FinalGather::Counts& FinalGather::counts() const {
+    static const Counts none;
+    return impl_ ? impl_->counts : none;
+}
+
+size_t FinalGather::bytes() const { return impl_ ? impl_->bytes : 0; }
+
+void FinalGather::clear() {
+    if (!impl_) impl_ = std::make_unique<Impl>();
+    Impl& t = *impl_;
+    t.traced = false;
+    t.points.clear();
+    t.corner_point.clear();
+    t.counts = Counts{};
+    t.bytes = 0;
+}
+
+int FinalGather::corner_point(int object, size_t corner) const {
+    if (!traced() || object < 0 || size_t(object) >= impl_->corner_point.size()) return -1;
+    const auto& cp = impl_->corner_point[size_t(object)];
+    return corner < cp.size() ? cp[corner] : -1;
+}
+
+std::vector<float> FinalGather::corner_radiance(const Hierarchy& h, int object) const {
+    return traced() ? impl_->values(h, object, false) : std::vector<float>{};
+}
+
+std::vector<float> FinalGather::corner_irradiance(const Hierarchy& h, int object) const {
+    return traced() ? impl_->values(h, object, true) : std::vector<float>{};
+}
+
+void FinalGather::trace(const Solution& s, const Config& c, const std::function<void(double)>& progress) {
+    clear();
+    Impl& t = *impl_;
+    t.config = c;
+    t.lights = s.scene.lights();
+    std::vector<fg::Job> jobs = t.make_jobs(s);
+    t.run(s, c, jobs, nullptr, progress);
+}
+
+void FinalGather::retrace(const Solution& s, const Config& c, const Moves& moves,
+                          const std::function<void(double)>& progress) {
+    if (!traced()) {
+        trace(s, c, progress);
+        return;
+    }
+    Impl& t = *impl_;
+    const Config& was = t.config;
+    const bool same_config = was.rays == c.rays && was.share == c.share && was.min_rays == c.min_rays &&
+                             was.light_samples == c.light_samples && was.seed == c.seed &&
+                             was.cycles_points == c.cycles_points;
+    if (!same_config || moves.moved.size() != s.scene.objects().size()) {
+        trace(s, c, progress);
+        return;
+    }
+    Moves m = moves;
+    const auto& now = s.scene.lights();
+    m.lights_changed = now.size() != t.lights.size();
+    for (size_t i = 0; i < now.size() && !m.lights_changed; ++i) m.lights_changed = !now[i].same_light(t.lights[i]);
+    t.lights = now;
+    std::vector<fg::Job> jobs = t.make_jobs(s);
+    t.run(s, c, jobs, &m, progress);
+}
+
+double FinalGather::trace_bytes(double points, double records) {
+    constexpr double kSamplesPerRecord = 4.0;
+    return points * double(sizeof(fg::Point) + 2 * sizeof(int)) +
+           records * double(sizeof(fg::Record) + kSamplesPerRecord * sizeof(std::pair<int, float>));
+}
+
+size_t FinalGather::Impl::measure_bytes() const {
+    size_t b = points.capacity() * sizeof(fg::Point);
+    for (const fg::Point& p : points)
+        b += (p.samples.capacity() + p.borrow.capacity()) * sizeof(std::pair<int, float>) +
+             p.records.capacity() * sizeof(fg::Record) + p.lamp_rays.blocked.capacity() * sizeof(uint64_t);
+    for (const auto& v : corner_point) b += v.capacity() * sizeof(int);
+    return b;
+}
+
+std::vector<fg::Job> FinalGather::Impl::make_jobs(const Solution& s) {
     const Hierarchy& h = s.h;
     const auto& objects = s.scene.objects();
-    corner_point_.assign(objects.size(), {});
+    corner_point.assign(objects.size(), {});
     // An object without output gets no points and no corner map: its corners read the leaves
     // (Solver::corner_radiance), and the counts hold only the corners whose colour is read.
     for (size_t o = 0; o < objects.size(); ++o)
-        if (objects[o].output) corner_point_[o].assign(objects[o].corner_count(), -1);
+        if (objects[o].output) corner_point[o].assign(objects[o].corner_count(), -1);
     // Every corner's sample point and contact state first: whether its vertex may share a
     // point depends on all of the vertex's corners.
     struct Corner {
@@ -571,15 +674,15 @@ std::vector<FinalGather::Job> FinalGather::make_jobs(const Solution& s) {
             // triangle that holds it, here the first piece.
             if (done[size_t(corner)]) continue;
             done[size_t(corner)] = 1;
-            Corner c{int(pi), k, corner, o.corner_verts[size_t(corner)], sample_point(o, p, k, h, config_.cycles_points), -1};
-            c.beyond = corner_covered(s, p, c.x);
+            Corner c{int(pi), k, corner, o.corner_verts[size_t(corner)], fg::sample_point(o, p, k, h, config.cycles_points), -1};
+            c.beyond = fg::corner_covered(s, p, c.x);
             if (c.beyond != -1) touched[size_t(p.object)][size_t(c.vertex)] = 1;
             corners.push_back(c);
         }
     }
-    std::vector<Job> jobs;
+    std::vector<fg::Job> jobs;
     std::vector<std::vector<std::vector<int>>> at_vertex(objects.size());
-    counts_.covered = 0;
+    counts.covered = 0;
     for (const Corner& c : corners) {
         const Primitive& p = h.prims[size_t(c.prim)];
         auto& by_vertex = at_vertex[size_t(p.object)];
@@ -591,11 +694,11 @@ std::vector<FinalGather::Job> FinalGather::make_jobs(const Solution& s) {
         // A vertex on a contact line (some corner of it covered) shares no point: the side
         // of the contact a corner's sample point lies on decides what it sees (lit, or in the
         // shadow of the object standing there), as it does in Cycles.
-        if (kShareVertexPoints && !touched[size_t(p.object)][size_t(c.vertex)])
+        if (fg::kShareVertexPoints && !touched[size_t(p.object)][size_t(c.vertex)])
             for (int j : by_vertex[size_t(c.vertex)])
                 if (dot(jobs[size_t(j)].n, n) > 1.0 - 1e-9 && jobs[size_t(j)].covered == cov) { found = j; break; }
         if (found < 0) {
-            Job j;
+            fg::Job j;
             j.object = p.object;
             j.prim = c.prim;
             j.k = c.k;
@@ -605,45 +708,87 @@ std::vector<FinalGather::Job> FinalGather::make_jobs(const Solution& s) {
             j.surface = p.front;
             j.covered = cov;
             j.beyond = c.beyond >= 0 ? c.beyond : -1;
-            j.seed = Hierarchy::mix(config_.seed, Hierarchy::mix(h.nodes[size_t(root)].key, uint64_t(c.k) + 0x6a7u));
+            j.seed = Hierarchy::mix(config.seed, Hierarchy::mix(h.nodes[size_t(root)].key, uint64_t(c.k) + 0x6a7u));
             found = int(jobs.size());
             jobs.push_back(j);
             by_vertex[size_t(c.vertex)].push_back(found);
         }
-        corner_point_[size_t(p.object)][size_t(c.corner)] = found;
-        counts_.covered += cov;
+        corner_point[size_t(p.object)][size_t(c.corner)] = found;
+        counts.covered += cov;
     }
     // Corners of zero-area faces (no primitive) take a point of their vertex, if any.
     for (size_t o = 0; o < objects.size(); ++o) {
         if (at_vertex[o].empty()) continue;
-        for (size_t ci = 0; ci < corner_point_[o].size(); ++ci) {
+        for (size_t ci = 0; ci < corner_point[o].size(); ++ci) {
             const auto& at = at_vertex[o][size_t(objects[o].corner_verts[ci])];
-            if (corner_point_[o][ci] < 0 && !at.empty()) corner_point_[o][ci] = at.front();
+            if (corner_point[o][ci] < 0 && !at.empty()) corner_point[o][ci] = at.front();
         }
     }
     return jobs;
 }
 
-void FinalGather::run(const Solution& s, const Config& c, std::vector<Job>& jobs, const Moves* moves,
-                      const std::function<void(double)>& progress) {
-    std::vector<Point> old;
-    if (moves) old.swap(points_);
-    occluded_.build(s.h, s.links);
+namespace {
+
+// What a run's points add up to, from every thread.
+struct Tally {
+    std::atomic<int64_t> links{0}, rays{0}, refined{0}, samples{0}, kept{0}, replayed{0}, fresh{0}, near{0}, sealed{0},
+        near_rays{0}, lamp_rays{0};
+    std::vector<std::atomic<int64_t>> object_rays;
+    explicit Tally(size_t objects) : object_rays(objects) {}
+    void add(const FinalGather::Counts& local, const fg::Point& pt, bool fresh_point) {
+        links += local.links;
+        rays += local.rays;
+        object_rays[size_t(pt.object)] += local.rays;
+        refined += local.refined;
+        near += local.near;
+        near_rays += local.near_rays;
+        lamp_rays += local.lamp_rays;
+        sealed += pt.sealed;
+        kept += local.kept;
+        replayed += local.replayed;
+        fresh += fresh_point;
+        samples += int64_t(pt.samples.size());
+    }
+    void store(FinalGather::Counts& k) const {
+        k.links = links;
+        k.rays = rays;
+        k.refined = refined;
+        k.samples = samples;
+        k.kept = kept;
+        k.replayed = replayed;
+        k.fresh_points = fresh;
+        k.near = near;
+        k.near_rays = near_rays;
+        k.lamp_rays = lamp_rays;
+        k.sealed = sealed;
+        k.object_rays.assign(object_rays.size(), 0);
+        for (size_t o = 0; o < object_rays.size(); ++o) k.object_rays[o] = object_rays[o];
+    }
+};
+
+}  // namespace
+
+void FinalGather::Impl::run(const Solution& s, const Config& c, std::vector<fg::Job>& jobs, const Moves* moves,
+                            const std::function<void(double)>& progress) {
+    std::vector<fg::Point> old;
+    if (moves) old.swap(points);
+    fg::Run r{s, c, moves, {}, false};
+    r.occluded.build(s.h, s.links);
     auto key_of = [](int object, int prim, int k) { return (uint64_t(uint32_t(object)) << 40) ^ (uint64_t(uint32_t(prim)) << 4) ^ uint64_t(k); };
     std::unordered_map<uint64_t, size_t> old_at;
     old_at.reserve(old.size());
     for (size_t i = 0; i < old.size(); ++i) old_at.emplace(key_of(old[i].object, old[i].prim, old[i].k), i);
-    points_.assign(jobs.size(), Point{});
-    std::atomic<int64_t> n_links{0}, n_rays{0}, n_refined{0}, n_samples{0}, n_kept{0}, n_replayed{0}, n_fresh{0}, n_near{0}, n_sealed{0}, n_near_rays{0}, n_lamp_rays{0};
+    points.assign(jobs.size(), fg::Point{});
+    Tally tally(s.scene.objects().size());
     {
         Counts guard;
-        sealed_rule_ = c.sealed_solids && s.tri_prim != nullptr && !light_sealed_in(s, guard);
-        n_rays += guard.rays;
+        r.sealed_rule = c.sealed_solids && s.tri_prim != nullptr && !fg::light_sealed_in(s, guard);
+        tally.rays += guard.rays;
     }
-    std::vector<std::atomic<int64_t>> object_rays(s.scene.objects().size());
+    tbb::enumerable_thread_specific<fg::Scratch> scratch;
     auto trace_one = [&](size_t idx, bool emitters_only) {
-        const Job& j = jobs[idx];
-        Point& pt = points_[idx];
+        const fg::Job& j = jobs[idx];
+        fg::Point& pt = points[idx];
         pt.object = j.object;
         pt.prim = j.prim;
         pt.k = j.k;
@@ -657,37 +802,26 @@ void FinalGather::run(const Solution& s, const Config& c, std::vector<Job>& jobs
         // or merged its leaf: its links are matched one by one (a link at an ancestor or a
         // cluster above still reaches it; what the point's rays met does not depend on
         // which leaf of its surface holds it), and the rest is traced anew.
-        const Point* was = nullptr;
+        const fg::Point* was = nullptr;
         // Found by its corner, not its index: points before it may have been added or
         // dropped (a vertex that comes onto a contact line shares no point any more).
         const auto at = moves ? old_at.find(key_of(j.object, j.prim, j.k)) : old_at.end();
         if (at != old_at.end()) {
-            const Point& o = old[at->second];
+            const fg::Point& o = old[at->second];
             if (o.object == j.object && o.prim == j.prim && o.k == j.k && o.covered == j.covered &&
                 !moves->moved[size_t(j.object)] && o.x.x == j.x.x && o.x.y == j.x.y && o.x.z == j.x.z)
                 was = &o;
         }
         Counts local;
-        trace_point(s, c, pt, was, moves, local, emitters_only);
+        fg::trace_point(r, pt, was, local, scratch.local(), emitters_only);
         pt.samples.shrink_to_fit();
         // Each point is traced once: what it kept of its old self is copied, and the old one
         // goes now rather than after the whole trace (an update held both traces at its peak).
         if (was) old[at->second].release();
-        n_links += local.links;
-        n_rays += local.rays;
-        object_rays[size_t(j.object)] += local.rays;
-        n_refined += local.refined;
-        n_near += local.near;
-        n_near_rays += local.near_rays;
-        n_lamp_rays += local.lamp_rays;
-        n_sealed += pt.sealed;
-        n_kept += local.kept;
-        n_replayed += local.replayed;
-        n_fresh += was == nullptr;
-        n_samples += int64_t(pt.samples.size());
+        tally.add(local, pt, was == nullptr);
     };
     if (c.share > 0) {
-        n_rays += share_gathers(s, c, jobs, trace_one, progress);
+        tally.rays += share_gathers(s, c, jobs, trace_one, progress);
     } else {
         const size_t block = 512;
         for (size_t b = 0; b < jobs.size(); b += block) {
@@ -697,63 +831,24 @@ void FinalGather::run(const Solution& s, const Config& c, std::vector<Job>& jobs
         }
     }
     if (progress) progress(1.0);
-    occluded_ = OccludedLinks{};
-    bytes_ = measure_bytes();
-    counts_.points = int64_t(jobs.size());
-    counts_.corners = 0;
-    for (const auto& v : corner_point_) counts_.corners += int64_t(v.size());
-    counts_.links = n_links;
-    counts_.rays = n_rays;
-    counts_.refined = n_refined;
-    counts_.samples = n_samples;
-    counts_.kept = n_kept;
-    counts_.replayed = n_replayed;
-    counts_.fresh_points = n_fresh;
-    counts_.near = n_near;
-    counts_.near_rays = n_near_rays;
-    counts_.lamp_rays = n_lamp_rays;
-    counts_.shared = 0;
-    for (const Point& p : points_) counts_.shared += !p.gathered;
-    counts_.sealed = n_sealed;
-    counts_.object_rays.assign(object_rays.size(), 0);
-    for (size_t o = 0; o < object_rays.size(); ++o) counts_.object_rays[o] = object_rays[o];
-    traced_ = true;
+    bytes = measure_bytes();
+    counts.points = int64_t(jobs.size());
+    counts.corners = 0;
+    for (const auto& v : corner_point) counts.corners += int64_t(v.size());
+    tally.store(counts);
+    counts.shared = 0;
+    for (const fg::Point& p : points) counts.shared += !p.gathered;
+    traced = true;
 }
 
-void FinalGather::trace(const Solution& s, const Config& c, const std::function<void(double)>& progress) {
-    clear();
-    config_ = c;
-    lights_ = s.scene.lights();
-    std::vector<Job> jobs = make_jobs(s);
-    run(s, c, jobs, nullptr, progress);
-}
-
-void FinalGather::retrace(const Solution& s, const Config& c, const Moves& moves,
-                          const std::function<void(double)>& progress) {
-    const bool same_config = config_.rays == c.rays && config_.share == c.share && config_.min_rays == c.min_rays &&
-                             config_.light_samples == c.light_samples && config_.seed == c.seed &&
-                             config_.cycles_points == c.cycles_points;
-    if (!traced_ || !same_config || moves.moved.size() != s.scene.objects().size()) {
-        trace(s, c, progress);
-        return;
-    }
-    Moves m = moves;
-    const auto& now = s.scene.lights();
-    m.lights_changed = now.size() != lights_.size();
-    for (size_t i = 0; i < now.size() && !m.lights_changed; ++i) m.lights_changed = !now[i].same_light(lights_[i]);
-    lights_ = now;
-    std::vector<Job> jobs = make_jobs(s);
-    run(s, c, jobs, &m, progress);
-}
-
-std::vector<float> FinalGather::values(const Hierarchy& h, int object, bool irradiance) const {
-    if (!traced_ || object < 0 || size_t(object) >= corner_point_.size()) return {};
-    const std::vector<int>& cp = corner_point_[size_t(object)];
+std::vector<float> FinalGather::Impl::values(const Hierarchy& h, int object, bool irradiance) const {
+    if (!traced || object < 0 || size_t(object) >= corner_point.size()) return {};
+    const std::vector<int>& cp = corner_point[size_t(object)];
     std::vector<float> out(cp.size() * 3, 0.f);
     std::vector<std::pair<bool, Rgb>> bounced;  // lenders' bounced light, each made once
     for (size_t ci = 0; ci < cp.size(); ++ci) {
         if (cp[ci] < 0) continue;  // no face of this vertex has an area: 0
-        const Rgb v = point_value(h, points_[size_t(cp[ci])], irradiance, Rgb{}, &bounced);
+        const Rgb v = point_value(h, points[size_t(cp[ci])], irradiance, Rgb{}, &bounced);
         out[3 * ci] = float(v.r);
         out[3 * ci + 1] = float(v.g);
         out[3 * ci + 2] = float(v.b);
@@ -761,29 +856,22 @@ std::vector<float> FinalGather::values(const Hierarchy& h, int object, bool irra
     return out;
 }
 
-Rgb FinalGather::record_light(const Hierarchy& h, const Point& p, const Record& r) {
-    Rgb g;
-    for (uint32_t i = r.begin; i < r.end; ++i)
-        g += h.nodes[size_t(h.live_element(p.samples[i].first))].L * double(p.samples[i].second);
-    return g;
-}
-
-Rgb FinalGather::point_value(const Hierarchy& h, const Point& p, bool irradiance, const Rgb& change,
-                             std::vector<std::pair<bool, Rgb>>* bounced) const {
+Rgb FinalGather::Impl::point_value(const Hierarchy& h, const fg::Point& p, bool irradiance, const Rgb& change,
+                                   std::vector<std::pair<bool, Rgb>>* bounced) const {
     const Node& leaf = h.nodes[size_t(h.live_element(p.leaf))];
     Rgb e;
     if (!p.gathered && !p.sealed) {  // (a sealed one reads nothing, below)
         // A shared point: its own lamps and emitting senders, its lenders' bounced light.
-        e = emitted_part(h, p);
+        e = fg::emitted_part(h, p);
         for (const auto& [q, w] : p.borrow) {
-            if (bounced && bounced->empty()) bounced->assign(points_.size(), {false, Rgb{}});
-            if (bounced && !(*bounced)[size_t(q)].first) (*bounced)[size_t(q)] = {true, bounced_part(h, points_[size_t(q)])};
-            e += (bounced ? (*bounced)[size_t(q)].second : bounced_part(h, points_[size_t(q)])) * double(w);
+            if (bounced && bounced->empty()) bounced->assign(points.size(), {false, Rgb{}});
+            if (bounced && !(*bounced)[size_t(q)].first) (*bounced)[size_t(q)] = {true, bounced_part(h, points[size_t(q)])};
+            e += (bounced ? (*bounced)[size_t(q)].second : bounced_part(h, points[size_t(q)])) * double(w);
         }
     } else if (!p.covered) {
         Rgb own, all;
-        for (const Record& r : p.records) {
-            const Rgb g = record_light(h, p, r);
+        for (const fg::Record& r : p.records) {
+            const Rgb g = fg::record_light(h, p, r);
             all += g;
             if (r.own) own += g;
         }

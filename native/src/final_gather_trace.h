@@ -1,17 +1,29 @@
-// What the final gather keeps per output point (FinalGather::Point), per point-link transfer
-// (Record), and one point to trace (Job): private to the final gather's sources
-// (final_gather.cpp, shared_gather.cpp, near_field.cpp, near_direct.cpp, preview.cpp).
+// The final gather's internals, private to its sources (final_gather.cpp, shared_gather.cpp,
+// near_field.cpp, near_direct.cpp, preview.cpp): what a trace keeps per output point (Point)
+// and per point-link transfer (Record), one point to trace (Job), what a run passes along to
+// each point it traces (Run, Scratch), and FinalGather::Impl, which holds the last trace.
 #pragma once
 #include <cstdint>
+#include <functional>
+#include <limits>
 #include <utility>
 #include <vector>
 
 #include "radiosity/final_gather.h"
+#include "radiosity/lights.h"
+#include "radiosity/transfer.h"
+#include "near_field.h"
 
 namespace radiosity {
+namespace fg {
+
+using Solution = FinalGather::Solution;
+using Config = FinalGather::Config;
+using Counts = FinalGather::Counts;
+using Moves = FinalGather::Moves;
 
 // One link's transfer to a point, as traced: its samples, coupling and ray outcomes.
-struct FinalGather::Record {
+struct Record {
     // The link's sender: a point reads each sender through one link, and what it finds
     // does not depend on the receiver node that holds the link (its seed is the point's
     // and the sender's), so after a split on the receiver side the record still serves.
@@ -25,7 +37,7 @@ struct FinalGather::Record {
     float inv_dist = 0;           // PointTransfer::inv_dist
     PointRays outcome;            // for replay after a move
 };
-struct FinalGather::Point {
+struct Point {
     // Empties what a trace found (before tracing the point again); `gather`: it gathers all
     // its links, not only its emitters (a shared point).
     void reset(bool gather) {
@@ -81,13 +93,99 @@ struct FinalGather::Point {
 };
 // One output point to trace: a corner, or the corners of one vertex sharing a normal and
 // a contact state (final_gather.cpp make_jobs).
-struct FinalGather::Job {
+struct Job {
     int object = -1, prim = -1, k = 0;
     Vec3 x, n;
     int leaf = -1, surface = -1;
     bool covered = false;
     int beyond = -1;  // corner_covered
     uint64_t seed = 0;
+};
+
+// A link that brings a point's leaf its light (uses): its light at stake (for the ray
+// budget), and whether it is unknown: a link whose point model failed and whose coupling the
+// solver could not estimate (Link::must_refine into a cluster at the resolution limit),
+// traced all the same, with the fewest rays.
+struct Use { int link; bool own; double weight; bool unknown; };
+
+// Per receiving node, the fully occluded links into it (not in its in_links), for the
+// duration of a run.
+struct OccludedLinks {
+    std::vector<int32_t> begin, links;  // links[begin[node] .. begin[node + 1])
+    void build(const Hierarchy& h, const std::vector<Link>& links);
+};
+
+// One trace or retrace, as every point it traces reads it.
+struct Run {
+    const Solution& s;
+    const Config& c;
+    const Moves* moves = nullptr;  // a retrace's
+    OccludedLinks occluded;        // links_reaching's
+    bool sealed_rule = false;      // Config::sealed_solids, and no light sealed in a solid
+};
+
+// Lists one thread reuses from point to point while it traces (their capacity stays, so a
+// point allocates nothing), made per run.
+struct Scratch {
+    std::vector<Use> use;                        // trace_point: the point's links
+    std::vector<std::pair<int, bool>> reaching;  // uses()
+    NearScratch near;
+};
+
+// The links that reach a leaf: at it (own), at its element ancestors and at the clusters
+// above its surface, and with `occluded` (a run's), the fully occluded ones too.
+void links_reaching(const Solution& s, const OccludedLinks* occluded, int leaf,
+                    std::vector<std::pair<int, bool>>& out);
+// A point traced afresh, or (with `old`, in a retrace) re-traced after the run's moves; with
+// `emitters_only`, only its lamps and the links from emitting senders (a shared point).
+void trace_point(const Run& run, Point& pt, const Point* old, Counts& counts, Scratch& scratch, bool emitters_only);
+// What one record's samples read of the current solution (irradiance / pi, before closure).
+Rgb record_light(const Hierarchy& h, const Point& p, const Record& r);
+// What a point's lamps and emitting senders bring (irradiance / pi, through its closure):
+// shared_gather.cpp.
+Rgb emitted_part(const Hierarchy& h, const Point& p);
+// A gathered point's reach: the harmonic mean distance of what its rays found, or the
+// distance to the nearest dark sender (`dark`, found by trace_point) when that is less;
+// 0 when it lends nothing (covered, sealed, nothing seen): shared_gather.cpp.
+float lend_reach(const Point& pt, double dark);
+// The seed of a point's transfer from sender node `src`: the point's and the sender's alone
+// (not the link's), so the same transfer draws the same rays whichever link holds it.
+inline uint64_t transfer_seed(const Hierarchy& h, uint64_t point_seed, int src) {
+    return Hierarchy::mix(point_seed, Hierarchy::mix(h.nodes[size_t(src)].key, 0x5e4d3ull));
+}
+// A transfer's share of a point's ray budget: `budget` x weight / total in powers of two,
+// within [lo, hi] (lo when it brings nothing).
+int ray_share(int budget, double weight, double total, int lo, int hi);
+
+}  // namespace fg
+
+// What the last trace keeps, and the steps that make and read it.
+struct FinalGather::Impl {
+    bool traced = false;
+    Config config;
+    std::vector<LightDesc> lights;  // as last traced (a light changed: every point's lamps again)
+    std::vector<fg::Point> points;
+    std::vector<std::vector<int>> corner_point;  // per object, per corner: its point (-1: none)
+    Counts counts;
+    size_t bytes = 0;
+
+    // The points to trace, one per corner or per vertex's corners alike; fills corner_point.
+    std::vector<fg::Job> make_jobs(const Solution& s);
+    void run(const Solution& s, const Config& c, std::vector<fg::Job>& jobs, const Moves* moves,
+             const std::function<void(double)>& progress);
+    // Decides, level by level, which points gather fully and which share (Config::share);
+    // `trace(i, emitters_only)` traces point i. Fills the shared points' borrow lists; returns
+    // the rays it cast itself (probes of the points' surroundings): shared_gather.cpp.
+    int64_t share_gathers(const Solution& s, const Config& c, const std::vector<fg::Job>& jobs,
+                          const std::function<void(size_t, bool)>& trace, const std::function<void(double)>& progress);
+    size_t measure_bytes() const;
+    std::vector<float> values(const Hierarchy& h, int object, bool irradiance) const;
+    // `bounced` (values()'s cache, per point): a lender's bounced light, made when first read.
+    Rgb point_value(const Hierarchy& h, const fg::Point& p, bool irradiance, const Rgb& change = Rgb{},
+                    std::vector<std::pair<bool, Rgb>>* bounced = nullptr) const;
+    // A gathered point's irradiance / pi without what emitted_part gives: what it lends
+    // (shared_gather.cpp).
+    Rgb bounced_part(const Hierarchy& h, const fg::Point& p) const;
 };
 
 }  // namespace radiosity

@@ -1,4 +1,4 @@
-// The near field's direct-light term (FinalGather::near_field): the point's own plane near a
+// The near field's direct-light term (near_field): the point's own plane near a
 // sender a hair away is taken as the point's radiance there (the two sides of a contact are
 // solved together), but its direct light is not the point's. A box's corner vertex in the
 // box's shadow has the lamp's penumbra a tenth of a millimetre away on the floor in front of
@@ -18,12 +18,11 @@
 #include <algorithm>
 #include <cmath>
 
-#include "near_field.h"
-#include "radiosity/final_gather.h"
 #include "final_gather_trace.h"
 #include "radiosity/lights.h"
 
 namespace radiosity {
+namespace fg {
 
 namespace {
 
@@ -41,8 +40,7 @@ void bilinear_cells(double fa, double fi, int na, int nr, F&& f) {
 
 }  // namespace
 
-FinalGather::DirectVariation::DirectVariation(const Solution& s, const Config& c, const Point& pt, int near_points,
-                                              Counts& counts)
+DirectVariation::DirectVariation(const Solution& s, const Config& c, const Point& pt, int near_points, Counts& counts)
     : s_(s),
       c_(c),
       x_(pt.x),
@@ -73,7 +71,7 @@ FinalGather::DirectVariation::DirectVariation(const Solution& s, const Config& c
     }
 }
 
-bool FinalGather::DirectVariation::cluster_emits(const Node& cl, bool all) const {
+bool DirectVariation::cluster_emits(const Node& cl, bool all) const {
     const Hierarchy& h = s_.h;
     const int f = h.emit_flags(int(&cl - h.nodes.data()));
     if (f >= 0) return (f & (all ? Hierarchy::kEmitsAll : Hierarchy::kEmitsAny)) != 0;
@@ -84,7 +82,7 @@ bool FinalGather::DirectVariation::cluster_emits(const Node& cl, bool all) const
     return all;
 }
 
-bool FinalGather::DirectVariation::applies(const std::vector<int>& coplanar, double R) const {
+bool DirectVariation::applies(const std::vector<int>& coplanar, double R) const {
     if (emitting_.empty() && s_.scene.lights().empty()) return false;
     // A shadow's edge crosses the neighbourhood: one at x itself (an emitter's transfer there
     // was traced again for a partial shadow), or the sender's own end within reach (a box's
@@ -120,7 +118,7 @@ bool FinalGather::DirectVariation::applies(const std::vector<int>& coplanar, dou
     return false;
 }
 
-Rgb FinalGather::DirectVariation::direct_at(int leaf, const Vec3& q, uint64_t seed) {
+Rgb DirectVariation::direct_at(int leaf, const Vec3& q, uint64_t seed) {
     // D: the lamps' irradiance / pi, and what the emitters send where they are seen, less
     // the near sender's radiance over the same solid angle: where a spot sees more or less of
     // them than x does, it sees less or more of the surfaces around, taken to be as bright as
@@ -143,8 +141,7 @@ Rgb FinalGather::DirectVariation::direct_at(int leaf, const Vec3& q, uint64_t se
     return D;
 }
 
-bool FinalGather::DirectVariation::eval(const Node& sender, const NearPlane& wall, const Vec3& q, uint64_t seed,
-                                        Coarse& out) {
+bool DirectVariation::eval(const Node& sender, const NearPlane& wall, const Vec3& q, uint64_t seed, Coarse& out) {
     const Hierarchy& h = s_.h;
     if (!in_region(sender, wall, q)) return false;
     const double tol = 1e-9 * h.scene_diag;
@@ -159,17 +156,16 @@ bool FinalGather::DirectVariation::eval(const Node& sender, const NearPlane& wal
     return true;
 }
 
-bool FinalGather::DirectVariation::in_region(const Node& sender, const NearPlane& wall, const Vec3& q) {
+bool DirectVariation::in_region(const Node& sender, const NearPlane& wall, const Vec3& q) {
     return dot(q - sender.poly.v[0], sender.normal) > 0 && wall.region.contains(q);
 }
 
-Vec3 FinalGather::DirectVariation::centre(double a, double i, int na, int nr) const {
+Vec3 DirectVariation::centre(double a, double i, int na, int nr) const {
     const double phi = 2.0 * kPi * (a + 0.5) / na, r = r_min_ * std::exp(log_span_ * (i + 0.5) / nr);
     return x_ + (pu_ * std::cos(phi) + pv_ * std::sin(phi)) * r;
 }
 
-Rgb FinalGather::DirectVariation::sum(const Node& sender, const Rgb& L_sender, double d, const NearPlane& wall,
-                                      uint64_t seed) {
+Rgb DirectVariation::sum(const Node& sender, const Rgb& L_sender, double d, const NearPlane& wall, uint64_t seed) {
     constexpr int kDirs = 8;  // per s*, kDirs^2 stratified directions (no rays: they read cells)
     const int angles0 = kAngles0, angles = kAngles0 * sub_, radii = radii0_ * sub_;
     Rgb total;
@@ -275,4 +271,5 @@ Rgb FinalGather::DirectVariation::sum(const Node& sender, const Rgb& L_sender, d
     return total;
 }
 
+}  // namespace fg
 }  // namespace radiosity

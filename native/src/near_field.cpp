@@ -1,4 +1,4 @@
-// The final gather's near field (FinalGather::near_field): a point a hair from another surface
+// The final gather's near field (near_field): a point a hair from another surface
 // reads that surface's part near it at points gathered there (radiance_at, one level of the
 // gather, nested), the two sides of the contact solved together (NearPlane).
 #include <algorithm>
@@ -6,14 +6,13 @@
 #include <optional>
 #include <vector>
 
-#include "near_field.h"
-#include "radiosity/final_gather.h"
 #include "final_gather_trace.h"
 #include "radiosity/lights.h"
 #include "radiosity/point_couplings.h"
 #include "radiosity/transfer.h"
 
 namespace radiosity {
+namespace fg {
 
 namespace {
 
@@ -47,26 +46,28 @@ int clip_to_box(const Poly& p, const Aabb& b, Vec3* out) {
 
 }  // namespace
 
-Rgb FinalGather::radiance_at(const Solution& s, const Config& c, int m_id, const Vec3& sp, uint64_t seed,
-                             Counts& counts, NearPlane* wall) const {
+Rgb radiance_at(const Run& run, int m_id, const Vec3& sp, uint64_t seed, Counts& counts, NearScratch& scratch,
+                NearPlane* wall) {
     // One level of the gather at a point of leaf m: its lamps and its links, a few rays each.
+    const Solution& s = run.s;
+    const Config& c = run.c;
     const Hierarchy& h = s.h;
     const Node& m = h.nodes[size_t(m_id)];
     Rgb g;
     const PointLight lamp = direct_light_at(s.scene, h, s.vis, sp, m.normal, false, std::max(4, c.light_samples / 8), seed);
     g += lamp.E;
     counts.rays += lamp.rays;
-    thread_local std::vector<std::pair<int, bool>> reaching;
-    thread_local std::vector<std::pair<int, float>> nested;
-    links_reaching(s, m_id, reaching);
+    std::vector<std::pair<int, bool>>& reaching = scratch.reaching;
+    std::vector<std::pair<int, float>>& nested = scratch.nested;
+    links_reaching(s, &run.occluded, m_id, reaching);
     // Russian roulette over the links: link l is gathered with probability q_l = min(1, n w_l /
     // W), w_l what it may bring (an estimate of its coupling at sp times its sender's radiance
     // plus the mean radiance, so that dark senders still count for the closure and the wall),
     // and its samples weighted 1 / q_l: unbiased, about n links a point in place of all of them.
     // A cluster link with no coupling of its own (the ends too close for the point model, at
     // the resolution limit) has no estimate: always gathered (w < 0).
-    struct Est { double F, L; };
-    thread_local std::vector<Est> est;
+    using Est = NearScratch::Estimate;
+    std::vector<Est>& est = scratch.est;
     est.clear();
     double F_all = 0, FL_all = 0;
     for (const auto& r : reaching) {
@@ -122,7 +123,7 @@ Rgb FinalGather::radiance_at(const Solution& s, const Config& c, int m_id, const
     return m.emission + h.rho_at(m_id, sp) * g;  // a texture's value at sp, not the leaf's mean
 }
 
-void FinalGather::NearPlane::read(const Hierarchy& h, const Node& k, double w) {
+void NearPlane::read(const Hierarchy& h, const Node& k, double w) {
     const Node& g = h.nodes[size_t(h.surfaces[size_t(k.surface)].root)];
     if (dot(g.normal, n) < 1.0 - 1e-9 || std::abs(dot(g.poly.v[0], n) - offset) > tol) return;
     auto it = std::find_if(seen.begin(), seen.end(), [&](const std::pair<int, std::pair<double, Rgb>>& e) { return e.first == k.surface; });
@@ -130,7 +131,7 @@ void FinalGather::NearPlane::read(const Hierarchy& h, const Node& k, double w) {
     else it->second.first += w, it->second.second += k.L * w;
 }
 
-int FinalGather::NearPlane::surface_at(const Hierarchy& h, const Vec3& q) const {
+int NearPlane::surface_at(const Hierarchy& h, const Vec3& q) const {
     for (int sf : surfaces) {
         const Node& g = h.nodes[size_t(h.surfaces[size_t(sf)].root)];
         if (distance_outside(g.poly, g.normal, q) <= 1e-9 * h.scene_diag) return sf;
@@ -138,7 +139,7 @@ int FinalGather::NearPlane::surface_at(const Hierarchy& h, const Vec3& q) const 
     return -1;
 }
 
-void FinalGather::NearPlane::couple(const Hierarchy& h, const Vec3& sp, const Vec3& sn) {
+void NearPlane::couple(const Hierarchy& h, const Vec3& sp, const Vec3& sn) {
     const double d = dot(sp, n) - offset;
     F = F_all = 0;
     WL = WL_all = Rgb{};
@@ -181,18 +182,18 @@ void FinalGather::NearPlane::couple(const Hierarchy& h, const Vec3& sp, const Ve
 // (NearField::correction). Kept as a correction, F_near x (L(s*) - L_leaf), so that the samples
 // stay what the rays found (a retrace keeps or replays them). Why the s* are many and
 // stratified over both sides: docs/decisions.md, "The near field".
-void FinalGather::near_field(const Solution& s, const Config& c, Point& pt, Counts& counts) const {
-    NearField near(*this, s, c, pt, counts);
+void near_field(const Run& run, Point& pt, Counts& counts, NearScratch& scratch) {
+    NearField near(run, pt, counts, scratch);
     near.add_to(pt.near);
 }
 
-FinalGather::NearField::NearField(const FinalGather& fg, const Solution& s, const Config& c, const Point& pt,
-                                  Counts& counts)
-    : fg_(fg), s_(s), c_(c), h_(s.h), pt_(pt), counts_(counts), own_(s.h.nodes[size_t(pt.leaf)]),
-      near_points_(std::max(4, c.rays / 32)), side_(int(std::ceil(std::sqrt(2.0 * near_points_)))),
-      max_stars_(std::max(8, near_points_ / 2)) {}
+NearField::NearField(const Run& run, const Point& pt, Counts& counts, NearScratch& scratch)
+    : run_(run), h_(run.s.h), pt_(pt), counts_(counts), own_(run.s.h.nodes[size_t(pt.leaf)]),
+      near_points_(std::max(4, run.c.rays / 32)), side_(int(std::ceil(std::sqrt(2.0 * near_points_)))),
+      max_stars_(std::max(8, near_points_ / 2)), scratch_(scratch), seen_(scratch.seen), wall_(scratch.wall),
+      coplanar_(scratch.coplanar), stars_(scratch.stars) {}
 
-void FinalGather::NearField::read_surfaces() {
+void NearField::read_surfaces() {
     seen_.clear();
     for (const auto& [node, w] : pt_.samples) {
         const Node& m = h_.nodes[size_t(h_.live_element(node))];
@@ -204,7 +205,7 @@ void FinalGather::NearField::read_surfaces() {
     }
 }
 
-Rgb FinalGather::NearField::uncorrected() const {
+Rgb NearField::uncorrected() const {
     Rgb S_own, S_all;
     for (const Record& r : pt_.records)
         for (uint32_t i = r.begin; i < r.end; ++i) {
@@ -215,7 +216,7 @@ Rgb FinalGather::NearField::uncorrected() const {
     return pt_.direct + closure_gathered(S_own, S_all, pt_.c_own, pt_.c_inherited, pt_.fill, own_.L);
 }
 
-void FinalGather::NearField::add_to(Rgb& near) {
+void NearField::add_to(Rgb& near) {
     read_surfaces();
     S_ = uncorrected();
     wall_.n = pt_.n;
@@ -227,7 +228,7 @@ void FinalGather::NearField::add_to(Rgb& near) {
     }
 }
 
-bool FinalGather::NearField::near_part(const Seen& sn, const Node& root, double& d, double& F_near, Aabb& box) const {
+bool NearField::near_part(const Seen& sn, const Node& root, double& d, double& F_near, Aabb& box) const {
     constexpr double kLeafShare = 0.05;  // R must be under this share of the sender polygon's size
     constexpr double kGapLeaf = 4.0;     // ... or the leaves read at least this many times wider than d
     constexpr double kGapShare = 0.05;   //     and its coupling to the point at least this
@@ -251,7 +252,7 @@ bool FinalGather::NearField::near_part(const Seen& sn, const Node& root, double&
     return F_near > 0;
 }
 
-void FinalGather::NearField::bound_wall(const Node& root, double R) {
+void NearField::bound_wall(const Node& root, double R) {
     // The point stands for its own plane only in front of the sender's plane as far as the
     // point sees it (the sender's polygons there, all of a cabinet's back in a 2 cm gap): past
     // the sender's edge (a box's corner, 0.1 mm away) the floor may be lit where the point is in
@@ -277,8 +278,8 @@ void FinalGather::NearField::bound_wall(const Node& root, double R) {
     wall_.region.hi = wall_.region.hi + reach;
 }
 
-FinalGather::NearField::Stars FinalGather::NearField::gather_stars(const Seen& sn, const Node& root, double d, double R,
-                                                                   bool vary, uint64_t seed, Rng& rng) {
+NearField::Stars NearField::gather_stars(const Seen& sn, const Node& root, double d, double R, bool vary, uint64_t seed,
+                                         Rng& rng) {
     // Points s* of the near part, drawn as the kernel weighs it: cosine-distributed directions
     // from x that meet the sender's plane within the box (the light there can change within
     // the near part: a shadow's edge at a leg's foot), stratified over the whole hemisphere
@@ -291,8 +292,8 @@ FinalGather::NearField::Stars FinalGather::NearField::gather_stars(const Seen& s
     // Where the whole hemisphere meets the near part (a sender facing the point across a gap,
     // a board under a book) every stratum holds an s*: a stratified subset of them gathers,
     // every k-th along the strata's diagonals, from max_stars_ to twice that many.
-    struct Candidate { int stratum; Vec3 p; int leaf; };
-    thread_local std::vector<Candidate> found;
+    using Candidate = NearScratch::Candidate;
+    std::vector<Candidate>& found = scratch_.found;
     found.clear();
     for (int tries = 0; tries < side_ * side_; ++tries) {
         const double r1 = (tries % side_ + rng.next()) / side_, r2 = (tries / side_ + rng.next()) / side_;
@@ -314,7 +315,7 @@ FinalGather::NearField::Stars FinalGather::NearField::gather_stars(const Seen& s
         if (k > 1 && (cand.stratum % side_ + cand.stratum / side_) % k != pick) continue;
         const Vec3& sp = cand.p;
         wall_.seen.clear();
-        const Rgb Ls = fg_.radiance_at(s_, c_, cand.leaf, sp, Hierarchy::mix(seed, uint64_t(cand.stratum)), counts_, &wall_);
+        const Rgb Ls = radiance_at(run_, cand.leaf, sp, Hierarchy::mix(seed, uint64_t(cand.stratum)), counts_, scratch_, &wall_);
         const Rgb rho_s = h_.rho_at(cand.leaf, sp);
         st.B0 += Ls - rho_s * wall_.WL_all;
         if (vary) direct_->add_star(sp, rho_s, kNearReach * (dot(sp, n) - wall_.offset));
@@ -327,7 +328,7 @@ FinalGather::NearField::Stars FinalGather::NearField::gather_stars(const Seen& s
     return st;
 }
 
-bool FinalGather::NearField::beyond(const Node& root, const Aabb& box, uint64_t seed, Rng& rng, Rgb& mean) {
+bool NearField::beyond(const Node& root, const Aabb& box, uint64_t seed, Rng& rng, Rgb& mean) {
     // The plane near s* but outside the point's neighbourhood: its radiance at a few points of
     // its own (a lit floor past a box's corner), not its leaves' average. The points are where
     // cosine directions from the s* meet the plane, so that they stand for what the s* see of
@@ -349,7 +350,7 @@ bool FinalGather::NearField::beyond(const Node& root, const Aabb& box, uint64_t 
         if (q_surface < 0) continue;
         const int q_id = h_.leaf_at(h_.surfaces[size_t(q_surface)].root, p);
         if (q_id < 0) continue;
-        aq += fg_.radiance_at(s_, c_, q_id, p, Hierarchy::mix(seed, uint64_t(1000 + t)), counts_);
+        aq += radiance_at(run_, q_id, p, Hierarchy::mix(seed, uint64_t(1000 + t)), counts_, scratch_);
         ++gq;
     }
     if (gq == 0) return false;
@@ -357,7 +358,7 @@ bool FinalGather::NearField::beyond(const Node& root, const Aabb& box, uint64_t 
     return true;
 }
 
-bool FinalGather::NearField::correction(const Seen& sn, Rgb& out) {
+bool NearField::correction(const Seen& sn, Rgb& out) {
     const Node& root = h_.nodes[size_t(h_.surfaces[size_t(sn.surface)].root)];
     double d = 0, F_near = 0;
     Aabb box;
@@ -367,7 +368,7 @@ bool FinalGather::NearField::correction(const Seen& sn, Rgb& out) {
     Rng rng(seed);
     bound_wall(root, R);
     // The plane's own direct light near x (near_direct.cpp), where a shadow's edge is near.
-    if (!direct_) direct_.emplace(s_, c_, pt_, near_points_, counts_);
+    if (!direct_) direct_.emplace(run_.s, run_.c, pt_, near_points_, counts_);
     const bool vary = direct_->applies(coplanar_, R);
     direct_->clear_stars();
     Stars st = gather_stars(sn, root, d, R, vary, seed, rng);
@@ -395,4 +396,5 @@ bool FinalGather::NearField::correction(const Seen& sn, Rgb& out) {
     return true;
 }
 
+}  // namespace fg
 }  // namespace radiosity

@@ -1,21 +1,32 @@
-// The final gather's near field, private to the solver's sources (near_field.cpp,
-// near_direct.cpp): what a point of a sender a hair from an output point sees of the output
-// point's own plane (NearPlane), and the plane's direct-light term (DirectVariation).
+// The final gather's near field, private to its sources (near_field.cpp, near_direct.cpp,
+// final_gather_trace.h): what a point of a sender a hair from an output point sees of the
+// output point's own plane (NearPlane), the plane's direct-light term (DirectVariation), one
+// point's near field (NearField) and the lists it reuses from point to point (NearScratch).
 #pragma once
 #include <optional>
 #include <utility>
 #include <vector>
 
 #include "radiosity/final_gather.h"
-#include "final_gather_trace.h"
+#include "radiosity/transfer.h"
 
 namespace radiosity {
+namespace fg {
+
+using Solution = FinalGather::Solution;
+using Config = FinalGather::Config;
+using Counts = FinalGather::Counts;
+struct Point;  // final_gather_trace.h
+struct Run;
+
+// Near field (near_field): a sender's part within kNearReach x d of a point at distance d.
+constexpr double kNearReach = 20.0;
 
 // The plane of the surface a point lies on, as a point of a sender near it sees it: what
 // its samples read there (per surface of that plane), then the coupling F of the part of
 // the plane near the sender's point and the radiance its samples read over that part
 // (WL, weighted by F). The two sides of a contact light each other there (near_field).
-struct FinalGather::NearPlane {
+struct NearPlane {
     Vec3 n;
     double offset = 0, tol = 0;
     // Only the plane's part here is coupled: where the point's radiance stands for it
@@ -34,7 +45,7 @@ struct FinalGather::NearPlane {
 // The near field's direct-light term (near_direct.cpp): the point's plane near a sender
 // a hair away is the point's radiance plus rho (D(q) - D(x)) there, D the direct light of
 // lamps and emitting senders, as the sender's points s* see it.
-class FinalGather::DirectVariation {
+class DirectVariation {
 public:
     DirectVariation(const Solution& s, const Config& c, const Point& pt, int near_points, Counts& counts);
     // Whether the term can matter for a sender whose plane the point sees as the surface
@@ -74,19 +85,36 @@ private:
     std::vector<std::pair<int, float>> nested_;
 };
 
+// The near field's lists, kept by one thread from point to point (Scratch).
+struct NearScratch {
+    // What the point's samples read of one surface: visible weight, weighted radiance, and
+    // the weighted sum of the sizes of the leaves read.
+    struct Seen { int surface; double W; Rgb WL; double WS; };
+    // A point s* found on a sender, in its stratum of the point's hemisphere.
+    struct Candidate { int stratum; Vec3 p; int leaf; };
+    // radiance_at's estimate of what a link may bring: coupling, sender radiance.
+    struct Estimate { double F, L; };
+    std::vector<Seen> seen;
+    NearPlane wall;
+    std::vector<int> coplanar;
+    std::vector<Vec3> stars;
+    std::vector<Candidate> found;
+    std::vector<std::pair<int, bool>> reaching;
+    std::vector<std::pair<int, float>> nested;
+    std::vector<Estimate> est;
+};
+
 // One output point's near field (near_field.cpp): for each sender a hair from the point, its
 // part near the point read at points s* of it, and the correction that makes to the point's
-// irradiance / pi. Scratch lists live per thread (one point at a time on each).
-class FinalGather::NearField {
+// irradiance / pi.
+class NearField {
 public:
-    NearField(const FinalGather& fg, const Solution& s, const Config& c, const Point& pt, Counts& counts);
+    NearField(const Run& run, const Point& pt, Counts& counts, NearScratch& scratch);
     // Adds each near sender's correction to `near`, in the order the point's samples read them.
     void add_to(Rgb& near);
 
 private:
-    // What the point's samples read of one surface: visible weight, weighted radiance, and
-    // the weighted sum of the sizes of the leaves read.
-    struct Seen { int surface; double W; Rgb WL; double WS; };
+    using Seen = NearScratch::Seen;
     // Over one sender's s*: what they gather less the point's plane (B0), their coupling to
     // the plane near the point (C) and beyond it (Cout, with Bout its leaves' radiance).
     struct Stars { Rgb B0, C, Cout, Bout; int got = 0; };
@@ -104,14 +132,7 @@ private:
     // One sender's correction; false when it is not near or no s* was found on it.
     bool correction(const Seen& sn, Rgb& out);
 
-    static std::vector<Seen>& seen_list() { thread_local std::vector<Seen> v; return v; }
-    static NearPlane& wall_plane() { thread_local NearPlane w; return w; }
-    static std::vector<int>& coplanar_list() { thread_local std::vector<int> v; return v; }
-    static std::vector<Vec3>& star_list() { thread_local std::vector<Vec3> v; return v; }
-
-    const FinalGather& fg_;
-    const Solution& s_;
-    const Config& c_;
+    const Run& run_;
     const Hierarchy& h_;
     const Point& pt_;
     Counts& counts_;
@@ -121,12 +142,21 @@ private:
     // the point's own budget (DRAFT 4, MEDIUM 16, HIGH 32); drawn over side_ x side_ strata,
     // of which about max_stars_ gather where many meet the sender (gather_stars).
     const int near_points_, side_, max_stars_;
-    std::vector<Seen>& seen_ = seen_list();
-    NearPlane& wall_ = wall_plane();
-    std::vector<int>& coplanar_ = coplanar_list();
-    std::vector<Vec3>& stars_ = star_list();
+    NearScratch& scratch_;
+    std::vector<Seen>& seen_;
+    NearPlane& wall_;
+    std::vector<int>& coplanar_;
+    std::vector<Vec3>& stars_;
     std::optional<DirectVariation> direct_;  // made for the first near sender
     Rgb S_;
 };
 
+// Outgoing radiance at a point sp of leaf m_id, gathered there (lamps and m's links); with
+// `wall`, also what it gathers of that plane near sp.
+Rgb radiance_at(const Run& run, int m_id, const Vec3& sp, uint64_t seed, Counts& counts, NearScratch& scratch,
+                NearPlane* wall = nullptr);
+// Adds to pt.near the corrections of the senders a hair from the point.
+void near_field(const Run& run, Point& pt, Counts& counts, NearScratch& scratch);
+
+}  // namespace fg
 }  // namespace radiosity

@@ -11,7 +11,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "radiosity/final_gather.h"
+#include <tbb/enumerable_thread_specific.h>
+
 #include "final_gather_trace.h"
 #include "radiosity/lights.h"
 #include "radiosity/parallel.h"
@@ -124,11 +125,97 @@ private:
     std::vector<Hierarchy::FacingSummary> facing_summary_;
 };
 
+// The lists one thread reuses from point to point in a preview.
+struct PreviewScratch {
+    std::vector<std::pair<int, float>> fresh, samples;
+    std::vector<std::pair<int, bool>> reaching;
+    std::vector<std::pair<int, double>> use;
+};
+
+// Irradiance / pi at a point gathered afresh from the active links reaching its leaf and the
+// lamps, without retraces, closure or near field (a footprint uncovered).
+Rgb fresh_irradiance(const FinalGather::Solution& s, const FinalGather::Config& config, const fg::Point& pt,
+                     PreviewScratch& scratch, int64_t& rays) {
+    // The links reaching the point's leaf (links_reaching), each from the point as trace_point
+    // does, without its shadow-edge retraces, closure and near field (a preview's
+    // approximation), budgets shared by the light they bring.
+    const Hierarchy& h = s.h;
+    const int leaf = h.live_element(pt.leaf);
+    std::vector<std::pair<int, bool>>& reaching = scratch.reaching;
+    std::vector<std::pair<int, double>>& use = scratch.use;
+    fg::links_reaching(s, nullptr, leaf, reaching);
+    use.clear();
+    double total = 0;
+    for (const auto& link_own : reaching) {
+        const Link& l = s.links[size_t(link_own.first)];
+        const Node& src = h.nodes[size_t(l.src)];
+        const double w = l.K_unoccluded * std::max(src.Lmax.max(), src.L.max());
+        if (!(w > 0)) continue;
+        use.emplace_back(link_own.first, w);
+        total += w;
+    }
+    const PointLight lamp = direct_light_at(s.scene, h, s.vis, pt.x, pt.n, false, config.light_samples, pt.seed);
+    rays += lamp.rays;
+    Rgb E = lamp.E;
+    // A quarter of the trace's budget, one ray for the faint: a preview of a footprint, seen
+    // while it moves.
+    const int budget = std::max(config.rays / 4, config.min_rays);
+    std::vector<std::pair<int, float>>& samples = scratch.samples;
+    for (const auto& [li, w] : use) {
+        const Link& l = s.links[size_t(li)];
+        samples.clear();
+        PointRayStream rs(s.vis);
+        point_transfer(h, rs, l.src, pt.x, pt.n, leaf, fg::ray_share(budget, w, total, 1, budget),
+                       fg::transfer_seed(h, pt.seed, l.src), samples);
+        for (const auto& [node, sw] : samples) E += h.nodes[size_t(h.live_element(node))].L * double(sw);
+        rays += rs.cast;
+    }
+    return E;
+}
+
+// Adds to dE the change of what the point's emitting senders (`emits`, per node) bring it at
+// its new place (x, n): each transfer whose rays may meet a moved box, or every one when the
+// point or the sender moved, traced again. Returns the transfers re-traced.
+int64_t add_emitter_changes(const FinalGather::Solution& s, const FinalGather::Preview& p,
+                            const FinalGather::Config& config, const fg::Point& pt, const Vec3& x, const Vec3& n,
+                            bool moved, const std::vector<char>& emits, std::vector<std::pair<int, float>>& fresh, Rgb& dE,
+                            int64_t& rays) {
+    const Hierarchy& h = s.h;
+    int64_t transfers = 0;
+    for (const fg::Record& r : pt.records) {
+        if (!emits[size_t(r.src)]) continue;
+        const Node& src = h.nodes[size_t(r.src)];
+        // (The hierarchy has the moved objects at their new places: a sender in one, or a
+        // cluster holding one, draws other rays now; none replays a recorded outcome.)
+        const bool src_moved = (src.object >= 0 && size_t(src.object) < p.moved.size() && p.moved[size_t(src.object)]) ||
+                               (size_t(r.src) < p.moved_nodes.size() && p.moved_nodes[size_t(r.src)]);
+        if (!moved && !src_moved && !hull_meets(x, src.box, p.clips)) continue;
+        const Rgb was = fg::record_light(h, pt, r);
+        // trace_point's seed for this transfer (a shadow edge's retrace: +1, a deep
+        // penumbra's, with more rays than the budget: +2), so that the rays through no moved
+        // box are the ones recorded and replay their outcomes.
+        const uint64_t seed =
+            fg::transfer_seed(h, pt.seed, r.src) + (r.refined ? (int(r.rays) > config.rays ? 2 : 1) : 0);
+        fresh.clear();
+        PointRayStream rs(s.vis, moved || src_moved ? nullptr : &r.outcome, &p.clips);
+        point_transfer(h, rs, r.src, x, n, pt.leaf, int(r.rays), seed, fresh);
+        Rgb now;
+        for (const auto& [node, w] : fresh) now += h.nodes[size_t(h.live_element(node))].L * double(w);
+        // Through the point's closure factors, as values() weighs this record's samples.
+        dE += (now - was) * (r.own ? pt.c_own : pt.c_inherited);
+        rays += rs.cast;
+        ++transfers;
+    }
+    return transfers;
+}
+
 }  // namespace
 
 std::vector<Rgb> FinalGather::preview(const Solution& s, const Preview& p, PreviewCounts& counts) const {
-    std::vector<Rgb> d(points_.size());
-    if (!traced_) return d;
+    if (!traced()) return {};
+    const std::vector<fg::Point>& points = impl_->points;
+    const Config& config = impl_->config;
+    std::vector<Rgb> d(points.size());
     const Hierarchy& h = s.h;
     // Senders that emit: emitting elements and every node above one. Only their transfers
     // are re-traced (a dark sender's light is bounced light, left as solved).
@@ -144,8 +231,10 @@ std::vector<Rgb> FinalGather::preview(const Solution& s, const Preview& p, Previ
         return false;
     };
     std::atomic<int64_t> n_points{0}, n_lamps{0}, n_transfers{0}, n_rays{0}, n_uncovered{0}, n_covered{0};
-    parallel_for(points_.size(), config_.threads, [&](size_t i) {
-        const Point& pt = points_[i];
+    tbb::enumerable_thread_specific<PreviewScratch> scratch;
+    parallel_for(points.size(), config.threads, [&](size_t i) {
+        const fg::Point& pt = points[i];
+        PreviewScratch& sc = scratch.local();
         if (pt.object < 0 || size_t(pt.object) >= p.moved.size()) return;
         const bool moved = p.moved[size_t(pt.object)] != 0;
         const Vec3 x = moved ? p.carry[size_t(pt.object)].point(pt.x) : pt.x;
@@ -158,14 +247,14 @@ std::vector<Rgb> FinalGather::preview(const Solution& s, const Preview& p, Previ
         if (!moved && p.covered) {
             const int surface = h.nodes[size_t(h.live_element(pt.leaf))].surface;
             if (pt.covered && inside_any(p.clips, x) && !p.covered(surface, x, n)) {
-                d[i] = fresh_irradiance(s, pt, rays) - point_value(h, pt, true);
+                d[i] = fresh_irradiance(s, config, pt, sc, rays) - impl_->point_value(h, pt, true);
                 n_rays += rays;
                 ++n_uncovered;
                 ++n_points;
                 return;
             }
             if (!pt.covered && inside_any(p.now, x) && p.covered(surface, x, n)) {
-                d[i] = Rgb{} - point_value(h, pt, true);
+                d[i] = Rgb{} - impl_->point_value(h, pt, true);
                 ++n_covered;
                 ++n_points;
                 return;
@@ -175,38 +264,15 @@ std::vector<Rgb> FinalGather::preview(const Solution& s, const Preview& p, Previ
         // comes first.)
         if (pt.covered || pt.sealed) return;
         if (!s.scene.lights().empty() && (moved || lamps_meet(s.scene, h, x, n, p.clips))) {
-            const PointLight lamp = direct_light_at(s.scene, h, s.vis, x, n, false, config_.light_samples, pt.seed);
+            const PointLight lamp = direct_light_at(s.scene, h, s.vis, x, n, false, config.light_samples, pt.seed);
             dE += lamp.E - pt.direct;
             rays += lamp.rays;
             ++n_lamps;
             changed = true;
         }
-        thread_local std::vector<std::pair<int, float>> fresh;
-        for (const Record& r : pt.records) {
-            if (!emits[size_t(r.src)]) continue;
-            const Node& src = h.nodes[size_t(r.src)];
-            // (The hierarchy has the moved objects at their new places: a sender in one, or a
-            // cluster holding one, draws other rays now; none replays a recorded outcome.)
-            const bool src_moved = (src.object >= 0 && size_t(src.object) < p.moved.size() && p.moved[size_t(src.object)]) ||
-                                   (size_t(r.src) < p.moved_nodes.size() && p.moved_nodes[size_t(r.src)]);
-            if (!moved && !src_moved && !hull_meets(x, src.box, p.clips)) continue;
-            const Rgb was = record_light(h, pt, r);
-            // trace_point's seed for this transfer (a shadow edge's retrace: +1, a deep
-            // penumbra's, with more rays than the budget: +2), so that the rays through no moved
-            // box are the ones recorded and replay their outcomes.
-            const uint64_t seed =
-                transfer_seed(h, pt.seed, r.src) + (r.refined ? (int(r.rays) > config_.rays ? 2 : 1) : 0);
-            fresh.clear();
-            PointRayStream rs(s.vis, moved || src_moved ? nullptr : &r.outcome, &p.clips);
-            point_transfer(h, rs, r.src, x, n, pt.leaf, int(r.rays), seed, fresh);
-            Rgb now;
-            for (const auto& [node, w] : fresh) now += h.nodes[size_t(h.live_element(node))].L * double(w);
-            // Through the point's closure factors, as values() weighs this record's samples.
-            dE += (now - was) * (r.own ? pt.c_own : pt.c_inherited);
-            rays += rs.cast;
-            ++n_transfers;
-            changed = true;
-        }
+        const int64_t transfers = add_emitter_changes(s, p, config, pt, x, n, moved, emits, sc.fresh, dE, rays);
+        n_transfers += transfers;
+        changed = changed || transfers > 0;
         d[i] = dE;
         n_points += changed;
         n_rays += rays;
@@ -220,49 +286,11 @@ std::vector<Rgb> FinalGather::preview(const Solution& s, const Preview& p, Previ
     return d;
 }
 
-Rgb FinalGather::fresh_irradiance(const Solution& s, const Point& pt, int64_t& rays) const {
-    // The links reaching the point's leaf (links_reaching), each from the point as trace_point
-    // does, without its shadow-edge retraces, closure and near field (a preview's
-    // approximation), budgets shared by the light they bring.
-    const Hierarchy& h = s.h;
-    const int leaf = h.live_element(pt.leaf);
-    thread_local std::vector<std::pair<int, bool>> reaching;
-    thread_local std::vector<std::pair<int, double>> use;
-    links_reaching(s, leaf, reaching);
-    use.clear();
-    double total = 0;
-    for (const auto& link_own : reaching) {
-        const Link& l = s.links[size_t(link_own.first)];
-        const Node& src = h.nodes[size_t(l.src)];
-        const double w = l.K_unoccluded * std::max(src.Lmax.max(), src.L.max());
-        if (!(w > 0)) continue;
-        use.emplace_back(link_own.first, w);
-        total += w;
-    }
-    const PointLight lamp = direct_light_at(s.scene, h, s.vis, pt.x, pt.n, false, config_.light_samples, pt.seed);
-    rays += lamp.rays;
-    Rgb E = lamp.E;
-    // A quarter of the trace's budget, one ray for the faint: a preview of a footprint, seen
-    // while it moves.
-    const int budget = std::max(config_.rays / 4, config_.min_rays);
-    thread_local std::vector<std::pair<int, float>> samples;
-    for (const auto& [li, w] : use) {
-        const Link& l = s.links[size_t(li)];
-        samples.clear();
-        PointRayStream rs(s.vis);
-        point_transfer(h, rs, l.src, pt.x, pt.n, leaf, ray_share(budget, w, total, 1, budget), transfer_seed(h, pt.seed, l.src),
-                       samples);
-        for (const auto& [node, sw] : samples) E += h.nodes[size_t(h.live_element(node))].L * double(sw);
-        rays += rs.cast;
-    }
-    return E;
-}
-
 bool FinalGather::corner_value(const Hierarchy& h, int object, size_t corner, bool irradiance, const Rgb& change,
                                Rgb& out) const {
     const int p = corner_point(object, corner);
     if (p < 0) return false;
-    out = point_value(h, points_[size_t(p)], irradiance, change);
+    out = impl_->point_value(h, impl_->points[size_t(p)], irradiance, change);
     return true;
 }
 

@@ -18,12 +18,13 @@
 #include <cstdint>
 #include <unordered_map>
 
-#include "radiosity/final_gather.h"
+#include <tbb/enumerable_thread_specific.h>
+
 #include "final_gather_trace.h"
 #include "radiosity/parallel.h"
 
 namespace radiosity {
-
+namespace fg {
 namespace {
 
 // A cell of a uniform grid of one object: (object, size level or facing, ix, iy, iz).
@@ -65,7 +66,7 @@ int facing(const Vec3& n) {
 // The harmonic mean distance of what a point's own hemisphere sees, by a few cosine rays
 // (misses count as infinitely far): a point may lie beside an occluder its would-be lender
 // 1 cm away does not see (a chair leg's foot), and then shares with nobody.
-double probe_reach(const FinalGather::Solution& s, const Vec3& x, const Vec3& n, uint64_t seed, int64_t& rays) {
+double probe_reach(const Solution& s, const Vec3& x, const Vec3& n, uint64_t seed, int64_t& rays) {
     constexpr int kSide = 4;
     const double diag = s.h.scene_diag;
     const Vec3 o = x + n * (1e-6 * diag);
@@ -103,9 +104,95 @@ std::vector<char> open_edge_vertices(const ObjectDesc& o) {
     return open;
 }
 
+// Per point to trace, whether its corner's vertex lies on an open edge.
+std::vector<char> open_edge_points(const Solution& s, const std::vector<Job>& jobs) {
+    std::vector<char> open_edge(jobs.size(), 0);
+    std::vector<std::vector<char>> open(s.scene.objects().size());
+    for (size_t i = 0; i < jobs.size(); ++i) {
+        const Job& j = jobs[i];
+        const ObjectDesc& o = s.scene.objects()[size_t(j.object)];
+        if (open[size_t(j.object)].empty()) open[size_t(j.object)] = open_edge_vertices(o);
+        open_edge[i] = open[size_t(j.object)][size_t(o.corner_verts[size_t(s.h.prims[size_t(j.prim)].corner[size_t(j.k)])])];
+    }
+    return open_edge;
+}
+
+// The gathered points that lend, each in the cell of the grid level matching its lending
+// radius (share x reach, cells from `base` up); `levels_used` gets a bit per level used.
+using LenderGrid = std::unordered_map<CellKey, std::vector<int>, CellHash>;
+LenderGrid lender_grid(const std::vector<Point>& points, const std::vector<size_t>& lenders,
+                       const std::vector<char>& open_edge, double share, double base, uint64_t& levels_used) {
+    LenderGrid grid;
+    levels_used = 0;
+    for (size_t i : lenders) {
+        const Point& p = points[i];
+        const double r = share * double(p.reach);
+        if (!(r > 0) || open_edge[i]) continue;
+        const int l = std::clamp(int(std::ceil(std::log2(r / base))), 0, 63);
+        const double size = base * std::ldexp(1.0, l);
+        grid[cell_of(p.object, l, p.x, size)].push_back(int(i));
+        levels_used |= uint64_t(1) << l;
+    }
+    return grid;
+}
+
+// The lenders of the grid whose reach holds point j (within share, on its tangent plane, and
+// within j's own reach, probed when first asked: `probed`, its rays added to `rays`), the
+// nearest few weighted to sum to 1 in `borrow`; false when there is none. `found` is scratch.
+bool find_lenders(const Solution& s, const std::vector<Point>& points, const LenderGrid& grid, uint64_t levels_used,
+                  double base, double a, const Job& j, double& probed, std::atomic<int64_t>& rays,
+                  std::vector<std::pair<int, double>>& found, std::vector<std::pair<int, float>>& borrow) {
+    constexpr size_t kMaxLenders = 8;
+    found.clear();
+    for (int l = 0; l < 64; ++l) {
+        if (!((levels_used >> l) & 1)) continue;
+        const CellKey at = cell_of(j.object, l, j.x, base * std::ldexp(1.0, l));
+        for (int dx = -1; dx <= 1; ++dx)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dz = -1; dz <= 1; ++dz) {
+                    const auto it = grid.find({j.object, l, at.ix + dx, at.iy + dy, at.iz + dz});
+                    if (it == grid.end()) continue;
+                    for (int q : it->second) {
+                        const Point& p = points[size_t(q)];
+                        const Vec3 d = j.x - p.x;
+                        // (Not across a step: both on one tangent plane, within a tenth of
+                        // their distance.)
+                        if (error_term(j.x, j.n, p.x, p.n, double(p.reach)) < a && std::fabs(dot(d, p.n)) <= 0.1 * length(d))
+                            found.push_back({q, 0.0});
+                    }
+                }
+    }
+    if (found.empty()) return false;
+    if (probed < 0) {
+        int64_t r = 0;
+        probed = probe_reach(s, j.x, j.n, Hierarchy::mix(j.seed, 0x9b0eu), r);
+        rays += r;
+    }
+    // Each lender again, within the point's own reach as well.
+    size_t m = 0;
+    for (const auto& f : found) {
+        const Point& p = points[size_t(f.first)];
+        const double e = error_term(j.x, j.n, p.x, p.n, std::min(double(p.reach), probed));
+        if (e < a) found[m++] = {f.first, 1.0 / std::max(e, 1e-9) - 1.0 / a};
+    }
+    found.resize(m);
+    if (found.empty()) return false;
+    // The nearest few (by weight, ties by index: the same choice in every run).
+    std::sort(found.begin(), found.end(), [](const auto& u, const auto& v) {
+        return u.second != v.second ? u.second > v.second : u.first < v.first;
+    });
+    if (found.size() > kMaxLenders) found.resize(kMaxLenders);
+    double W = 0;
+    for (const auto& f : found) W += f.second;
+    if (!(W > 0)) return false;
+    borrow.clear();
+    for (const auto& f : found) borrow.push_back({f.first, float(f.second / W)});
+    return true;
+}
+
 }  // namespace
 
-float FinalGather::lend_reach(const Point& pt, double dark) {
+float lend_reach(const Point& pt, double dark) {
     if (pt.covered || pt.sealed) return 0.f;
     double F = 0, inv = 0;
     for (const Record& r : pt.records)
@@ -114,24 +201,25 @@ float FinalGather::lend_reach(const Point& pt, double dark) {
     return std::isfinite(R) ? float(R) : 0.f;
 }
 
-int64_t FinalGather::share_gathers(const Solution& s, const Config& c, const std::vector<Job>& jobs,
-                                   const std::function<void(size_t, bool)>& trace,
-                                   const std::function<void(double)>& progress) {
+Rgb emitted_part(const Hierarchy& h, const Point& p) {
+    Rgb e = p.direct;
+    for (const Record& r : p.records) {
+        if (r.emits) e += record_light(h, p, r) * (r.own ? p.c_own : p.c_inherited);
+    }
+    return e;
+}
+
+}  // namespace fg
+
+int64_t FinalGather::Impl::share_gathers(const Solution& s, const Config& c, const std::vector<fg::Job>& jobs,
+                                         const std::function<void(size_t, bool)>& trace,
+                                         const std::function<void(double)>& progress) {
     const Hierarchy& h = s.h;
     const size_t n = jobs.size();
     enum : char { kOpen = 0, kGathered = 1, kShared = 2 };
     std::vector<char> state(n, kOpen);
     std::vector<double> probed(n, -1.0);  // probe_reach, made when first asked
-    std::vector<char> open_edge(n, 0);
-    {
-        std::vector<std::vector<char>> open(s.scene.objects().size());
-        for (size_t i = 0; i < n; ++i) {
-            const Job& j = jobs[i];
-            const ObjectDesc& o = s.scene.objects()[size_t(j.object)];
-            if (open[size_t(j.object)].empty()) open[size_t(j.object)] = open_edge_vertices(o);
-            open_edge[i] = open[size_t(j.object)][size_t(o.corner_verts[size_t(h.prims[size_t(j.prim)].corner[size_t(j.k)])])];
-        }
-    }
+    const std::vector<char> open_edge = fg::open_edge_points(s, jobs);
     std::atomic<int64_t> probe_rays{0};
     size_t done = 0;
     auto trace_all = [&](const std::vector<size_t>& batch, bool emitters_only) {
@@ -153,77 +241,22 @@ int64_t FinalGather::share_gathers(const Solution& s, const Config& c, const std
     const double diag = h.scene_diag > 0 ? h.scene_diag : 1.0;
     const double base = 1e-6 * diag;  // the finest lending grid's cell
     constexpr int kLevels = 12;       // cells from 1/16 of the scene down to 1/65536
-    constexpr size_t kMaxLenders = 8;
+    tbb::enumerable_thread_specific<std::vector<std::pair<int, double>>> found;  // find_lenders' scratch
     std::vector<size_t> lenders;
     double cell = diag / 16.0;
     for (int level = 0; level <= kLevels; ++level) {
         // 1. Open points take what the last level's gathered points lend them.
         if (!lenders.empty()) {
-            std::unordered_map<CellKey, std::vector<int>, CellHash> grid;
             uint64_t levels_used = 0;
-            for (size_t i : lenders) {
-                const Point& p = points_[i];
-                const double r = a * double(p.reach);
-                if (!(r > 0) || open_edge[i]) continue;
-                const int l = std::clamp(int(std::ceil(std::log2(r / base))), 0, 63);
-                const double size = base * std::ldexp(1.0, l);
-                grid[cell_of(p.object, l, p.x, size)].push_back(int(i));
-                levels_used |= uint64_t(1) << l;
-            }
+            const fg::LenderGrid grid = fg::lender_grid(points, lenders, open_edge, a, base, levels_used);
             batch.clear();
             for (size_t i = 0; i < n; ++i)
                 if (state[i] == kOpen && !open_edge[i]) batch.push_back(i);
             parallel_for(batch.size(), c.threads, [&](size_t k) {
                 const size_t i = batch[k];
-                const Job& j = jobs[i];
-                thread_local std::vector<std::pair<int, double>> found;
-                found.clear();
-                for (int l = 0; l < 64; ++l) {
-                    if (!((levels_used >> l) & 1)) continue;
-                    const CellKey at = cell_of(j.object, l, j.x, base * std::ldexp(1.0, l));
-                    for (int dx = -1; dx <= 1; ++dx)
-                        for (int dy = -1; dy <= 1; ++dy)
-                            for (int dz = -1; dz <= 1; ++dz) {
-                                const auto it = grid.find({j.object, l, at.ix + dx, at.iy + dy, at.iz + dz});
-                                if (it == grid.end()) continue;
-                                for (int q : it->second) {
-                                    const Point& p = points_[size_t(q)];
-                                    const Vec3 d = j.x - p.x;
-                                    // (Not across a step: both on one tangent plane, within
-                                    // a tenth of their distance.)
-                                    if (error_term(j.x, j.n, p.x, p.n, double(p.reach)) < a &&
-                                        std::fabs(dot(d, p.n)) <= 0.1 * length(d))
-                                        found.push_back({q, 0.0});
-                                }
-                            }
-                }
-                if (found.empty()) return;
-                if (probed[i] < 0) {
-                    int64_t r = 0;
-                    probed[i] = probe_reach(s, j.x, j.n, Hierarchy::mix(j.seed, 0x9b0eu), r);
-                    probe_rays += r;
-                }
-                // Each lender again, within the point's own reach as well.
-                size_t m = 0;
-                for (const auto& f : found) {
-                    const Point& p = points_[size_t(f.first)];
-                    const double e = error_term(j.x, j.n, p.x, p.n, std::min(double(p.reach), probed[i]));
-                    if (e < a) found[m++] = {f.first, 1.0 / std::max(e, 1e-9) - 1.0 / a};
-                }
-                found.resize(m);
-                if (found.empty()) return;
-                // The nearest few (by weight, ties by index: the same choice in every run).
-                std::sort(found.begin(), found.end(), [](const auto& u, const auto& v) {
-                    return u.second != v.second ? u.second > v.second : u.first < v.first;
-                });
-                if (found.size() > kMaxLenders) found.resize(kMaxLenders);
-                double W = 0;
-                for (const auto& f : found) W += f.second;
-                if (!(W > 0)) return;
-                std::vector<std::pair<int, float>>& borrow = points_[i].borrow;
-                borrow.clear();
-                for (const auto& f : found) borrow.push_back({f.first, float(f.second / W)});
-                state[i] = kShared;
+                if (fg::find_lenders(s, points, grid, levels_used, base, a, jobs[i], probed[i], probe_rays, found.local(),
+                                     points[i].borrow))
+                    state[i] = kShared;
             }, 64);
         }
         // 2. One open point per cell gathers (all of them at the last level).
@@ -232,11 +265,11 @@ int64_t FinalGather::share_gathers(const Solution& s, const Config& c, const std
             for (size_t i = 0; i < n; ++i)
                 if (state[i] == kOpen) batch.push_back(i);
         } else {
-            std::unordered_map<CellKey, size_t, CellHash> first;
+            std::unordered_map<fg::CellKey, size_t, fg::CellHash> first;
             for (size_t i = 0; i < n; ++i) {
                 if (state[i] != kOpen) continue;
-                const Job& j = jobs[i];
-                first.emplace(cell_of(j.object, facing(j.n), j.x, cell), i);
+                const fg::Job& j = jobs[i];
+                first.emplace(fg::cell_of(j.object, fg::facing(j.n), j.x, cell), i);
             }
             for (const auto& f : first) batch.push_back(f.second);
             std::sort(batch.begin(), batch.end());
@@ -254,16 +287,8 @@ int64_t FinalGather::share_gathers(const Solution& s, const Config& c, const std
     return probe_rays;
 }
 
-Rgb FinalGather::emitted_part(const Hierarchy& h, const Point& p) const {
-    Rgb e = p.direct;
-    for (const Record& r : p.records) {
-        if (r.emits) e += record_light(h, p, r) * (r.own ? p.c_own : p.c_inherited);
-    }
-    return e;
-}
-
-Rgb FinalGather::bounced_part(const Hierarchy& h, const Point& p) const {
-    return point_value(h, p, true) - emitted_part(h, p);
+Rgb FinalGather::Impl::bounced_part(const Hierarchy& h, const fg::Point& p) const {
+    return point_value(h, p, true) - fg::emitted_part(h, p);
 }
 
 }  // namespace radiosity

@@ -329,6 +329,13 @@ bool near_unchanged(const Run& run, const Point& pt, const Point* old) {
     return true;
 }
 
+// Whether every point of box b lies on or behind the plane through x with normal n.
+bool box_behind(const Aabb& b, const Vec3& x, const Vec3& n) {
+    const Vec3 c = b.center(), half = b.extent() * 0.5;
+    const double reach = std::fabs(n.x) * half.x + std::fabs(n.y) * half.y + std::fabs(n.z) * half.z;
+    return dot(c - x, n) + reach <= 0;
+}
+
 // The transfers traced from the links `use` (their couplings, for the closure).
 PointCouplings trace_transfers(const Run& run, Point& pt, const Point* old, Counts& counts, const std::vector<Use>& use,
                                bool enclosed, bool emitters_only) {
@@ -342,6 +349,9 @@ PointCouplings trace_transfers(const Run& run, Point& pt, const Point* old, Coun
         // toward the closure.
         if (!(u.weight > 0) && !enclosed && !u.unknown) continue;
         const Link& l = s.links[size_t(u.link)];
+        // A link without a coupling whose sender lies wholly behind the point's tangent plane
+        // brings the point nothing, not even toward the closure: not traced.
+        if (!(u.weight > 0) && u.unknown && box_behind(h.nodes[size_t(l.src)].box, pt.x, pt.n)) continue;
         // A shared point traces these alone, with the budget of a full trace, so that the
         // two draw the same rays.
         const bool emits = sender_emits(h, l.src);

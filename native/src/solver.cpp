@@ -105,8 +105,6 @@ void Solver::solve(Control* control) {
         lap("link");
         set_progress(0.2);
         // Refine against the evolving solution (BF refinement): light arriving from
-        // reflectors becomes known only after a solve.
-        // Refine against the evolving solution (BF refinement): light arriving from
         // reflectors becomes known only after some gathering; a few sweeps per round are
         // enough for the oracle, the last solve converges.
         const double loose = std::max(settings_.tolerance, 1e-3);

@@ -38,8 +38,8 @@ void Solver::light_update() {
     // again (the old leaves there would cost rays for nothing), and the new light splits
     // where it needs, as light_initial does before a full solve's first linking: the oracle
     // then judges links by the radiances the new light's elements give. (Split only in the
-    // first refinement round, after the first gather, links were judged on the old, coarser
-    // light elements and refined for good: 0.09-0.14 % NRMSE more on two of eight moves.)
+    // first refinement round, after the first gather, links would be judged on the old,
+    // coarser light elements and refined for good.)
     if (scene_.lights().empty()) return;
     direct_light_.invalidate(h_, edits_.poses(), light_replay());
     if (!direct_light_.take_recheck()) return;
@@ -94,7 +94,7 @@ void Solver::at_first_bounce(const std::function<void()>& judge_links, const std
     // oracle decisions then stand: a settlement (3.5) is never judged again. An update's
     // first judgement of links whose senders' light changed is made on that same radiance,
     // swapped in for it and back; judged on converged radiance instead, links beside a box's
-    // foot that a full solve settles were split (0.64 % NRMSE after one light move).
+    // foot that a full solve settles would be split, and the update would differ from it.
     // `only`: the leaves to swap (per node); the others keep their radiance, and their element
     // ancestors and clusters are averaged again over both.
     const size_t nn = h_.nodes.size();

@@ -290,8 +290,7 @@ void uses(const Run& run, int leaf, std::vector<std::pair<int, bool>>& reaching,
         const Node& src = s.h.nodes[size_t(l.src)];
         // The light at stake, for sharing the ray budget: the coupling as the link saw it
         // unoccluded, times the sender's brightest leaf.
-        use.push_back({li, own, l.K_unoccluded * std::max(src.Lmax.max(), src.L.max()),
-                       l.must_refine && !(l.K_unoccluded > 0)});
+        use.push_back({li, own, l.K_unoccluded * std::max(src.Lmax.max(), src.L.max())});
     }
 }
 
@@ -329,13 +328,6 @@ bool near_unchanged(const Run& run, const Point& pt, const Point* old) {
     return true;
 }
 
-// Whether every point of box b lies on or behind the plane through x with normal n.
-bool box_behind(const Aabb& b, const Vec3& x, const Vec3& n) {
-    const Vec3 c = b.center(), half = b.extent() * 0.5;
-    const double reach = std::fabs(n.x) * half.x + std::fabs(n.y) * half.y + std::fabs(n.z) * half.z;
-    return dot(c - x, n) + reach <= 0;
-}
-
 // The transfers traced from the links `use` (their couplings, for the closure).
 PointCouplings trace_transfers(const Run& run, Point& pt, const Point* old, Counts& counts, const std::vector<Use>& use,
                                bool enclosed, bool emitters_only) {
@@ -347,11 +339,14 @@ PointCouplings trace_transfers(const Run& run, Point& pt, const Point* old, Coun
     for (const Use& u : use) {
         // A dark sender brings nothing, but in a closed pocket its coupling still counts
         // toward the closure.
-        if (!(u.weight > 0) && !enclosed && !u.unknown) continue;
         const Link& l = s.links[size_t(u.link)];
-        // A link without a coupling whose sender lies wholly behind the point's tangent plane
-        // brings the point nothing, not even toward the closure: not traced.
-        if (!(u.weight > 0) && u.unknown && box_behind(h.nodes[size_t(l.src)].box, pt.x, pt.n)) continue;
+        // A link whose point model failed and whose coupling the solver could not estimate
+        // (Link::must_refine into a cluster at the resolution limit) is traced all the same,
+        // with the fewest rays -- unless its sender lies wholly behind the point's tangent
+        // plane: then it brings the point nothing, not even toward the closure.
+        const bool unknown = l.must_refine && !(l.K_unoccluded > 0);
+        if (unknown && plane_reach(h.nodes[size_t(l.src)].box, pt.x, pt.n) <= 0) continue;
+        if (!(u.weight > 0) && !enclosed && !unknown) continue;
         // A shared point traces these alone, with the budget of a full trace, so that the
         // two draw the same rays.
         const bool emits = sender_emits(h, l.src);

@@ -102,11 +102,8 @@ struct Job {
     uint64_t seed = 0;
 };
 
-// A link that brings a point's leaf its light (uses): its light at stake (for the ray
-// budget), and whether it is unknown: a link whose point model failed and whose coupling the
-// solver could not estimate (Link::must_refine into a cluster at the resolution limit),
-// traced all the same, with the fewest rays.
-struct Use { int link; bool own; double weight; bool unknown; };
+// A link that brings a point's leaf its light (uses): its light at stake (for the ray budget).
+struct Use { int link; bool own; double weight; };
 
 // Per receiving node, the fully occluded links into it (not in its in_links), for the
 // duration of a run.

@@ -470,12 +470,7 @@ bool may_face(const Hierarchy& h, const Node& n, const Vec3& d, double s, int ot
 // Whether some surface below n has part of `box` strictly in front of its plane: a
 // necessary condition for n to send light into the box (or receive light from it).
 bool faces_box(const Hierarchy& h, const Node& n, const Aabb& box, double eps) {
-    auto front = [&](const Poly& poly, const Vec3& normal) {
-        const Vec3 c = box.center(), half = box.extent() * 0.5;
-        double reach = dot(c - poly.v[0], normal);
-        for (int a = 0; a < 3; ++a) reach += std::fabs(normal[a]) * half[a];
-        return reach > eps;
-    };
+    auto front = [&](const Poly& poly, const Vec3& normal) { return plane_reach(box, poly.v[0], normal) > eps; };
     if (!n.is_cluster()) return front(n.poly, n.normal);
     for (int i = n.surf_begin; i < n.surf_end; ++i)
         if (front(h.surface_geom[i].poly, h.surface_geom[i].normal)) return true;

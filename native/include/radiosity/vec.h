@@ -111,6 +111,13 @@ struct Aabb {
     }
 };
 
+// How far the farthest point of box b lies in front of the plane through p with normal n
+// (<= 0: the whole box is on or behind it).
+inline double plane_reach(const Aabb& b, const Vec3& p, const Vec3& n) {
+    const Vec3 half = b.extent() * 0.5;
+    return dot(b.center() - p, n) + std::fabs(n.x) * half.x + std::fabs(n.y) * half.y + std::fabs(n.z) * half.z;
+}
+
 // Whether the segment a-b passes through one of `boxes` (after a move: a ray whose outcome the
 // move may have changed).
 inline bool meets_any(const std::vector<Aabb>& boxes, const Vec3& a, const Vec3& b) {

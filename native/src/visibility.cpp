@@ -25,6 +25,13 @@ bool monitor(void* user, ssize_t bytes, bool /*post*/) {
     return true;
 }
 
+// This thread's slot of a ray count: threads take slots in turn, the first time they count.
+unsigned ray_slot(unsigned slots) {
+    static std::atomic<unsigned> next{0};
+    thread_local const unsigned slot = next.fetch_add(1, std::memory_order_relaxed);
+    return slot % slots;
+}
+
 void check_device(RTCDevice d, const char* what) {
     RTCError e = rtcGetDeviceError(d);
     if (e != RTC_ERROR_NONE) throw std::runtime_error(std::string("Embree error in ") + what + ": " + std::to_string(int(e)));
@@ -113,8 +120,18 @@ void Visibility::commit() {
     check_device(device_, "scene commit");
 }
 
+void Visibility::count_ray() const {
+    rays_[ray_slot(kRaySlots)].n.fetch_add(1, std::memory_order_relaxed);
+}
+
+uint64_t Visibility::rays() const {
+    uint64_t total = 0;
+    for (const RayCount& c : rays_) total += c.n.load(std::memory_order_relaxed);
+    return total;
+}
+
 bool Visibility::occluded(const Vec3& a, const Vec3& b, double near) const {
-    rays_.fetch_add(1, std::memory_order_relaxed);
+    count_ray();
     if (!traceable(a, b)) return false;
     Vec3 d = b - a;
     double len = length(d);
@@ -137,7 +154,7 @@ bool Visibility::occluded(const Vec3& a, const Vec3& b, double near) const {
 }
 
 int Visibility::hit_object(const Vec3& a, const Vec3& b, double near, Vec3* hit, int* triangle) const {
-    rays_.fetch_add(1, std::memory_order_relaxed);
+    count_ray();
     if (!traceable(a, b)) return -1;
     Vec3 d = b - a;
     double len = length(d);

@@ -1,6 +1,7 @@
 // Ray-cast visibility between points, on Embree 3. Every object is its own Embree scene,
 // instanced into the top-level scene, so a rigid move only re-transforms one instance.
 #pragma once
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <vector>
@@ -41,7 +42,7 @@ public:
     // The object first hit along a -> b (beyond `near`), -1 if nothing; writes the hit point
     // and the index of the hit triangle within its object (in add_object's order).
     int hit_object(const Vec3& a, const Vec3& b, double near, Vec3* hit, int* triangle = nullptr) const;
-    uint64_t rays() const { return rays_.load(std::memory_order_relaxed); }
+    uint64_t rays() const;
     // Bytes Embree holds for this device now (its BVHs, geometry buffers and instances), as
     // its memory monitor reports them.
     int64_t bytes() const { return bytes_.load(std::memory_order_relaxed); }
@@ -53,7 +54,12 @@ private:
     std::vector<int> instance_geom_;  // per object: geometry id in top_, -1 if none
     std::vector<int> geom_object_;    // per geometry id in top_: its object
     double eps_ = 1e-6;
-    mutable std::atomic<uint64_t> rays_{0};
+    // Rays cast, counted in one slot per thread (a slot to a cache line): threads that shared
+    // one counter would pass its line between cores on every ray.
+    struct alignas(64) RayCount { std::atomic<uint64_t> n{0}; };
+    static constexpr unsigned kRaySlots = 16;
+    void count_ray() const;
+    mutable std::array<RayCount, kRaySlots> rays_;
     std::atomic<int64_t> bytes_{0};
 };
 

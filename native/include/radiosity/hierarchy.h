@@ -258,6 +258,8 @@ private:
     int build_object_tree(std::vector<int>& prim_ids, int begin, int end, int parent, int object, uint64_t key);
     void add_surfaces_of_prims(const std::vector<int>& prim_ids, int begin, int end, int parent);
     void finish_cluster(int node);
+    // build() with clustering: the collection clusters and the object trees under the root.
+    void build_collection_tree(const SceneDesc& scene, std::vector<std::vector<int>>& prims_of);
     // The object's polygons as primitives appended to `prims`; returns their ids.
     std::vector<int> make_prims(const ObjectDesc& o, int object);
     // Per object a key from its name (and how many earlier objects share it): an object keeps

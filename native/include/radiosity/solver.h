@@ -158,6 +158,12 @@ private:
     // refine.cpp
     void link_from(std::vector<Candidate> wave);
     Judgement judge(const Link& l) const;
+    // judge()'s parts (refine.cpp): which end of a link over the threshold to split, and
+    // whether a link whose receiver would split may settle instead (3.5).
+    static Side split_side(const Link& l, const Node& P, const Node& Q, double err_rcv, double err_src,
+                           double threshold, bool ps, bool qs);
+    bool settles(const Link& l, const Node& P, const Node& Q, double rho, double Lp, double threshold,
+                 double err_src, double& settled_K) const;
     void apply(int link_id, const Judgement& j, std::vector<Candidate>& next);
     bool can_split(int node) const;
     // Whether a link's receiver leaf may split below the area floor because an emitter's

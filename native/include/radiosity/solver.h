@@ -155,6 +155,11 @@ private:
     struct Candidate { int src, rcv, parent; };
     struct Judgement { Side side = Side::Keep; double settled_K = 0; };
 
+    // solve()'s phases (solver.cpp): the scene built, and a lit scene linked and refined.
+    void build_scene();
+    void link_and_refine();
+    // Embree's ray offset for the scene's size (h_.scene_box, scene_diag).
+    void fit_ray_epsilon();
     // refine.cpp
     void link_from(std::vector<Candidate> wave);
     Judgement judge(const Link& l) const;
@@ -282,6 +287,11 @@ private:
     bool changes_outgrow_frame() const;
     // Applies pending removals and additions to the hierarchy, Embree and `ch`.
     void apply_topology(Change& ch);
+    // apply_topology()'s parts (topology.cpp).
+    std::vector<int> changed_chain(Change& ch, int deepest) const;
+    void remove_objects(Change& ch);
+    void add_objects(Change& ch);
+    void refit_tolerances();
     void set_material(int object, const std::vector<Rgb>& values, bool emission);
     void apply_materials();
     void unrefine(int link_id);

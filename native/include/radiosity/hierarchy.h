@@ -1,6 +1,9 @@
 // The node hierarchy of clustering-based hierarchical radiosity (paper 3.1):
 // root cluster -> collection clusters -> object clusters -> automatic spatial sub-clusters
 // -> oriented surfaces (one per side of an input polygon) -> element quadtrees.
+// Hierarchy owns that tree and the geometry it is made of (primitives, surfaces, texture
+// pieces): it builds them from a SceneDesc and keeps them consistent as elements split and
+// objects move, come and go. The radiometric fields of its nodes are the solver's to write.
 #pragma once
 #include <algorithm>
 #include <array>

@@ -1,6 +1,8 @@
 // The clustering-based hierarchical radiosity solver: initial linking from the root cluster
 // down (3.1.1), BF-style refinement with the 3.5 criterion, iterative gathering with
-// push-pull, and per-corner output.
+// push-pull, and per-corner output. Solver is what the Python module drives: it owns the
+// scene, the hierarchy, the links and the parts that work on them, and runs a full solve, an
+// incremental update after edits (moves, additions, removals, materials) and the live preview.
 #pragma once
 #include <array>
 #include <atomic>

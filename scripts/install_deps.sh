@@ -10,6 +10,7 @@ $SUDO apt-get install -y -q --no-install-recommends \
   cmake g++ make libembree-dev libtbb-dev libgtest-dev googletest python3-dev python3-numpy python3-pip \
   libbenchmark-dev \
   blender xvfb \
+  clang-tidy \
   clang libclang-rt-dev  # scripts/fuzz.sh: clang and its libFuzzer/sanitizer runtimes
 PY=${PYTHON:-python3}
 # Debian's own python3 is "externally managed" (PEP 668): pip refuses to install into it unless

@@ -77,13 +77,19 @@ void GatherPlan::build(const Hierarchy& h, const std::vector<Link>& links, int t
     valid_ = radiometry_ = dirty_ = false;  // until the build completes (it may throw bad_alloc)
     built_links_ = links.size();
     built_nodes_ = h.nodes.size();
-    const size_t nn = h.nodes.size();
-    slot_.assign(nn, -1);
+    slot_.assign(h.nodes.size(), -1);
     slot_node_.clear();
+    build_elements(h);
+    const std::vector<int32_t> c_value_begin = build_clusters(h);
+    build_links(h, links, threads);
+    build_flux_groups(h, links, c_value_begin);
+    valid_ = true;
+}
 
-    // Element entries: each surface's quadtree breadth first. Element receivers and their
-    // in_links (the order a gather sums them in) are taken on the way. A node is fetched when
-    // it joins the queue, well before it is read.
+// Element entries: each surface's quadtree breadth first. Element receivers and their
+// in_links (the order a gather sums them in) are taken on the way. A node is fetched when
+// it joins the queue, well before it is read.
+void GatherPlan::build_elements(const Hierarchy& h) {
     auto fetch = [&](int id) {
         __builtin_prefetch(&h.nodes[size_t(id)].children);
         __builtin_prefetch(&h.nodes[size_t(id)].in_links);
@@ -123,35 +129,42 @@ void GatherPlan::build(const Hierarchy& h, const std::vector<Link>& links, int t
     n_elem_ = int32_t(slot_node_.size());
     const size_t ne = size_t(n_elem_);
     r_begin_.push_back(int32_t(plink_id_.size()));
-    cluster_links_from_ = int32_t(plink_id_.size());
     G_.assign(ne, Rgb{});
     acc_.assign(ne, Rgb{});
+}
 
-    // Clusters by decreasing node id: a cluster's child clusters have larger ids, so one
-    // forward pass over them pulls up bottom-up. Then the links into clusters, each with its
-    // own value.
+// Clusters by decreasing node id: a cluster's child clusters have larger ids, so one forward
+// pass over them pulls up bottom-up. Then the links into clusters, after the element
+// receivers' links, each with its own value. Returns per cluster the index in cvalue_ of its
+// first link's value (-1: no links into it).
+std::vector<int32_t> GatherPlan::build_clusters(const Hierarchy& h) {
+    cluster_links_from_ = int32_t(plink_id_.size());
     n_clusters_ = 0;
-    for (size_t id = nn; id-- > 0;)
+    for (size_t id = h.nodes.size(); id-- > 0;)
         if (h.nodes[id].is_cluster()) {
             slot_[id] = int32_t(slot_node_.size());
             slot_node_.push_back(int32_t(id));
             ++n_clusters_;
         }
-    const int32_t cl_lo = n_elem_, cl_hi = n_elem_ + n_clusters_;
     cr_node_.clear();
-    std::vector<int32_t> c_value_begin(size_t(n_clusters_), -1);  // per cluster: first index in cvalue_
+    std::vector<int32_t> c_value_begin(size_t(n_clusters_), -1);
     for (int32_t ci = 0; ci < n_clusters_; ++ci) {
-        const int id = slot_node_[size_t(cl_lo + ci)];
+        const int id = slot_node_[size_t(n_elem_ + ci)];
         const Node& c = h.nodes[size_t(id)];
         if (c.dead || c.in_links.empty()) continue;
         cr_node_.push_back(id);
         c_value_begin[size_t(ci)] = int32_t(plink_id_.size()) - cluster_links_from_;
         plink_id_.insert(plink_id_.end(), c.in_links.begin(), c.in_links.end());
     }
+    return c_value_begin;
+}
 
-    // Sender slot and K of every link, in one flat pass that fetches links ahead (a link read
-    // is a cache miss; this way the misses overlap). Cluster senders and element senders with
-    // samples are marked -2 and senders outside the plan -3 for the serial pass after.
+// Sender slot and K of every link, in one flat pass that fetches links ahead (a link read is a
+// cache miss; this way the misses overlap). Cluster senders and element senders with samples
+// are marked -2 and senders outside the plan -3 for the serial pass after, which gives the
+// former their sender records and the latter their slots.
+void GatherPlan::build_links(const Hierarchy& h, const std::vector<Link>& links, int threads) {
+    const int32_t cl_lo = n_elem_, cl_hi = n_elem_ + n_clusters_;
     plinks_.resize(plink_id_.size());
     parallel_for(plinks_.size(), workers(threads), [&](size_t k) {
         if (k + kAhead < plink_id_.size()) __builtin_prefetch(&links[size_t(plink_id_[k + kAhead])]);
@@ -172,18 +185,26 @@ void GatherPlan::build(const Hierarchy& h, const std::vector<Link>& links, int t
         }
     }
     cvalue_.assign(plinks_.size() - size_t(cluster_links_from_), Rgb{});
+}
 
-    // Flux through cluster links, per group of surfaces that receive the same: the same
-    // ancestor chain (the same deepest ancestor), the same normal and the same pocket (a link
-    // brings nothing to surfaces in pockets its sender has none in). Terms in the order the
-    // ancestors (root first) and their in_links come, as a per-surface walk would add them.
-    // Keyed by the normal's bits: exact equality, and a NaN normal (never expected) cannot
-    // upset the map's ordering.
-    auto bits = [](double x) {
-        uint64_t b;
-        std::memcpy(&b, &x, sizeof b);
-        return b;
-    };
+namespace {
+// A double's bits, as a map key: exact equality, and a NaN (never expected) cannot upset the
+// map's ordering.
+uint64_t bits_of(double x) {
+    uint64_t b;
+    std::memcpy(&b, &x, sizeof b);
+    return b;
+}
+}  // namespace
+
+// Flux through cluster links, per group of surfaces that receive the same: the same ancestor
+// chain (the same deepest ancestor), the same normal (keyed by its bits) and the same pocket
+// (a link brings nothing to surfaces in pockets its sender has none in). Terms in the order
+// the ancestors (root first) and their in_links come, as a per-surface walk would add them.
+void GatherPlan::build_flux_groups(const Hierarchy& h, const std::vector<Link>& links,
+                                   const std::vector<int32_t>& c_value_begin) {
+    const int32_t cl_lo = n_elem_, cl_hi = n_elem_ + n_clusters_;
+    const size_t ns = h.surfaces.size();
     std::map<std::tuple<int, uint64_t, uint64_t, uint64_t, int>, int32_t> groups;
     s_group_.assign(ns, 0);
     g_begin_.clear();
@@ -192,7 +213,8 @@ void GatherPlan::build(const Hierarchy& h, const std::vector<Link>& links, int t
         const std::vector<int>& anc = h.ancestors_of_surface(int(s));
         const Vec3 nrm = h.nodes[size_t(h.surfaces[s].root)].normal;
         const int pocket = h.nodes[size_t(h.surfaces[s].root)].pocket;
-        const auto key = std::make_tuple(anc.empty() ? -1 : anc.back(), bits(nrm.x), bits(nrm.y), bits(nrm.z), pocket);
+        const auto key = std::make_tuple(anc.empty() ? -1 : anc.back(), bits_of(nrm.x), bits_of(nrm.y), bits_of(nrm.z),
+                                         pocket);
         auto it = groups.find(key);
         if (it != groups.end()) {
             s_group_[s] = it->second;
@@ -216,12 +238,24 @@ void GatherPlan::build(const Hierarchy& h, const std::vector<Link>& links, int t
     }
     g_begin_.push_back(int32_t(flux_.size()));
     g_flux_.assign(g_begin_.size() - 1, Rgb{});
-    valid_ = true;
 }
 
 void GatherPlan::prepare_radiometry(const Hierarchy& h, const std::vector<Link>& links,
                                     const std::function<Rgb(int)>& direct, int threads) {
     if (radiometry_) return;
+    prepare_elements(h, direct, threads);
+    prepare_clusters(h);
+    prepare_sends(h, links, threads);
+    for (size_t k = 0; k < cvalue_.size(); ++k) cvalue_[k] = links[size_t(plink_id_[size_t(cluster_links_from_) + k])].value;
+    // Radiances of clusters and of the nodes outside the trees.
+    L_.resize(slot_node_.size());
+    for (size_t i = size_t(n_elem_); i < slot_node_.size(); ++i) L_[i] = h.nodes[size_t(slot_node_[i])].L;
+    radiometry_ = true;
+}
+
+// Elements: areas and radiances, and at the leaves the materials, closure factors and direct
+// light; then each inner element's children's area, as the pull-up divides by it.
+void GatherPlan::prepare_elements(const Hierarchy& h, const std::function<Rgb(int)>& direct, int threads) {
     const size_t ne = size_t(n_elem_);
     e_area_.assign(ne, 0.0);
     e_child_area_.assign(ne, 0.0);
@@ -254,8 +288,10 @@ void GatherPlan::prepare_radiometry(const Hierarchy& h, const std::vector<Link>&
         for (int32_t c = e_child_[i]; c >= 0 && c < e_child_[i] + e_nchild_[i]; ++c) area += e_area_[size_t(c)];
         e_child_area_[i] = area;
     }
+}
 
-    // Clusters: bins and children for the pull-up.
+// Clusters: bins and children for the pull-up.
+void GatherPlan::prepare_clusters(const Hierarchy& h) {
     S_.assign(size_t(n_clusters_) * kBins, Rgb{});
     c_begin_.assign(size_t(n_clusters_) + 1, 0);
     c_children_.clear();
@@ -278,11 +314,13 @@ void GatherPlan::prepare_radiometry(const Hierarchy& h, const std::vector<Link>&
         }
     }
     c_begin_[size_t(n_clusters_)] = int32_t(c_children_.size());
+}
 
-    // Cluster senders: records and their samples, flattened. First the ranges (a link's
-    // sample count, and where its list is, for fetching it ahead), then the copies (in
-    // parallel); a sample node outside the plan (not expected: samples are surface roots)
-    // gets its slot in a serial pass after.
+// Cluster senders: records and their samples, flattened. First the ranges (a link's sample
+// count, and where its list is, for fetching it ahead), then the copies (in parallel); a
+// sample node outside the plan (not expected: samples are surface roots) gets its slot in a
+// serial pass after.
+void GatherPlan::prepare_sends(const Hierarchy& h, const std::vector<Link>& links, int threads) {
     sends_.assign(send_at_.size(), ClusterSend{});
     auto link_of = [&](size_t k) -> const Link& { return links[size_t(plink_id_[size_t(send_at_[k])])]; };
     std::vector<const std::pair<int, float>*> lists(send_at_.size());
@@ -335,12 +373,6 @@ void GatherPlan::prepare_radiometry(const Hierarchy& h, const std::vector<Link>&
             for (int32_t j = sends_[k].sample_begin; j < sends_[k].sample_end; ++j)
                 if (samples_[size_t(j)].slot < 0)
                     samples_[size_t(j)].slot = slot_of(h.live_element(link_of(k).samples[size_t(j - sends_[k].sample_begin)].first));
-    for (size_t k = 0; k < cvalue_.size(); ++k) cvalue_[k] = links[size_t(plink_id_[size_t(cluster_links_from_) + k])].value;
-
-    // Radiances of clusters and of the nodes outside the trees.
-    L_.resize(slot_node_.size());
-    for (size_t i = ne; i < slot_node_.size(); ++i) L_[i] = h.nodes[size_t(slot_node_[i])].L;
-    radiometry_ = true;
 }
 
 // Sender radiance as transfer.cpp's sender_radiance computes it, from the plan's arrays.

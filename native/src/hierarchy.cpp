@@ -41,58 +41,39 @@ uint64_t collection_key(const SceneDesc& scene, int c) {
 }
 uint64_t object_tree_key(uint64_t object_key) { return Hierarchy::mix(0x0B1EC7ull, object_key); }
 
-// Splits one Blender polygon into convex planar triangles/quads, keeping the corner each
-// vertex came from. Quads stay quads only when planar and convex (the quadtree and the
-// cubature assume it); other polygons are fanned from a vertex that keeps triangles positive.
-void split_polygon(const ObjectDesc& o, int f, double min_area, const Hierarchy& h, std::vector<Primitive>& out,
-                   size_t& skipped, size_t& unfanned) {
-    const int n = o.loop_totals[f], c0 = o.loop_starts[f];
-    auto P = [&](int k) { return h.to_internal(o.vertices[o.corner_verts[c0 + k]]); };
-    Vec3 nrm;  // Newell normal of the whole polygon
+// Newell normal of a polygon of n corners P(0) ... P(n - 1), not normalized (its length is
+// twice the area).
+template <class Corner>
+Vec3 newell_normal(const Corner& P, int n) {
+    Vec3 nrm;
     for (int k = 0; k < n; ++k) {
         Vec3 a = P(k), b = P((k + 1) % n);
         nrm.x += (a.y - b.y) * (a.z + b.z);
         nrm.y += (a.z - b.z) * (a.x + b.x);
         nrm.z += (a.x - b.x) * (a.y + b.y);
     }
-    if (length(nrm) * 0.5 < min_area) { ++skipped; return; }
-    nrm = normalize(nrm);
-    auto emit_tri = [&](int a, int b, int c) {
-        Primitive p;
-        p.object = -1;
-        p.face = f;
-        p.poly.n = 3;
-        p.poly.v = {P(a), P(b), P(c), Vec3{}};
-        p.corner = {c0 + a, c0 + b, c0 + c, -1};
-        if (p.poly.area() < min_area) return;
-        out.push_back(p);
-    };
-    if (n == 4) {
-        Poly q;
-        q.n = 4;
-        q.v = {P(0), P(1), P(2), P(3)};
-        Vec3 ctr = q.centroid();
-        double size = std::sqrt(q.area());
-        bool planar = true, convex = true;
-        for (int k = 0; k < 4; ++k) {
-            if (std::fabs(dot(q.v[k] - ctr, nrm)) > 1e-4 * size) planar = false;
-            Vec3 e1 = q.v[(k + 1) % 4] - q.v[k], e2 = q.v[(k + 2) % 4] - q.v[(k + 1) % 4];
-            if (dot(cross(e1, e2), nrm) <= 0) convex = false;
-        }
-        if (planar && convex) {
-            Primitive p;
-            p.face = f;
-            p.poly = q;
-            p.corner = {c0, c0 + 1, c0 + 2, c0 + 3};
-            out.push_back(p);
-            return;
-        }
+    return nrm;
+}
+
+// Whether a quad is planar and convex about its polygon's normal: only then it stays a quad.
+bool planar_convex_quad(const Poly& q, const Vec3& nrm) {
+    Vec3 ctr = q.centroid();
+    double size = std::sqrt(q.area());
+    bool planar = true, convex = true;
+    for (int k = 0; k < 4; ++k) {
+        if (std::fabs(dot(q.v[k] - ctr, nrm)) > 1e-4 * size) planar = false;
+        Vec3 e1 = q.v[(k + 1) % 4] - q.v[k], e2 = q.v[(k + 2) % 4] - q.v[(k + 1) % 4];
+        if (dot(cross(e1, e2), nrm) <= 0) convex = false;
     }
-    // Fan from the vertex whose fan has only positively oriented triangles, if any. Testing
-    // every vertex is O(n^2): a 100k-corner polygon with one reflex corner near its end took
-    // minutes, so the tests get a budget of O(n). Small polygons are searched in full
-    // as before; when a large one exhausts the budget, its reflex corners are tried (a polygon
-    // with a single notch fans from the notch), then the fan from 0 stands, as when no apex works.
+    return planar && convex;
+}
+
+// The vertex whose fan has only positively oriented triangles, or -1. Testing every vertex is
+// O(n^2): a 100k-corner polygon with one reflex corner near its end took minutes, so the
+// tests get a budget of O(n). Small polygons are searched in full; when a large one exhausts
+// the budget, its reflex corners are tried (a polygon with a single notch fans from the notch).
+template <class Corner>
+int fan_apex(const Corner& P, int n, const Vec3& nrm) {
     const int64_t budget0 = 32 * int64_t(n) + 1024;
     int64_t budget = budget0;
     auto fans_from = [&](int a) {
@@ -114,19 +95,14 @@ void split_polygon(const ObjectDesc& o, int f, double min_area, const Hierarchy&
             if (dot(cross(e1, e2), nrm) <= 0 && fans_from(a)) apex = a;
         }
     }
-    if (apex >= 0) {
-        for (int k = 1; k + 1 < n; ++k) emit_tri(apex, (apex + k) % n, (apex + k + 1) % n);
-        return;
-    }
-    // No vertex sees the whole polygon (a U-shaped floor drawn as one n-gon): clip ears. O(n^2),
-    // so only up to kMaxEarClip corners; beyond, the fan from corner 0 stands (some pieces face
-    // the wrong way) and the solver warns.
-    constexpr int kMaxEarClip = 4096;
-    if (n > kMaxEarClip) {
-        ++unfanned;
-        for (int k = 1; k + 1 < n; ++k) emit_tri(0, k, k + 1);
-        return;
-    }
+    return apex;
+}
+
+// Triangulates a simple polygon by clipping ears, O(n^2); `emit_tri(a, b, c)` takes each
+// triangle by its corners. What is left of a polygon that is not simple (self-intersecting)
+// is fanned from its first remaining corner and counted in `unfanned`.
+template <class Corner, class Emit>
+void clip_ears(const Corner& P, int n, const Vec3& nrm, const Emit& emit_tri, size_t& unfanned) {
     auto turns_left = [&](const Vec3& a, const Vec3& b, const Vec3& c) { return dot(cross(b - a, c - b), nrm) > 0; };
     auto inside = [&](const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
         return dot(cross(b - a, p - a), nrm) >= 0 && dot(cross(c - b, p - b), nrm) >= 0 && dot(cross(a - c, p - c), nrm) >= 0;
@@ -158,6 +134,57 @@ void split_polygon(const ObjectDesc& o, int f, double min_area, const Hierarchy&
     }
     if (ring.size() > 3) ++unfanned;  // not a simple polygon (self-intersecting): fan the rest
     for (size_t k = 1; k + 1 < ring.size(); ++k) emit_tri(ring[0], ring[k], ring[k + 1]);
+}
+
+// Splits one Blender polygon into convex planar triangles/quads, keeping the corner each
+// vertex came from. Quads stay quads only when planar and convex (the quadtree and the
+// cubature assume it); other polygons are fanned from a vertex that keeps triangles positive.
+void split_polygon(const ObjectDesc& o, int f, double min_area, const Hierarchy& h, std::vector<Primitive>& out,
+                   size_t& skipped, size_t& unfanned) {
+    const int n = o.loop_totals[f], c0 = o.loop_starts[f];
+    auto P = [&](int k) { return h.to_internal(o.vertices[o.corner_verts[c0 + k]]); };
+    Vec3 nrm = newell_normal(P, n);
+    if (length(nrm) * 0.5 < min_area) { ++skipped; return; }
+    nrm = normalize(nrm);
+    auto emit_tri = [&](int a, int b, int c) {
+        Primitive p;
+        p.object = -1;
+        p.face = f;
+        p.poly.n = 3;
+        p.poly.v = {P(a), P(b), P(c), Vec3{}};
+        p.corner = {c0 + a, c0 + b, c0 + c, -1};
+        if (p.poly.area() < min_area) return;
+        out.push_back(p);
+    };
+    if (n == 4) {
+        Poly q;
+        q.n = 4;
+        q.v = {P(0), P(1), P(2), P(3)};
+        if (planar_convex_quad(q, nrm)) {
+            Primitive p;
+            p.face = f;
+            p.poly = q;
+            p.corner = {c0, c0 + 1, c0 + 2, c0 + 3};
+            out.push_back(p);
+            return;
+        }
+    }
+    // Fan from a vertex that sees the whole polygon, if one is found.
+    const int apex = fan_apex(P, n, nrm);
+    if (apex >= 0) {
+        for (int k = 1; k + 1 < n; ++k) emit_tri(apex, (apex + k) % n, (apex + k + 1) % n);
+        return;
+    }
+    // No vertex sees the whole polygon (a U-shaped floor drawn as one n-gon): clip ears. O(n^2),
+    // so only up to kMaxEarClip corners; beyond, the fan from corner 0 stands (some pieces face
+    // the wrong way) and the solver warns.
+    constexpr int kMaxEarClip = 4096;
+    if (n > kMaxEarClip) {
+        ++unfanned;
+        for (int k = 1; k + 1 < n; ++k) emit_tri(0, k, k + 1);
+        return;
+    }
+    clip_ears(P, n, nrm, emit_tri, unfanned);
 }
 
 }  // namespace
@@ -456,38 +483,7 @@ void Hierarchy::build(const SceneDesc& scene, bool use_clustering) {
         for (auto& v : prims_of) all.insert(all.end(), v.begin(), v.end());
         add_surfaces_of_prims(all, 0, int(all.size()), root);
     } else {
-        // Which clusters hold any primitive (empty collections get no node).
-        const auto& cl = scene.clusters();
-        std::vector<std::vector<int>> sub(cl.size()), objs_in(cl.size());
-        std::vector<int> top_clusters, top_objects;
-        for (size_t c = 0; c < cl.size(); ++c)
-            (cl[c].parent < 0 ? top_clusters : sub[cl[c].parent]).push_back(int(c));
-        for (size_t oi = 0; oi < objs.size(); ++oi)
-            (objs[oi].cluster < 0 ? top_objects : objs_in[objs[oi].cluster]).push_back(int(oi));
-        std::vector<char> nonempty(cl.size(), 0);
-        for (int c = int(cl.size()) - 1; c >= 0; --c) {  // parents precede children
-            for (int oi : objs_in[c]) nonempty[c] |= !prims_of[oi].empty();
-            for (int s : sub[c]) nonempty[c] |= nonempty[s];
-        }
-        auto build_objects = [&](const std::vector<int>& list, int parent) {
-            for (int oi : list)
-                if (!prims_of[oi].empty())
-                    object_node[oi] = build_object_tree(prims_of[oi], 0, int(prims_of[oi].size()), parent, oi,
-                                                        object_tree_key(object_keys_[oi]));
-        };
-        std::function<void(int, int)> build_cluster = [&](int c, int parent) {
-            int id = new_node(NodeKind::Cluster, parent);
-            cluster_node[c] = id;
-            nodes[id].surf_begin = int(surface_order.size());
-            for (int s : sub[c])
-                if (nonempty[s]) build_cluster(s, id);
-            build_objects(objs_in[c], id);
-            nodes[id].key = collection_key(scene, c);
-            finish_cluster(id);
-        };
-        for (int c : top_clusters)
-            if (nonempty[c]) build_cluster(c, root);
-        build_objects(top_objects, root);
+        build_collection_tree(scene, prims_of);
     }
     // Materials of the surface roots.
     for (size_t s = 0; s < surfaces.size(); ++s) set_surface_material(scene, int(s));
@@ -495,11 +491,46 @@ void Hierarchy::build(const SceneDesc& scene, bool use_clustering) {
     // Cluster rho_max needs the materials: recompute every cluster once.
     for (size_t i = 0; i < nodes.size(); ++i)
         if (nodes[i].is_cluster()) refresh_cluster_geometry(int(i));
-
-
     surface_ancestors_.assign(surfaces.size(), {});
     for (size_t s = 0; s < surfaces.size(); ++s) set_surface_ancestors(int(s));
     refresh_surface_geom();
+}
+
+// The collection clusters that hold any primitive, each with its sub-collections and then its
+// objects' trees, under the root, followed by the trees of the objects in no collection.
+void Hierarchy::build_collection_tree(const SceneDesc& scene, std::vector<std::vector<int>>& prims_of) {
+    const auto& objs = scene.objects();
+    const auto& cl = scene.clusters();
+    std::vector<std::vector<int>> sub(cl.size()), objs_in(cl.size());
+    std::vector<int> top_clusters, top_objects;
+    for (size_t c = 0; c < cl.size(); ++c)
+        (cl[c].parent < 0 ? top_clusters : sub[cl[c].parent]).push_back(int(c));
+    for (size_t oi = 0; oi < objs.size(); ++oi)
+        (objs[oi].cluster < 0 ? top_objects : objs_in[objs[oi].cluster]).push_back(int(oi));
+    std::vector<char> nonempty(cl.size(), 0);
+    for (int c = int(cl.size()) - 1; c >= 0; --c) {  // parents precede children
+        for (int oi : objs_in[c]) nonempty[c] |= !prims_of[oi].empty();
+        for (int s : sub[c]) nonempty[c] |= nonempty[s];
+    }
+    auto build_objects = [&](const std::vector<int>& list, int parent) {
+        for (int oi : list)
+            if (!prims_of[oi].empty())
+                object_node[oi] = build_object_tree(prims_of[oi], 0, int(prims_of[oi].size()), parent, oi,
+                                                    object_tree_key(object_keys_[oi]));
+    };
+    std::function<void(int, int)> build_cluster = [&](int c, int parent) {
+        int id = new_node(NodeKind::Cluster, parent);
+        cluster_node[c] = id;
+        nodes[id].surf_begin = int(surface_order.size());
+        for (int s : sub[c])
+            if (nonempty[s]) build_cluster(s, id);
+        build_objects(objs_in[c], id);
+        nodes[id].key = collection_key(scene, c);
+        finish_cluster(id);
+    };
+    for (int c : top_clusters)
+        if (nonempty[c]) build_cluster(c, root);
+    build_objects(top_objects, root);
 }
 
 void Hierarchy::set_surface_material(const SceneDesc& scene, int s) {

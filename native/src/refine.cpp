@@ -119,6 +119,35 @@ double Solver::link_threshold(const Node& Q) const {
     return threshold_ * std::min(1.0, std::max(Q.L.max() / L_ref_, f));
 }
 
+namespace {
+
+// The oriented point model's relative error on a cluster link: it grows with (size /
+// distance).
+// Near field (lights.cpp's tests found it): the kernel at the receiver's nearest surfaces
+// exceeds the centre-to-centre value by (dist / gap)^2, so a close, bright neighbour (the
+// floor beside a box) was under-refined and the box sides came out 5-15 % dark. Capped so
+// far-field links keep the old term.
+// An element end seen at a grazing angle: the point model takes its cosine toward the other
+// end's centre, but parts of an extended other end lie up to asin((r_P + r_Q) / dist) off
+// that direction, where the cosine is larger (the side of a Cornell block and the light: the
+// light cluster's coupling 1/6 of the exact one, the sides' light 33 % short at MEDIUM). Its
+// growth bounds the error; uncapped, since Ku * (growth - 1) <= projected area / (pi r^2).
+double point_model_error(const Link& l, const Node& P, const Node& Q) {
+    const double gap = std::max(l.dist - P.radius - Q.radius, 1e-3 * l.dist);
+    double geo = std::min(8.0, std::max(std::min(1.0, 2.0 * (P.radius + Q.radius) / l.dist), (l.dist / gap) * (l.dist / gap) - 1.0));
+    const double sa = std::min(1.0, (P.radius + Q.radius) / l.dist), ca = std::sqrt(1.0 - sa * sa);
+    auto growth = [&](double c) {  // cos(theta - alpha) / cos(theta)
+        return c > 0 ? std::min(1.0, c * ca + std::sqrt(std::max(0.0, 1.0 - c * c)) * sa) / c : 1.0;
+    };
+    double cos_growth = 1.0;
+    if (!P.is_cluster()) cos_growth *= growth(dot(P.normal, l.dir));
+    if (!Q.is_cluster()) cos_growth *= growth(-dot(Q.normal, l.dir));
+    geo = std::max(geo, cos_growth - 1.0);
+    return geo;
+}
+
+}  // namespace
+
 // The oracle. Errors are in radiance units at the receiver, compared with link_threshold.
 Solver::Judgement Solver::judge(const Link& l) const {
     const Node& P = h_.nodes[l.src];
@@ -140,28 +169,8 @@ Solver::Judgement Solver::judge(const Link& l) const {
         err_rcv = l.settled ? 0.0 : rho * Lp * l.dK;
         err_src = rho * l.K * dLp;
     } else {
-        // Oriented point model: its relative error grows with (size / distance); a partly
-        // occluded cluster link cannot place its shadow.
-        // Near field (lights.cpp's tests found it): the kernel at the receiver's nearest
-        // surfaces exceeds the centre-to-centre value by (dist / gap)^2, so a close, bright
-        // neighbour (the floor beside a box) was under-refined and the box sides came out
-        // 5-15 % dark. Capped so far-field links keep the old term.
-        const double gap = std::max(l.dist - P.radius - Q.radius, 1e-3 * l.dist);
-        double geo = std::min(8.0, std::max(std::min(1.0, 2.0 * (P.radius + Q.radius) / l.dist), (l.dist / gap) * (l.dist / gap) - 1.0));
-        // An element end seen at a grazing angle: the point model takes its cosine toward the
-        // other end's centre, but parts of an extended other end lie up to asin((r_P + r_Q) /
-        // dist) off that direction, where the cosine is larger (the side of a Cornell block
-        // and the light: the light cluster's coupling 1/6 of the exact one, the sides' light
-        // 33 % short at MEDIUM). Its growth bounds the error; uncapped, since Ku * (growth - 1)
-        // <= projected area / (pi r^2).
-        const double sa = std::min(1.0, (P.radius + Q.radius) / l.dist), ca = std::sqrt(1.0 - sa * sa);
-        auto growth = [&](double c) {  // cos(theta - alpha) / cos(theta)
-            return c > 0 ? std::min(1.0, c * ca + std::sqrt(std::max(0.0, 1.0 - c * c)) * sa) / c : 1.0;
-        };
-        double cos_growth = 1.0;
-        if (!P.is_cluster()) cos_growth *= growth(dot(P.normal, l.dir));
-        if (!Q.is_cluster()) cos_growth *= growth(-dot(Q.normal, l.dir));
-        geo = std::max(geo, cos_growth - 1.0);
+        // The point model's error; a partly occluded cluster link cannot place its shadow.
+        const double geo = point_model_error(l, P, Q);
         double visterm = l.partial ? 2.0 * std::min(l.vis, 1.0 - l.vis) + 0.25 : 0.0;
         err_rcv = rho * Lp * l.K_unoccluded * (geo + visterm);
         // All rays blocked: what may have been missed is about the visible fraction that n
@@ -174,13 +183,19 @@ Solver::Judgement Solver::judge(const Link& l) const {
     const bool ps = can_split(l.src) || splits_at_gap(l.rcv, l.src, l, err_src, threshold),
                qs = can_split(l.rcv) || splits_at_outline(l, err_rcv, threshold) || splits_at_gap(l.src, l.rcv, l, err_rcv, threshold);
     if (!ps && !qs) return j;  // at the resolution limit
+    j.side = split_side(l, P, Q, err_rcv, err_src, threshold, ps, qs);
+    if (j.side == Side::Rcv && settles(l, P, Q, rho, Lp, threshold, err_src, j.settled_K)) j.side = Side::Settle;
+    return j;
+}
+
+// Which end of a link over the threshold to split (Keep: neither can be), given its errors on
+// either side and whether each end can split.
+Solver::Side Solver::split_side(const Link& l, const Node& P, const Node& Q, double err_rcv, double err_src,
+                                double threshold, bool ps, bool qs) {
     // A partly occluded link into a cluster cannot tell which of its surfaces are hidden
     // (a closed object's inner faces, or the part in another object's shadow): sharing the
     // flux by cosine would light hidden faces and dim the visible ones. Split the receiver.
-    if (l.cluster && l.partial && Q.is_cluster()) {
-        j.side = Side::Rcv;
-        return j;
-    }
+    if (l.cluster && l.partial && Q.is_cluster()) return Side::Rcv;
     Side prefer;
     if (l.cluster || l.must_refine) {
         // Split the larger end (clusters by bounding sphere, elements by area). Ends of one
@@ -201,32 +216,35 @@ Solver::Judgement Solver::judge(const Link& l) const {
         // reduce the kernel's spread over the receiver, and vice versa.
         if (prefer == Side::Rcv && !qs) prefer = err_src > threshold && ps ? Side::Src : Side::Keep;
         if (prefer == Side::Src && !ps) prefer = err_rcv > threshold && qs ? Side::Rcv : Side::Keep;
-        if (prefer == Side::Keep) return j;
     }
-    j.side = prefer;
-    // 3.5: between mutually visible surfaces, refine the receiver only if its children's
-    // area-averaged form factor differs from the parent's by more than epsilon. (The
-    // paper's second test, sum of F_{q,p_i}, holds exactly for our analytic kernel.)
-    if (settings_.progressive_refinement && prefer == Side::Rcv && !l.cluster && !l.partial && l.vis >= 1.0 &&
-        !Q.is_cluster()) {
-        // We also ask the children to agree with each other: our output is per corner, so a
-        // receiver must still split where its children would show a gradient.
-        double khat = 0, kmin = 1e300, kmax = -1e300;
-        for (int k = 0; k < 4; ++k) {
-            Poly c = Q.poly.child(k);
-            double kc = unoccluded_coupling(c, Q.normal, P);
-            khat += c.area() * kc;
-            kmin = std::min(kmin, kc);
-            kmax = std::max(kmax, kc);
-        }
-        khat /= Q.area;
-        if (khat > 0 && std::fabs(khat - l.K_unoccluded) / khat <= settings_.error_threshold &&
-            rho * Lp * (kmax - kmin) <= threshold && err_src <= threshold) {
-            j.side = Side::Settle;
-            j.settled_K = khat;
-        }
+    return prefer;
+}
+
+// 3.5: between mutually visible surfaces, refine the receiver only if its children's
+// area-averaged form factor differs from the parent's by more than epsilon. (The paper's
+// second test, sum of F_{q,p_i}, holds exactly for our analytic kernel.) True when the link
+// may settle instead, with the children's mean coupling in `settled_K`.
+bool Solver::settles(const Link& l, const Node& P, const Node& Q, double rho, double Lp, double threshold,
+                     double err_src, double& settled_K) const {
+    if (!(settings_.progressive_refinement && !l.cluster && !l.partial && l.vis >= 1.0 && !Q.is_cluster()))
+        return false;
+    // We also ask the children to agree with each other: our output is per corner, so a
+    // receiver must still split where its children would show a gradient.
+    double khat = 0, kmin = 1e300, kmax = -1e300;
+    for (int k = 0; k < 4; ++k) {
+        Poly c = Q.poly.child(k);
+        double kc = unoccluded_coupling(c, Q.normal, P);
+        khat += c.area() * kc;
+        kmin = std::min(kmin, kc);
+        kmax = std::max(kmax, kc);
     }
-    return j;
+    khat /= Q.area;
+    if (khat > 0 && std::fabs(khat - l.K_unoccluded) / khat <= settings_.error_threshold &&
+        rho * Lp * (kmax - kmin) <= threshold && err_src <= threshold) {
+        settled_K = khat;
+        return true;
+    }
+    return false;
 }
 
 void Solver::apply(int id, const Judgement& j, std::vector<Candidate>& next) {

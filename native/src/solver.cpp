@@ -57,15 +57,47 @@ void Solver::solve(Control* control) {
     links_.clear();
     direct_light_.clear();   // the hierarchy is rebuilt
     commit_topology();       // topology.cpp: objects removed since are left out
+    build_scene();
+    stats_.seconds_build = since(t0);
+    lap("build");
+    set_progress(0.05);
 
+    edits_.take_moves();      // not applied: a move reaches a full solve as a placement (solve_instead)
+    edits_.take_materials();  // in scene_ already
+    output_.clear();  // output.cpp: traced at the end, when there is light
+    if (L_ref_ <= 0) {
+        stats_.no_emitters = true;
+        stats_.warnings.push_back("the scene has no emitter: every radiance is 0");
+    } else {
+        const auto t1 = Clock::now();
+        link_and_refine();
+        stats_.seconds_link = since(t1);
+        const auto t2 = Clock::now();
+        compute_closure();
+        lap("closure");
+        stats_.iteration_capped = false;
+        iterate_to(settings_.tolerance, settings_.max_iterations, 0.8, 0.9);
+        lap("gather");
+        final_gather(0.9, 1.0);  // output.cpp
+        lap("output");
+        stats_.seconds_solve = since(t2);
+    }
+    if (stats_.element_nodes >= settings_.max_elements) stats_.capped = true;
+    add_result_warnings();
+    compute_stats();
+    lap("stats");
+    stats_.seconds_total = since(t0);
+    set_progress(1.0);
+    solved_ = true;
+    control_ = nullptr;
+}
+
+// A full solve's first phase: the hierarchy and Embree's scene from scene_, with the
+// placements of earlier moves, then the pockets and the reference radiance.
+void Solver::build_scene() {
     h_.build(scene_, settings_.use_clustering);
     vis_ = std::make_unique<Visibility>();
-    // Ray offsets relative to the scene size (scale invariance), but never below what float
-    // coordinates far from the origin can resolve.
-    double mag = 0;
-    for (int k = 0; k < 3; ++k)
-        mag = std::max({mag, std::fabs(h_.scene_box.lo[k]), std::fabs(h_.scene_box.hi[k])});
-    vis_->set_epsilon(std::max(1e-6 * h_.scene_diag, 4e-7 * mag));
+    fit_ray_epsilon();
     std::vector<std::vector<int>> prims_of(scene_.objects().size());
     for (size_t pi = 0; pi < h_.prims.size(); ++pi)
         if (h_.prims[pi].object >= 0) prims_of[size_t(h_.prims[pi].object)].push_back(int(pi));  // -1: skipped
@@ -86,61 +118,44 @@ void Solver::solve(Control* control) {
     vis_->commit();
     pockets_.compute(h_, pocket_sight());
     compute_reference();
-    stats_.seconds_build = since(t0);
-    lap("build");
-    set_progress(0.05);
+}
 
-    edits_.take_moves();      // not applied: a move reaches a full solve as a placement (solve_instead)
-    edits_.take_materials();  // in scene_ already
-    output_.clear();  // output.cpp: traced at the end, when there is light
-    if (L_ref_ <= 0) {
-        stats_.no_emitters = true;
-        stats_.warnings.push_back("the scene has no emitter: every radiance is 0");
-    } else {
-        const auto t1 = Clock::now();
-        light_initial();  // solver_lights.cpp: lit surfaces get their first-bounce radiance before linking
-        h_.index_emitters();  // can_split: small emitting clusters still split
-        forecast_output();    // memory.cpp: refinement leaves room for the output (link_from keeps it)
-        link_from({{h_.root, h_.root, -1}});
-        lap("link");
-        set_progress(0.2);
-        // Refine against the evolving solution (BF refinement): light arriving from
-        // reflectors becomes known only after some gathering; a few sweeps per round are
-        // enough for the oracle, the last solve converges.
-        const double loose = std::max(settings_.tolerance, 1e-3);
-        const int round_sweeps = std::min(settings_.max_iterations, kRoundSweeps);
-        for (int round = 0; round < settings_.max_refine_rounds; ++round) {
-            check_cancel();
-            compute_closure();
-            lap("closure");
-            iterate_to(loose, round_sweeps, 0.2 + 0.6 * round / settings_.max_refine_rounds,
-                       0.2 + 0.6 * (round + 0.5) / settings_.max_refine_rounds);
-            lap("gather");
-            light_known_ = true;
-            ++stats_.refine_rounds;
-            const bool more = refine_round();
-            lap("refine");
-            if (!more) break;
-        }
-        stats_.seconds_link = since(t1);
-        const auto t2 = Clock::now();
+// Ray offsets relative to the scene size (scale invariance), but never below what float
+// coordinates far from the origin can resolve.
+void Solver::fit_ray_epsilon() {
+    double mag = 0;
+    for (int k = 0; k < 3; ++k)
+        mag = std::max({mag, std::fabs(h_.scene_box.lo[k]), std::fabs(h_.scene_box.hi[k])});
+    vis_->set_epsilon(std::max(1e-6 * h_.scene_diag, 4e-7 * mag));
+}
+
+// A lit scene's linking: first-bounce light, links from the root's self-link down, then
+// rounds of gathering and refinement until the oracle splits nothing (or the round cap).
+void Solver::link_and_refine() {
+    light_initial();  // solver_lights.cpp: lit surfaces get their first-bounce radiance before linking
+    h_.index_emitters();  // can_split: small emitting clusters still split
+    forecast_output();    // memory.cpp: refinement leaves room for the output (link_from keeps it)
+    link_from({{h_.root, h_.root, -1}});
+    lap("link");
+    set_progress(0.2);
+    // Refine against the evolving solution (BF refinement): light arriving from
+    // reflectors becomes known only after some gathering; a few sweeps per round are
+    // enough for the oracle, the last solve converges.
+    const double loose = std::max(settings_.tolerance, 1e-3);
+    const int round_sweeps = std::min(settings_.max_iterations, kRoundSweeps);
+    for (int round = 0; round < settings_.max_refine_rounds; ++round) {
+        check_cancel();
         compute_closure();
         lap("closure");
-        stats_.iteration_capped = false;
-        iterate_to(settings_.tolerance, settings_.max_iterations, 0.8, 0.9);
+        iterate_to(loose, round_sweeps, 0.2 + 0.6 * round / settings_.max_refine_rounds,
+                   0.2 + 0.6 * (round + 0.5) / settings_.max_refine_rounds);
         lap("gather");
-        final_gather(0.9, 1.0);  // output.cpp
-        lap("output");
-        stats_.seconds_solve = since(t2);
+        light_known_ = true;
+        ++stats_.refine_rounds;
+        const bool more = refine_round();
+        lap("refine");
+        if (!more) break;
     }
-    if (stats_.element_nodes >= settings_.max_elements) stats_.capped = true;
-    add_result_warnings();
-    compute_stats();
-    lap("stats");
-    stats_.seconds_total = since(t0);
-    set_progress(1.0);
-    solved_ = true;
-    control_ = nullptr;
 }
 
 // Warnings about the result that stands after a solve or an update (an update starts from

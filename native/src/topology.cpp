@@ -70,45 +70,62 @@ bool Solver::changes_outgrow_frame() const {
 }
 
 void Solver::apply_topology(Change& ch) {
-    Stats& s = stats_;
     ch.inX.resize(h_.nodes.size(), 0);
-    // Cluster paths root-first up to `deepest`: relinked against their siblings, as the
-    // clusters above a moved object are; they changed shape (not the root: it has no links).
-    auto chain_to = [&](int deepest) {
-        std::vector<int> chain;
-        for (int a = deepest; a >= 0; a = h_.nodes[a].parent) chain.push_back(a);
-        std::reverse(chain.begin(), chain.end());
-        for (int a : chain)
-            if (a != h_.root) ch.inX[a] = 1;
-        return chain;
-    };
-
-    // Removals: the nodes leave the tree, then every link with a dead end goes (the object's
-    // own, and those of collection clusters it left empty) with the history below it.
-    const std::vector<int> removes = edits_.take_removes();
-    if (!removes.empty()) {
-        for (int r : removes) {
-            const Aabb b = h_.object_box(r);
-            if (!b.empty()) ch.clips.push_back(b);
-            for (int id : h_.object_nodes(r))
-                if (!h_.nodes[id].is_cluster()) --stats_.element_nodes;
-            ch.chains.push_back(chain_to(h_.remove_object(r)));
-            vis_->remove_object(r);
-            if (size_t(r) < tri_prim_.size()) tri_prim_[r].clear();
-            blank_object(r);
-            ++s.objects_removed;
-        }
-        std::vector<int> doomed;
-        for (size_t i = 0; i < links_.size(); ++i) {
-            const Link& l = links_[i];
-            if (l.dead || !(h_.nodes[l.src].dead || h_.nodes[l.rcv].dead)) continue;
-            if (l.active) ++s.links_removed;
-            doomed.push_back(int(i));
-        }
-        for (int i : doomed) links_.kill(h_, i);  // dead nodes' link lists are empty already: no harm
+    remove_objects(ch);
+    add_objects(ch);
+    // A later removal in this update may have taken a cluster of an earlier chain with it.
+    for (auto& chain : ch.chains) {
+        auto dead = std::find_if(chain.begin(), chain.end(), [this](int a) { return h_.nodes[a].dead; });
+        chain.erase(dead, chain.end());
     }
+    refit_tolerances();
+    // The direct light of every leaf may have a new shadow (or lost one), as after a move;
+    // contacts refer to surfaces that may be gone.
+    direct_light_.relight();
+    direct_light_.forget_contacts();
+}
 
-    // Additions.
+// The cluster path from the root down to `deepest`. Its clusters changed shape: marked in
+// ch.inX, they are relinked against their siblings, as the clusters above a moved object are
+// (not the root: it has no links).
+std::vector<int> Solver::changed_chain(Change& ch, int deepest) const {
+    std::vector<int> chain;
+    for (int a = deepest; a >= 0; a = h_.nodes[a].parent) chain.push_back(a);
+    std::reverse(chain.begin(), chain.end());
+    for (int a : chain)
+        if (a != h_.root) ch.inX[a] = 1;
+    return chain;
+}
+
+// Removals: the nodes leave the tree, then every link with a dead end goes (the object's own,
+// and those of collection clusters it left empty) with the history below it.
+void Solver::remove_objects(Change& ch) {
+    const std::vector<int> removes = edits_.take_removes();
+    if (removes.empty()) return;
+    for (int r : removes) {
+        const Aabb b = h_.object_box(r);
+        if (!b.empty()) ch.clips.push_back(b);
+        for (int id : h_.object_nodes(r))
+            if (!h_.nodes[id].is_cluster()) --stats_.element_nodes;
+        ch.chains.push_back(changed_chain(ch, h_.remove_object(r)));
+        vis_->remove_object(r);
+        if (size_t(r) < tri_prim_.size()) tri_prim_[r].clear();
+        blank_object(r);
+        ++stats_.objects_removed;
+    }
+    std::vector<int> doomed;
+    for (size_t i = 0; i < links_.size(); ++i) {
+        const Link& l = links_[i];
+        if (l.dead || !(h_.nodes[l.src].dead || h_.nodes[l.rcv].dead)) continue;
+        if (l.active) ++stats_.links_removed;
+        doomed.push_back(int(i));
+    }
+    for (int i : doomed) links_.kill(h_, i);  // dead nodes' link lists are empty already: no harm
+}
+
+// Additions: each object's nodes where a fresh build puts them, its own Embree instance, and
+// the links to make for it in `ch`; every new node is marked in ch.inX.
+void Solver::add_objects(Change& ch) {
     const size_t no = scene_.objects().size();
     edits_.fit_poses(no);
     tri_prim_.resize(no);
@@ -124,13 +141,13 @@ void Solver::apply_topology(Change& ch) {
         add_object_geometry(a, prims);
         const Aabb b = h_.object_box(a);
         if (!b.empty()) ch.clips.push_back(b);
-        ++s.objects_added;
+        ++stats_.objects_added;
         if (h_.surfaces.size() == first_surface) continue;  // only zero-area polygons
         if (h_.object_node[a] >= 0) {
             // Linked like a moved object, cluster pairs first, from where it hangs; its
             // inside (what the root's self-link gives it in a full solve) from its own
             // self-link, or that of the new collection cluster it came with.
-            ch.chains.push_back(chain_to(h_.object_node[a]));
+            ch.chains.push_back(changed_chain(ch, h_.object_node[a]));
             ch.seeds.push_back({top, top, -1});
         } else {
             // Unclustered: each new surface with every other surface below the root.
@@ -146,32 +163,22 @@ void Solver::apply_topology(Change& ch) {
     }
     ch.inX.resize(h_.nodes.size(), 0);
     for (size_t id = first_new_node; id < h_.nodes.size(); ++id) ch.inX[id] = 1;
-    // A later removal in this update may have taken a cluster of an earlier chain with it.
-    for (auto& chain : ch.chains) {
-        auto dead = std::find_if(chain.begin(), chain.end(), [this](int a) { return h_.nodes[a].dead; });
-        chain.erase(dead, chain.end());
-    }
-    // The scene's size changed (changes_outgrow_frame() allows up to 2x): the tolerances a fresh
-    // solve derives from it (smallest element area, ray offsets) follow, so refinement from here
-    // on stops where a fresh solve's does (the frame itself stays). Many objects added at once
-    // to a small scene made 33 % more links than a fresh solve without this.
+}
+
+// The scene's size changed (changes_outgrow_frame() allows up to 2x): the tolerances a fresh
+// solve derives from it (smallest element area, ray offsets) follow, so refinement from here
+// on stops where a fresh solve's does (the frame itself stays). Many objects added at once to
+// a small scene made 33 % more links than a fresh solve without this.
+void Solver::refit_tolerances() {
     Aabb box;
     for (const Primitive& p : h_.prims)
         if (p.object >= 0)
             for (int k = 0; k < p.poly.n; ++k) box.grow(p.poly.v[k]);
-    if (!box.empty() && box.diagonal() > 0) {
-        h_.scene_box = box;
-        h_.scene_diag = box.diagonal();
-        min_area_ = settings_.min_area_fraction * h_.scene_diag * h_.scene_diag;
-        double mag = 0;
-        for (int k = 0; k < 3; ++k) mag = std::max({mag, std::fabs(box.lo[k]), std::fabs(box.hi[k])});
-        vis_->set_epsilon(std::max(1e-6 * h_.scene_diag, 4e-7 * mag));  // as solve() sets it
-    }
-    // The direct light of every leaf may have a new shadow (or lost one), as after a move;
-    // contacts refer to surfaces that may be gone.
-    direct_light_.relight();
-    direct_light_.forget_contacts();
+    if (box.empty() || !(box.diagonal() > 0)) return;
+    h_.scene_box = box;
+    h_.scene_diag = box.diagonal();
+    min_area_ = settings_.min_area_fraction * h_.scene_diag * h_.scene_diag;
+    fit_ray_epsilon();
 }
-
 
 }  // namespace radiosity

@@ -139,6 +139,16 @@ private:
 
     int32_t slot_of(int node);
     int workers(int threads) const;  // threads, or 1 for a small plan
+    // build()'s steps, in order (each described in gather_plan.cpp).
+    void build_elements(const Hierarchy& h);
+    std::vector<int32_t> build_clusters(const Hierarchy& h);
+    void build_links(const Hierarchy& h, const std::vector<Link>& links, int threads);
+    void build_flux_groups(const Hierarchy& h, const std::vector<Link>& links,
+                           const std::vector<int32_t>& c_value_begin);
+    // prepare_radiometry()'s steps, in order.
+    void prepare_elements(const Hierarchy& h, const std::function<Rgb(int)>& direct, int threads);
+    void prepare_clusters(const Hierarchy& h);
+    void prepare_sends(const Hierarchy& h, const std::vector<Link>& links, int threads);
     Rgb sender_radiance(const PlanLink& p) const;
     void push_pull(size_t s, bool unit, CouplingSums* sums, double& delta);
     void pull_up_clusters();

@@ -1,5 +1,6 @@
-// Planar polygons (triangles and quads) of the element quadtrees and the analytic
-// point-to-polygon form factor that every surface link is built on.
+// Planar polygons (triangles and quads) of the element quadtrees, their cubature points, and
+// the analytic point-to-polygon form factor that every surface link is built on; with the
+// seeded random numbers (Rng) that link evaluation jitters its points by.
 #pragma once
 #include <array>
 #include <cmath>

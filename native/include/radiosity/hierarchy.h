@@ -1,6 +1,9 @@
 // The node hierarchy of clustering-based hierarchical radiosity (paper 3.1):
 // root cluster -> collection clusters -> object clusters -> automatic spatial sub-clusters
 // -> oriented surfaces (one per side of an input polygon) -> element quadtrees.
+// Hierarchy owns that tree and the geometry it is made of (primitives, surfaces, texture
+// pieces): it builds them from a SceneDesc and keeps them consistent as elements split and
+// objects move, come and go. The radiometric fields of its nodes are the solver's to write.
 #pragma once
 #include <algorithm>
 #include <array>
@@ -258,6 +261,8 @@ private:
     int build_object_tree(std::vector<int>& prim_ids, int begin, int end, int parent, int object, uint64_t key);
     void add_surfaces_of_prims(const std::vector<int>& prim_ids, int begin, int end, int parent);
     void finish_cluster(int node);
+    // build() with clustering: the collection clusters and the object trees under the root.
+    void build_collection_tree(const SceneDesc& scene, std::vector<std::vector<int>>& prims_of);
     // The object's polygons as primitives appended to `prims`; returns their ids.
     std::vector<int> make_prims(const ObjectDesc& o, int object);
     // Per object a key from its name (and how many earlier objects share it): an object keeps

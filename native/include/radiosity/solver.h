@@ -1,6 +1,8 @@
 // The clustering-based hierarchical radiosity solver: initial linking from the root cluster
 // down (3.1.1), BF-style refinement with the 3.5 criterion, iterative gathering with
-// push-pull, and per-corner output.
+// push-pull, and per-corner output. Solver is what the Python module drives: it owns the
+// scene, the hierarchy, the links and the parts that work on them, and runs a full solve, an
+// incremental update after edits (moves, additions, removals, materials) and the live preview.
 #pragma once
 #include <array>
 #include <atomic>
@@ -155,9 +157,20 @@ private:
     struct Candidate { int src, rcv, parent; };
     struct Judgement { Side side = Side::Keep; double settled_K = 0; };
 
+    // solve()'s phases (solver.cpp): the scene built, and a lit scene linked and refined.
+    void build_scene();
+    void link_and_refine();
+    // Embree's ray offset for the scene's size (h_.scene_box, scene_diag).
+    void fit_ray_epsilon();
     // refine.cpp
     void link_from(std::vector<Candidate> wave);
     Judgement judge(const Link& l) const;
+    // judge()'s parts (refine.cpp): which end of a link over the threshold to split, and
+    // whether a link whose receiver would split may settle instead (3.5).
+    static Side split_side(const Link& l, const Node& P, const Node& Q, double err_rcv, double err_src,
+                           double threshold, bool ps, bool qs);
+    bool settles(const Link& l, const Node& P, const Node& Q, double rho, double Lp, double threshold,
+                 double err_src, double& settled_K) const;
     void apply(int link_id, const Judgement& j, std::vector<Candidate>& next);
     bool can_split(int node) const;
     // Whether a link's receiver leaf may split below the area floor because an emitter's
@@ -276,6 +289,11 @@ private:
     bool changes_outgrow_frame() const;
     // Applies pending removals and additions to the hierarchy, Embree and `ch`.
     void apply_topology(Change& ch);
+    // apply_topology()'s parts (topology.cpp).
+    std::vector<int> changed_chain(Change& ch, int deepest) const;
+    void remove_objects(Change& ch);
+    void add_objects(Change& ch);
+    void refit_tolerances();
     void set_material(int object, const std::vector<Rgb>& values, bool emission);
     void apply_materials();
     void unrefine(int link_id);

@@ -1,6 +1,7 @@
-// Evaluation of one link: form factor (analytic point-to-polygon kernel at the receiver's
-// cubature points for surfaces; oriented point model for clusters) times a visibility
-// fraction from Embree rays between jittered points of sender and receiver.
+// Evaluation of one link, and of what one sender sends to one point (the final gather): form
+// factor (analytic point-to-polygon kernel at the receiver's cubature points for surfaces;
+// oriented point model for clusters) times a visibility fraction from Embree rays between
+// jittered points of sender and receiver.
 #pragma once
 #include <cstdint>
 #include <vector>

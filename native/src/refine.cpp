@@ -123,15 +123,15 @@ namespace {
 
 // The oriented point model's relative error on a cluster link: it grows with (size /
 // distance).
-// Near field (lights.cpp's tests found it): the kernel at the receiver's nearest surfaces
-// exceeds the centre-to-centre value by (dist / gap)^2, so a close, bright neighbour (the
-// floor beside a box) was under-refined and the box sides came out 5-15 % dark. Capped so
-// far-field links keep the old term.
+// Near field: the kernel at the receiver's nearest surfaces exceeds the centre-to-centre
+// value by (dist / gap)^2, so without this term a close, bright neighbour (the floor beside a
+// box) goes under-refined and the box's sides dark. Capped so far-field links keep the
+// plain term.
 // An element end seen at a grazing angle: the point model takes its cosine toward the other
 // end's centre, but parts of an extended other end lie up to asin((r_P + r_Q) / dist) off
-// that direction, where the cosine is larger (the side of a Cornell block and the light: the
-// light cluster's coupling 1/6 of the exact one, the sides' light 33 % short at MEDIUM). Its
+// that direction, where the cosine is larger (the side of a Cornell block and the light). Its
 // growth bounds the error; uncapped, since Ku * (growth - 1) <= projected area / (pi r^2).
+// (What each term fixed, measured: docs/decisions.md, "The oracle's point-model error".)
 double point_model_error(const Link& l, const Node& P, const Node& Q) {
     const double gap = std::max(l.dist - P.radius - Q.radius, 1e-3 * l.dist);
     double geo = std::min(8.0, std::max(std::min(1.0, 2.0 * (P.radius + Q.radius) / l.dist), (l.dist / gap) * (l.dist / gap) - 1.0));

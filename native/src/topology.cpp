@@ -167,8 +167,8 @@ void Solver::add_objects(Change& ch) {
 
 // The scene's size changed (changes_outgrow_frame() allows up to 2x): the tolerances a fresh
 // solve derives from it (smallest element area, ray offsets) follow, so refinement from here
-// on stops where a fresh solve's does (the frame itself stays). Many objects added at once to
-// a small scene made 33 % more links than a fresh solve without this.
+// on stops where a fresh solve's does (the frame itself stays): without it, many objects added
+// at once to a small scene refine further than a fresh solve of the same scene would.
 void Solver::refit_tolerances() {
     Aabb box;
     for (const Primitive& p : h_.prims)

@@ -141,6 +141,64 @@ constexpr double kSteepKernel = 0.25;
 // the emitter's outline crosses it (Link::outline).
 constexpr double kOutline = 0.05;
 
+// What the rays from one receiving point found of an element sender (element_link): the
+// visibility v, kernel-weighted, and how many rays were clear of how many counted.
+struct PointSight {
+    double v = 1.0;
+    int clear = 0, counted = 0;
+};
+
+// The visibility of sender P from receiving point p (normal n, the ray origin lifted off
+// it), per_point rays stratified over P and weighted by the point-to-point kernel, as F
+// (the unoccluded point form factor) is. With `record`, the leaves the clear rays reach join
+// l.samples, each weighted by its share of w F (w the point's cubature weight).
+template <class Vis>
+PointSight element_point_sight(const Hierarchy& h, const Vis& vis, const Node& P, const Vec3& p, const Vec3& n,
+                               int per_point, uint64_t seed, double w, double F, bool record, Link& l) {
+    const double lift = 1e-6 * h.scene_diag;  // keep ray ends off their own surfaces
+    const int p_id = int(&P - h.nodes.data());
+    thread_local std::vector<std::pair<Vec3, double>> hits;
+    PointSight out;
+    // Each point its own jitter stream: its rays do not depend on the points before it.
+    Rng rng(seed);
+    double wsum = 0, wclear = 0;
+    Vec3 y = p + n * lift;
+    // Rays go only to the part of the sender above the point's tangent plane, the
+    // part F integrates over: drawn over the whole sender, every ray of a point could
+    // land behind it (weight 0), and the point then counted as fully visible -- light
+    // leaked into closed boxes from walls that straddle their planes.
+    const FrontPart front = front_part(P.poly, p, n);
+    const LatinHypercube strata(rng, per_point, 2);
+    hits.clear();
+    for (int r = 0; r < per_point; ++r) {
+        // Stratified in both coordinates: fewer rays for the same variance.
+        const double u1 = strata.at(r)[0], u2 = strata.at(r)[1];
+        Vec3 x = (front.n ? front.sample(u1, u2) : P.poly.sample(u1, u2)) + P.normal * lift;
+        // Visibility weighted by the point-to-point kernel, as F is: the sender's part
+        // below the receiver's tangent plane (rays through the receiver's own object)
+        // weighs nothing instead of counting as a shadow a second time (a box side
+        // under a ceiling light came out 40 % dark), and near parts weigh more.
+        Vec3 yx = x - y;
+        double d2 = length2(yx);
+        double wr = d2 > 0 ? std::max(0.0, dot(yx, n)) * std::max(0.0, -dot(yx, P.normal)) / (d2 * d2) : 0.0;
+        if (wr <= 0) continue;
+        ++out.counted;
+        wsum += wr;
+        if (!vis.occluded(y, x)) {
+            ++out.clear, wclear += wr;
+            if (record) hits.push_back({x - P.normal * lift, wr});
+        }
+    }
+    out.v = wsum > 0 ? wclear / wsum : 1.0;
+    if (record) {
+        if (wsum > 0)
+            for (const auto& hx : hits) l.samples.push_back({h.leaf_at(p_id, hx.first), float(w * F * hx.second / wsum)});
+        else
+            l.samples.push_back({p_id, float(w * F)});  // no ray counted: v = 1 over the whole sender
+    }
+    return out;
+}
+
 template <class Vis>
 Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node& Q, int rays, uint64_t seed) {
     Link l;
@@ -149,59 +207,21 @@ Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
     if (!can_face(P.poly, P.normal, Q.poly, Q.normal, eps)) return l;
     Cubature cub = receiver_cubature(Q.poly, P.poly.v[0], P.normal);
     const int per_point = std::max(1, rays / cub.n);
-    const double lift = 1e-6 * h.scene_diag;  // keep ray ends off their own surfaces
     double kmin = 1e300, kmax = -1e300;
     double fmin = 1e300, fmax = 0;  // the unoccluded kernel's range over the receiver
     bool any_blocked = false, any_clear = false;
     // A subdivided sender: its radiance toward Q is that of the leaves its clear rays reach,
     // not its area average (see Link::samples).
     const bool record = !P.children.empty();
-    const int p_id = int(&P - h.nodes.data());
-    thread_local std::vector<std::pair<Vec3, double>> hits;
     for (int j = 0; j < cub.n; ++j) {
         double F = point_polygon_form_factor(cub.p[j], Q.normal, P.poly, P.normal);
         double v = 1.0;
         if (F > 0) {
-            // Each point its own jitter stream: its rays do not depend on the points before it.
-            Rng rng(Hierarchy::mix(seed, uint64_t(j + 1)));
-            int clear = 0, counted = 0;
-            double wsum = 0, wclear = 0;
-            Vec3 y = cub.p[j] + Q.normal * lift;
-            // Rays go only to the part of the sender above the point's tangent plane, the
-            // part F integrates over: drawn over the whole sender, every ray of a point could
-            // land behind it (weight 0), and the point then counted as fully visible -- light
-            // leaked into closed boxes from walls that straddle their planes.
-            const FrontPart front = front_part(P.poly, cub.p[j], Q.normal);
-            const LatinHypercube strata(rng, per_point, 2);
-            hits.clear();
-            for (int r = 0; r < per_point; ++r) {
-                // Stratified in both coordinates: fewer rays for the same variance.
-                const double u1 = strata.at(r)[0], u2 = strata.at(r)[1];
-                Vec3 x = (front.n ? front.sample(u1, u2) : P.poly.sample(u1, u2)) + P.normal * lift;
-                // Visibility weighted by the point-to-point kernel, as F is: the sender's part
-                // below the receiver's tangent plane (rays through the receiver's own object)
-                // weighs nothing instead of counting as a shadow a second time (a box side
-                // under a ceiling light came out 40 % dark), and near parts weigh more.
-                Vec3 yx = x - y;
-                double d2 = length2(yx);
-                double w = d2 > 0 ? std::max(0.0, dot(yx, Q.normal)) * std::max(0.0, -dot(yx, P.normal)) / (d2 * d2) : 0.0;
-                if (w <= 0) continue;
-                ++counted;
-                wsum += w;
-                if (!vis.occluded(y, x)) {
-                    ++clear, wclear += w;
-                    if (record) hits.push_back({x - P.normal * lift, w});
-                }
-            }
-            v = wsum > 0 ? wclear / wsum : 1.0;
-            if (record) {
-                if (wsum > 0)
-                    for (const auto& hx : hits) l.samples.push_back({h.leaf_at(p_id, hx.first), float(cub.w[j] * F * hx.second / wsum)});
-                else
-                    l.samples.push_back({p_id, float(cub.w[j] * F)});  // no ray counted: v = 1 over the whole sender
-            }
-            if (clear < counted) any_blocked = true;
-            if (clear > 0 || counted == 0) any_clear = true;
+            const PointSight ps = element_point_sight(h, vis, P, cub.p[j], Q.normal, per_point,
+                                                      Hierarchy::mix(seed, uint64_t(j + 1)), cub.w[j], F, record, l);
+            v = ps.v;
+            if (ps.clear < ps.counted) any_blocked = true;
+            if (ps.clear > 0 || ps.counted == 0) any_clear = true;
         }
         double k = F * v;
         fmin = std::min(fmin, F);

@@ -507,6 +507,55 @@ bool may_exchange(const Hierarchy& h, const Node& P, const Node& Q) {
     return faces_box(h, P, Q.box, eps) && faces_box(h, Q, P.box, eps);
 }
 
+// What a cluster link's pairs of points found (cluster_link): the kernel-weighted sums over
+// the pairs (wsum), over the clear ones (vsum) and over those whose receiving point its own
+// object hides (wself), and how many pairs were clear of how many cast.
+struct PairSight {
+    double wsum = 0, vsum = 0;
+    int clear = 0, cast = 0;
+    double wself = 0;
+};
+
+// Casts the rays of a cluster link from P to Q along l.dir: pairs of points drawn by the
+// samplers ps (of P) and qs (of Q), each weighted by the point-to-point kernel over the
+// samplers' density. A sending cluster's clear rays add the leaves they reach to l.samples.
+template <class Vis>
+PairSight cluster_pair_sight(const Hierarchy& h, const Vis& vis, const Node& P, const Node& Q, const FacingSampler& ps,
+                             const FacingSampler& qs, int rays, Rng& rng, Link& l) {
+    PairSight s;
+    const double lift = 1e-6 * h.scene_diag;
+    const LatinHypercube strata(rng, rays);
+    for (int k = 0; k < rays; ++k) {
+        Vec3 nx, ny;
+        int sroot = -1, rroot = -1;
+        Vec3 x = ps.sample(rng, strata.at(k), &nx, &sroot);
+        Vec3 y = qs.sample(rng, strata.at(k) + 3, &ny, &rroot);
+        Vec3 xy = y - x;
+        double d2 = length2(xy);
+        if (d2 <= 0) continue;
+        double w = std::max(0.0, dot(nx, xy)) * std::max(0.0, -dot(ny, xy)) / (d2 * d2);
+        double pdf = dot(nx, l.dir) * -dot(ny, l.dir);  // > 0 by construction
+        w /= pdf;
+        ++s.cast;
+        if (w <= 0) continue;
+        bool ok = !vis.occluded(x + nx * lift, y + ny * lift);
+        // A receiving point hidden by its own object (the inner faces of a closed two-sided
+        // box, or of one open at the bottom standing on the floor, share the room's pocket):
+        // the gather shares K by cosine over the receiver's surfaces facing the sender, so
+        // the visibility that K carries must be that of the surfaces that can be lit at all.
+        // Counted as blocked, such points halved what every outer face of a box got (sides
+        // and tops of the Cornell blocks 25-40 % short in coupling at DRAFT).
+        if (!ok && Q.is_cluster() && rroot >= 0 &&
+            vis.hidden_by(y + ny * lift, x + nx * lift, lift, h.nodes[size_t(rroot)].object))
+            s.wself += w;
+        if (ok && P.is_cluster()) l.samples.push_back({h.leaf_at(sroot, x), float(w)});
+        s.wsum += w;
+        s.vsum += ok ? w : 0.0;
+        s.clear += ok;
+    }
+    return s;
+}
+
 template <class Vis>
 Link cluster_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node& Q, int rays, Rng& rng,
                   int src, int rcv) {
@@ -549,50 +598,18 @@ Link cluster_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
     }
     // Visibility of the transfer, estimated with pairs of points drawn by projected area
     // toward each other and weighted by the true point-to-point kernel over that density.
-    double wsum = 0, vsum = 0;
-    int clear = 0, cast = 0;
-    double wself = 0;  // weight of the points hidden by their own object
-    const double lift = 1e-6 * h.scene_diag;
-    const LatinHypercube strata(rng, rays);
-    for (int k = 0; k < rays; ++k) {
-        Vec3 nx, ny;
-        int sroot = -1, rroot = -1;
-        Vec3 x = ps.sample(rng, strata.at(k), &nx, &sroot);
-        Vec3 y = qs.sample(rng, strata.at(k) + 3, &ny, &rroot);
-        Vec3 xy = y - x;
-        double d2 = length2(xy);
-        if (d2 <= 0) continue;
-        double w = std::max(0.0, dot(nx, xy)) * std::max(0.0, -dot(ny, xy)) / (d2 * d2);
-        double pdf = dot(nx, l.dir) * -dot(ny, l.dir);  // > 0 by construction
-        w /= pdf;
-        ++cast;
-        if (w <= 0) continue;
-        bool ok = !vis.occluded(x + nx * lift, y + ny * lift);
-        // A receiving point hidden by its own object (the inner faces of a closed two-sided
-        // box, or of one open at the bottom standing on the floor, share the room's pocket):
-        // the gather shares K by cosine over the receiver's surfaces facing the sender, so
-        // the visibility that K carries must be that of the surfaces that can be lit at all.
-        // Counted as blocked, such points halved what every outer face of a box got (sides
-        // and tops of the Cornell blocks 25-40 % short in coupling at DRAFT).
-        if (!ok && Q.is_cluster() && rroot >= 0 &&
-            vis.hidden_by(y + ny * lift, x + nx * lift, lift, h.nodes[size_t(rroot)].object))
-            wself += w;
-        if (ok && P.is_cluster()) l.samples.push_back({h.leaf_at(sroot, x), float(w)});
-        wsum += w;
-        vsum += ok ? w : 0.0;
-        clear += ok;
-    }
-    l.vis = wsum > 0 ? vsum / wsum : 0.0;
-    l.partial = clear > 0 && clear < cast;
+    const PairSight ray = cluster_pair_sight(h, vis, P, Q, ps, qs, rays, rng, l);
+    l.vis = ray.wsum > 0 ? ray.vsum / ray.wsum : 0.0;
+    l.partial = ray.clear > 0 && ray.clear < ray.cast;
     // Every ray blocked is weak evidence for a whole cluster: the link stays (K = 0) and the
     // oracle decides from the light at stake whether to look closer. Splitting every such
     // link unconditionally went down to element pairs: in a furnished room 8 of 12 million
     // link evaluations were element pairs facing away or hidden (under and behind furniture).
-    l.blocked = clear == 0 && cast > 0;
+    l.blocked = ray.clear == 0 && ray.cast > 0;
     // vis, partial and blocked keep every point (the oracle still sees the link as partly
     // occluded and splits the receiver when the light at stake asks for it); the coupling
     // leaves out the points their own object hides.
-    l.K = wsum > wself ? l.K_unoccluded * vsum / (wsum - wself) : 0.0;
+    l.K = ray.wsum > ray.wself ? l.K_unoccluded * ray.vsum / (ray.wsum - ray.wself) : 0.0;
     return l;
 }
 

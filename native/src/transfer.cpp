@@ -648,30 +648,39 @@ Link evaluate_with(const Hierarchy& h, const Vis& vis, int src, int rcv, int ray
     return l;
 }
 
-PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int src, const Vec3& x, const Vec3& n,
-                                  int rcv_leaf, int rays, uint64_t seed, std::vector<std::pair<int, float>>& samples) {
-    constexpr int kExactClusterSurfaces = 12;
-    constexpr size_t kDescendChildren = 16;
-    constexpr double kGatherMinCos = 0.1;  // FacingSampler's min_cos
-    // inv_dist leaves out surfaces turned less than 60 degrees from the point's own (the
-    // faces beyond a gentle concave bend of a curved mesh, met a hair away): the light they
-    // bring changes slowly along the surface, not over their distance.
-    constexpr double kGentle = 0.5;
-    // Beyond this many surfaces (and without a facing summary) a cluster is drawn down its tree.
-    constexpr int kTreeSampleSurfaces = 256;
-    PointTransfer t;
-    const Node& P = h.nodes[size_t(src)];
-    const Node& R = h.nodes[size_t(rcv_leaf)];
-    const double lift = 1e-6 * h.scene_diag;
-    const Vec3 y = x + n * lift;  // the ray origin, off the receiving surface
-    Rng rng(seed);
-    rays = std::max(rays, 1);
-    const size_t first = samples.size();
+// Point transfers (point_transfer_with): a cluster of more children than this, with the
+// point near it, has its surfaces drawn by area.
+constexpr size_t kDescendChildren = 16;
+// A cluster of at most this many surfaces sends as its surfaces, each an element sender.
+constexpr int kExactClusterSurfaces = 12;
+constexpr double kGatherMinCos = 0.1;  // FacingSampler's min_cos
+// inv_dist leaves out surfaces turned less than 60 degrees from the point's own (the
+// faces beyond a gentle concave bend of a curved mesh, met a hair away): the light they
+// bring changes slowly along the surface, not over their distance.
+constexpr double kGentle = 0.5;
+// Beyond this many surfaces (and without a facing summary) a cluster is drawn down its tree.
+constexpr int kTreeSampleSurfaces = 256;
+
+// The rays of one point transfer from x (normal n): cast from y, x lifted off its surface,
+// `rays` of them; what they find adds to t, and the leaves the clear ones reach (with their
+// weights) to `samples`.
+struct PointRays {
+    const Hierarchy& h;
+    PointRayStream& vis;
+    const Vec3& x;
+    const Vec3& n;
+    Vec3 y;
+    double lift;
+    int rays;
+    Rng rng;
+    PointTransfer& t;
+    std::vector<std::pair<int, float>>& samples;
+    int clear_draws = 0;  // tally's rays that were clear
+
     // One ray of a sender drawn by density den / num per area (a cluster's samplers): the
     // point kernel cos cos / (pi r^2) over that density, toward s (normal ns) on surface root
     // `root`; the clear ones keep their leaf for the sender's radiance.
-    int clear_draws = 0;
-    auto tally = [&](const Vec3& s, const Vec3& ns, int root, double num, double den) {
+    void tally(const Vec3& s, const Vec3& ns, int root, double num, double den) {
         const Vec3 yx = s - y;
         const double d2 = length2(yx);
         if (d2 <= 0) return;
@@ -685,61 +694,128 @@ PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int s
             if (dot(n, ns) < kGentle) t.inv_dist += g / std::sqrt(d2);
             samples.push_back({h.leaf_at(root, s), float(g)});
         }
-    };
-    if (!P.is_cluster()) {
-        if (P.pocket != R.pocket) return t;
-        const double F = point_polygon_form_factor(x, n, P.poly, P.normal);
-        if (!(F > 0)) return t;
-        t.F_unoccluded = F;
-        // As element_link does for one cubature point: rays only to the part of the sender in
-        // front of the point's tangent plane, weighted by the point-to-point kernel.
-        const FrontPart front = front_part(P.poly, x, n);
-        const LatinHypercube strata(rng, rays, 2);
-        thread_local std::vector<std::pair<int, double>> hits;
-        hits.clear();
-        double wsum = 0, wclear = 0, winv = 0;
-        int clear = 0, counted = 0;
-        for (int r = 0; r < rays; ++r) {
-            const double u1 = strata.at(r)[0], u2 = strata.at(r)[1];
-            const Vec3 s = front.n ? front.sample(u1, u2) : P.poly.sample(u1, u2);
-            const Vec3 yx = s - y;
-            const double d2 = length2(yx);
-            const double w = d2 > 0 ? std::max(0.0, dot(yx, n)) * std::max(0.0, -dot(yx, P.normal)) / (d2 * d2) : 0.0;
-            if (w <= 0) continue;
-            ++counted;
-            ++t.cast;
-            wsum += w;
-            if (!vis.occluded(y, s + P.normal * lift)) {
-                ++clear;
-                wclear += w;
-                if (dot(n, P.normal) < kGentle) winv += w / std::sqrt(d2);
-                hits.push_back({P.children.empty() ? src : h.leaf_at(src, s), w});
-            }
+    }
+    // Some of tally's rays were blocked and some clear.
+    bool partial() const { return clear_draws > 0 && clear_draws < t.cast; }
+};
+
+// An element sender (node src, in `pocket` or no light passes): as element_link does for one
+// cubature point, rays only to the part of the sender in front of the point's tangent plane,
+// weighted by the point-to-point kernel.
+void element_transfer(PointRays& pr, int src, int pocket) {
+    const Hierarchy& h = pr.h;
+    const Node& P = h.nodes[size_t(src)];
+    const Vec3& n = pr.n;
+    PointTransfer& t = pr.t;
+    if (P.pocket != pocket) return;
+    const double F = point_polygon_form_factor(pr.x, n, P.poly, P.normal);
+    if (!(F > 0)) return;
+    t.F_unoccluded = F;
+    const FrontPart front = front_part(P.poly, pr.x, n);
+    const LatinHypercube strata(pr.rng, pr.rays, 2);
+    thread_local std::vector<std::pair<int, double>> hits;
+    hits.clear();
+    double wsum = 0, wclear = 0, winv = 0;
+    int clear = 0, counted = 0;
+    for (int r = 0; r < pr.rays; ++r) {
+        const double u1 = strata.at(r)[0], u2 = strata.at(r)[1];
+        const Vec3 s = front.n ? front.sample(u1, u2) : P.poly.sample(u1, u2);
+        const Vec3 yx = s - pr.y;
+        const double d2 = length2(yx);
+        const double w = d2 > 0 ? std::max(0.0, dot(yx, n)) * std::max(0.0, -dot(yx, P.normal)) / (d2 * d2) : 0.0;
+        if (w <= 0) continue;
+        ++counted;
+        ++t.cast;
+        wsum += w;
+        if (!pr.vis.occluded(pr.y, s + P.normal * pr.lift)) {
+            ++clear;
+            wclear += w;
+            if (dot(n, P.normal) < kGentle) winv += w / std::sqrt(d2);
+            hits.push_back({P.children.empty() ? src : h.leaf_at(src, s), w});
         }
-        t.partial = clear > 0 && clear < counted;
-        if (wsum <= 0) {
-            samples.push_back({src, float(F)});  // no ray counted: the whole sender, unoccluded
-            t.F = F;
-        } else {
-            for (const auto& hx : hits) samples.push_back({hx.first, float(F * hx.second / wsum)});
-            t.F = F * wclear / wsum;
-            t.inv_dist = F * winv / wsum;
-        }
-    } else if (length(x - P.center) < 2.0 * P.radius && P.children.size() > kDescendChildren) {
-        // Near a cluster of many children (the pieces of a fanned n-gon hang side by side):
-        // its surfaces drawn uniformly by area instead, each weighted by the true kernel,
-        // unbiased whichever way they face, and bounded in cost.
-        const double* pre = h.area_prefix.data();
-        const double lo = pre[P.surf_begin], span = pre[P.surf_end] - lo;
-        if (!(span > 0)) return t;
-        const LatinHypercube strata(rng, rays, 3);
-        for (int k = 0; k < rays; ++k) {
+    }
+    t.partial = clear > 0 && clear < counted;
+    if (wsum <= 0) {
+        pr.samples.push_back({src, float(F)});  // no ray counted: the whole sender, unoccluded
+        t.F = F;
+    } else {
+        for (const auto& hx : hits) pr.samples.push_back({hx.first, float(F * hx.second / wsum)});
+        t.F = F * wclear / wsum;
+        t.inv_dist = F * winv / wsum;
+    }
+}
+
+// Near a cluster of many children (the pieces of a fanned n-gon hang side by side): its
+// surfaces (those in `pocket`) drawn uniformly by area instead, each weighted by the true
+// kernel, unbiased whichever way they face, and bounded in cost.
+void draw_by_area(PointRays& pr, const Node& P, int pocket) {
+    const Hierarchy& h = pr.h;
+    const double* pre = h.area_prefix.data();
+    const double lo = pre[P.surf_begin], span = pre[P.surf_end] - lo;
+    if (!(span > 0)) return;
+    const LatinHypercube strata(pr.rng, pr.rays, 3);
+    for (int k = 0; k < pr.rays; ++k) {
+        const double* u = strata.at(k);
+        const SurfaceGeom& g = h.surface_geom[size_t(surface_at_area(h, P.surf_begin, P.surf_end, lo + u[0] * span))];
+        if (g.pocket != pocket || h.nodes[size_t(g.root)].dead) continue;
+        pr.tally(g.poly.sample(g.share, u[1], u[2]), g.normal, g.root, span, 1.0);
+    }
+    pr.t.partial = pr.partial();
+}
+
+// A cluster (node src) away from the point: its surfaces drawn by their facing toward the
+// direction from its centre to the point, those in `pocket` (the receiving leaf rcv_leaf's).
+void draw_far_cluster(PointRays& pr, int src, int rcv_leaf, int pocket) {
+    const Hierarchy& h = pr.h;
+    const Node& P = h.nodes[size_t(src)];
+    Vec3 d = pr.x - P.center;
+    const double r0 = length(d);
+    if (!(r0 > 1e-9 * h.scene_diag)) return;
+    d = d / r0;
+    const LatinHypercube strata(pr.rng, pr.rays, 3);
+    if (P.surf_end - P.surf_begin > kTreeSampleSurfaces && !h.has_facing_summary(src)) {
+        // A large cluster of many normals (a bevelled, subdivided sofa): drawn down its
+        // tree, the density the surface's probability over its area.
+        const TreeSampler tree(h, src, d, kGatherMinCos);
+        for (int k = 0; k < pr.rays; ++k) {
             const double* u = strata.at(k);
-            const SurfaceGeom& g = h.surface_geom[size_t(surface_at_area(h, P.surf_begin, P.surf_end, lo + u[0] * span))];
-            if (g.pocket != R.pocket || h.nodes[size_t(g.root)].dead) continue;
-            tally(g.poly.sample(g.share, u[1], u[2]), g.normal, g.root, span, 1.0);
+            double prob = 0;
+            const int root = tree.draw(u[0], &prob);
+            if (root < 0) break;
+            const Node& g = h.nodes[size_t(root)];
+            if (g.pocket != pocket || !(prob > 0)) continue;
+            pr.tally(g.poly.sample(u[1], u[2]), g.normal, root, g.area, prob);
         }
-        t.partial = clear_draws > 0 && clear_draws < t.cast;
+    } else {
+        thread_local FacingSampler::Buffers buf;
+        FacingSampler ps(h, src, d, rcv_leaf, buf, kGatherMinCos);
+        const double total = ps.total();
+        if (!(total > 0)) return;
+        for (int k = 0; k < pr.rays; ++k) {
+            Vec3 ny;
+            int sroot = -1;
+            const Vec3 s = ps.sample(pr.rng, strata.at(k), &ny, &sroot);
+            const double pdf = ps.weight(dot(ny, d));  // the sampler's density over area, times total
+            if (pdf <= 0) continue;
+            pr.tally(s, ny, sroot, total, pdf);
+        }
+    }
+    pr.t.partial = pr.partial();
+}
+
+PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int src, const Vec3& x, const Vec3& n,
+                                  int rcv_leaf, int rays, uint64_t seed, std::vector<std::pair<int, float>>& samples) {
+    PointTransfer t;
+    const Node& P = h.nodes[size_t(src)];
+    const Node& R = h.nodes[size_t(rcv_leaf)];
+    const double lift = 1e-6 * h.scene_diag;
+    rays = std::max(rays, 1);
+    PointRays pr{h, vis, x, n, x + n * lift, lift, rays, Rng(seed), t, samples};
+    const size_t first = samples.size();
+    if (!P.is_cluster()) {
+        element_transfer(pr, src, R.pocket);
+    } else if (length(x - P.center) < 2.0 * P.radius && P.children.size() > kDescendChildren) {
+        draw_by_area(pr, P, R.pocket);
     } else if (length(x - P.center) < 2.0 * P.radius) {
         // The point is near the cluster, or inside it (a floor point and the room around it):
         // no single direction says which of its surfaces face the point, and drawing them by
@@ -767,39 +843,7 @@ PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int s
         }
         return sum;
     } else {
-        Vec3 d = x - P.center;
-        const double r0 = length(d);
-        if (!(r0 > 1e-9 * h.scene_diag)) return t;
-        d = d / r0;
-        const LatinHypercube strata(rng, rays, 3);
-        if (P.surf_end - P.surf_begin > kTreeSampleSurfaces && !h.has_facing_summary(src)) {
-            // A large cluster of many normals (a bevelled, subdivided sofa): drawn down its
-            // tree, the density the surface's probability over its area.
-            const TreeSampler tree(h, src, d, kGatherMinCos);
-            for (int k = 0; k < rays; ++k) {
-                const double* u = strata.at(k);
-                double prob = 0;
-                const int root = tree.draw(u[0], &prob);
-                if (root < 0) break;
-                const Node& g = h.nodes[size_t(root)];
-                if (g.pocket != R.pocket || !(prob > 0)) continue;
-                tally(g.poly.sample(u[1], u[2]), g.normal, root, g.area, prob);
-            }
-        } else {
-            thread_local FacingSampler::Buffers buf;
-            FacingSampler ps(h, src, d, rcv_leaf, buf, kGatherMinCos);
-            const double total = ps.total();
-            if (!(total > 0)) return t;
-            for (int k = 0; k < rays; ++k) {
-                Vec3 ny;
-                int sroot = -1;
-                const Vec3 s = ps.sample(rng, strata.at(k), &ny, &sroot);
-                const double pdf = ps.weight(dot(ny, d));  // the sampler's density over area, times total
-                if (pdf <= 0) continue;
-                tally(s, ny, sroot, total, pdf);
-            }
-        }
-        t.partial = clear_draws > 0 && clear_draws < t.cast;
+        draw_far_cluster(pr, src, rcv_leaf, R.pocket);
     }
     // Same leaf twice: one sample (fewer to keep per point).
     merge_samples(samples, first);

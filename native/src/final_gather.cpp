@@ -646,23 +646,26 @@ size_t FinalGather::Impl::measure_bytes() const {
     return b;
 }
 
-std::vector<fg::Job> FinalGather::Impl::make_jobs(const Solution& s) {
+namespace {
+
+// An output corner to place a point at: corner `corner` of its object, at vertex `vertex`,
+// the k-th of primitive `prim`; its sample point x and the leaf across the contact it lies
+// on (fg::corner_covered; -1: none).
+struct Corner {
+    int prim, k, corner, vertex;
+    Vec3 x;
+    int beyond;
+};
+
+// Every output corner once (an n-gon's corner is in several fan pieces: Cycles bakes it in
+// the first triangle that holds it, here the first piece), with its sample point and contact
+// state; `touched` gets, per object with output, per vertex, whether a corner of it lies on a
+// contact.
+std::vector<Corner> output_corners(const fg::Solution& s, bool cycles_points, std::vector<std::vector<char>>& touched) {
     const Hierarchy& h = s.h;
     const auto& objects = s.scene.objects();
-    corner_point.assign(objects.size(), {});
-    // An object without output gets no points and no corner map: its corners read the leaves
-    // (Solver::corner_radiance), and the counts hold only the corners whose colour is read.
-    for (size_t o = 0; o < objects.size(); ++o)
-        if (objects[o].output) corner_point[o].assign(objects[o].corner_count(), -1);
-    // Every corner's sample point and contact state first: whether its vertex may share a
-    // point depends on all of the vertex's corners.
-    struct Corner {
-        int prim, k, corner, vertex;
-        Vec3 x;
-        int beyond;
-    };
     std::vector<Corner> corners;
-    std::vector<std::vector<char>> touched(objects.size());  // per object, per vertex: lies on a contact
+    touched.assign(objects.size(), {});
     std::vector<std::vector<char>> seen(objects.size());
     for (size_t pi = 0; pi < h.prims.size(); ++pi) {
         const Primitive& p = h.prims[pi];
@@ -675,16 +678,31 @@ std::vector<fg::Job> FinalGather::Impl::make_jobs(const Solution& s) {
         }
         for (int k = 0; k < p.poly.n; ++k) {
             const int corner = p.corner[size_t(k)];
-            // An n-gon's corner is in several fan pieces: Cycles bakes it in the first
-            // triangle that holds it, here the first piece.
             if (done[size_t(corner)]) continue;
             done[size_t(corner)] = 1;
-            Corner c{int(pi), k, corner, o.corner_verts[size_t(corner)], fg::sample_point(o, p, k, h, config.cycles_points), -1};
+            Corner c{int(pi), k, corner, o.corner_verts[size_t(corner)], fg::sample_point(o, p, k, h, cycles_points), -1};
             c.beyond = fg::corner_covered(s, p, c.x);
             if (c.beyond != -1) touched[size_t(p.object)][size_t(c.vertex)] = 1;
             corners.push_back(c);
         }
     }
+    return corners;
+}
+
+}  // namespace
+
+std::vector<fg::Job> FinalGather::Impl::make_jobs(const Solution& s) {
+    const Hierarchy& h = s.h;
+    const auto& objects = s.scene.objects();
+    corner_point.assign(objects.size(), {});
+    // An object without output gets no points and no corner map: its corners read the leaves
+    // (Solver::corner_radiance), and the counts hold only the corners whose colour is read.
+    for (size_t o = 0; o < objects.size(); ++o)
+        if (objects[o].output) corner_point[o].assign(objects[o].corner_count(), -1);
+    // Every corner's sample point and contact state first: whether its vertex may share a
+    // point depends on all of the vertex's corners.
+    std::vector<std::vector<char>> touched;  // per object, per vertex: lies on a contact
+    const std::vector<Corner> corners = output_corners(s, config.cycles_points, touched);
     std::vector<fg::Job> jobs;
     std::vector<std::vector<std::vector<int>>> at_vertex(objects.size());
     counts.covered = 0;

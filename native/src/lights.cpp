@@ -108,6 +108,99 @@ std::pair<double, double> light_sample_uv(int i, int m, bool strata, Rng& rng) {
     return {(i % k + a) / k, (i / k + b) / k};
 }
 
+// The frames a light's samples are drawn in: the sun's cap of directions about the
+// direction toward it, the sky's hemisphere about the receiving plane's normal n.
+struct SampleFrames {
+    Vec3 su, sv;  // sun cap frame
+    Vec3 nu, nv;  // hemisphere frame
+    SampleFrames(const ILight& l, const Vec3& n) {
+        if (l.type == LightDesc::Type::Sun) frame(-l.dir, su, sv);
+        if (l.type == LightDesc::Type::Sky) frame(n, nu, nv);
+    }
+};
+
+// One light sample from o (the point p lifted off its plane of normal n), drawn by the
+// numbers (a, b): the scalar factor of its colour col (the light's I, a map's times its
+// radiance there) with visibility (f) and without (u). `touching`: the point lies on a
+// contact, and sees nothing; `far`: the length of a ray toward the sun or the sky.
+struct LightSample {
+    const Vec3& p;
+    const Vec3& o;
+    const Vec3& n;
+    double a, b;
+    bool touching;
+    double far;
+    double f = 0, u = 0;
+    Rgb col;
+};
+
+// A sample of a world with a map: half the samples (i even) cosine-weighted, half by the
+// map's luminance x solid angle (a sun in the map), each weighted by the mixture of both
+// densities (the balance heuristic): neither a bright spot nor a uniform map is missed.
+// False when the sample sees nothing of the world (below the plane).
+template <class Rays>
+bool sky_map_sample(const ILight& l, const SampleFrames& fr, int i, Rays& vis, LightSample& s) {
+    double pm = 0;
+    Vec3 d;
+    if (i % 2) {
+        d = l.env->sample(s.a, s.b, pm);
+    } else {
+        d = cosine_direction(fr.nu, fr.nv, s.n, s.a, s.b);
+        pm = l.env->pdf(d);
+    }
+    const double c = dot(s.n, d);
+    if (c <= 0) return false;
+    const double mix = 0.5 * (c / kPi + pm);
+    if (!(mix > 0)) return false;
+    s.col = l.I * l.env->radiance(d);
+    s.u = c / kPi / mix;
+    if (!s.touching && !vis.occluded(s.o, s.o + d * s.far, 0.0)) s.f = s.u;
+    return true;
+}
+
+// A uniform world: a cosine-weighted direction, so the estimator of E/pi is L_sky x visibility.
+template <class Rays>
+void sky_sample(const SampleFrames& fr, Rays& vis, LightSample& s) {
+    Vec3 d = cosine_direction(fr.nu, fr.nv, s.n, s.a, s.b);
+    s.u = 1.0;
+    if (!s.touching && !vis.occluded(s.o, s.o + d * s.far, 0.0)) s.f = 1.0;
+}
+
+// A sun: a direction uniform on its cap of directions (toward the sun).
+template <class Rays>
+void sun_sample(const ILight& l, const SampleFrames& fr, Rays& vis, LightSample& s) {
+    double ct = 1 - s.a * (1 - l.sun_cos), st = std::sqrt(std::max(0.0, 1 - ct * ct)), phi = 2 * kPi * s.b;
+    Vec3 d = fr.su * (std::cos(phi) * st) + fr.sv * (std::sin(phi) * st) + (-l.dir) * ct;
+    double c = dot(s.n, d);
+    if (c <= 0) return;
+    s.u = c / kPi;
+    if (!s.touching && !vis.occluded(s.o, s.o + d * s.far, 0.0)) s.f = s.u;
+}
+
+// A point or spot light: a disk of the light's radius facing the receiving point (Cycles'
+// model of a point light with a radius), radiance I / (pi r^2): uniform samples on it.
+template <class Rays>
+void lamp_sample(const ILight& l, Rays& vis, LightSample& s) {
+    Vec3 q = l.pos;
+    Vec3 w = normalize(s.p - l.pos);
+    if (l.radius > 0) {
+        Vec3 u, v;
+        frame(w, u, v);
+        double r = l.radius * std::sqrt(s.a), phi = 2 * kPi * s.b;
+        q = l.pos + u * (r * std::cos(phi)) + v * (r * std::sin(phi));
+    }
+    Vec3 d = q - s.p;
+    double d2 = length2(d);
+    if (d2 <= 0) return;
+    Vec3 dn = d / std::sqrt(d2);
+    double cp = dot(s.n, dn), cq = l.radius > 0 ? -dot(w, dn) : 1.0;
+    if (cp <= 0 || cq <= 0) return;
+    double mask = spot_mask(l, w);
+    if (mask <= 0) return;
+    s.u = cp * cq * mask / (d2 * kPi);
+    if (!s.touching && !vis.occluded(s.o, q)) s.f = s.u;
+}
+
 // Monte Carlo estimate of irradiance / pi over the points `where(i, rng)` gives (on a plane
 // of normal n) from one light, with visibility; m samples. With `strata` (a single point:
 // `where` constant) the light's samples are stratified (light_sample_uv); over an element
@@ -119,10 +212,7 @@ Sampled estimate(const ILight& l, const Where& where, const Vec3& n, int m, Rng&
     Rgb s1;  // sum of the samples' irradiance / pi, visibility included
     double s2 = 0, s_unocc = 0;
     int seen = 0, hidden = 0;
-    Vec3 su, sv;  // sun cap frame
-    if (l.type == LightDesc::Type::Sun) frame(-l.dir, su, sv);
-    Vec3 nu, nv;  // hemisphere frame
-    if (l.type == LightDesc::Type::Sky) frame(n, nu, nv);
+    const SampleFrames fr(l, n);
     // A map: the samples estimate only what occluders take away from the unoccluded
     // irradiance, known in closed form (a control variate: an open floor under a sun gets its
     // exact light, not the noise of a few samples of a bright spot).
@@ -134,82 +224,27 @@ Sampled estimate(const ILight& l, const Where& where, const Vec3& n, int m, Rng&
         const bool halves = l.type == LightDesc::Type::Sky && l.env;
         const auto [a, b] = halves ? light_sample_uv(i / 2, i % 2 ? m / 2 : (m + 1) / 2, strata, rng)
                                    : light_sample_uv(i, m, strata, rng);
-        const bool touching = contact(p);
-        double f = 0, u = 0;  // scalar factor of `col`, with and without visibility
-        Rgb col = l.I;
-        switch (l.type) {
-            case LightDesc::Type::Sky: {
-                if (l.env) {
-                    // Half the samples cosine-weighted, half by the map's luminance x solid
-                    // angle (a sun in the map), each weighted by the mixture of both densities
-                    // (the balance heuristic): neither a bright spot nor a uniform map is missed.
-                    double pm = 0;
-                    Vec3 d;
-                    if (i % 2) {
-                        d = l.env->sample(a, b, pm);
-                    } else {
-                        d = cosine_direction(nu, nv, n, a, b);
-                        pm = l.env->pdf(d);
-                    }
-                    const double c = dot(n, d);
-                    if (c <= 0) break;
-                    const double mix = 0.5 * (c / kPi + pm);
-                    if (!(mix > 0)) break;
-                    col = l.I * l.env->radiance(d);
-                    u = c / kPi / mix;
-                    if (!touching && !vis.occluded(o, o + d * far, 0.0)) f = u;
-                    if (u > 0) (f > 0 ? seen : hidden)++;
-                    // What this sample says is missing from `open` (col x (f - u) <= 0).
-                    const double g = (u - f) * col.max();
-                    s1 += col * (f - u);
-                    s2 += g * g;
-                    continue;
-                }
-                // Cosine-weighted direction: the estimator of E/pi is L_sky x visibility.
-                Vec3 d = cosine_direction(nu, nv, n, a, b);
-                u = 1.0;
-                if (!touching && !vis.occluded(o, o + d * far, 0.0)) f = 1.0;
-                break;
-            }
-            case LightDesc::Type::Sun: {
-                // Uniform on the sun's cap of directions (toward the sun).
-                double ct = 1 - a * (1 - l.sun_cos), st = std::sqrt(std::max(0.0, 1 - ct * ct)), phi = 2 * kPi * b;
-                Vec3 d = su * (std::cos(phi) * st) + sv * (std::sin(phi) * st) + (-l.dir) * ct;
-                double c = dot(n, d);
-                if (c <= 0) break;
-                u = c / kPi;
-                if (!touching && !vis.occluded(o, o + d * far, 0.0)) f = u;
-                break;
-            }
-            default: {
-                // A disk of the light's radius facing the receiving point (Cycles' model of a
-                // point light with a radius), radiance I / (pi r^2): uniform samples on it.
-                Vec3 q = l.pos;
-                Vec3 w = normalize(p - l.pos);
-                if (l.radius > 0) {
-                    Vec3 u, v;
-                    frame(w, u, v);
-                    double r = l.radius * std::sqrt(a), phi = 2 * kPi * b;
-                    q = l.pos + u * (r * std::cos(phi)) + v * (r * std::sin(phi));
-                }
-                Vec3 d = q - p;
-                double d2 = length2(d);
-                if (d2 <= 0) break;
-                Vec3 dn = d / std::sqrt(d2);
-                double cp = dot(n, dn), cq = l.radius > 0 ? -dot(w, dn) : 1.0;
-                if (cp <= 0 || cq <= 0) break;
-                double mask = spot_mask(l, w);
-                if (mask <= 0) break;
-                u = cp * cq * mask / (d2 * kPi);
-                if (!touching && !vis.occluded(o, q)) f = u;
-                break;
-            }
+        LightSample s{p, o, n, a, b, contact(p), far, 0.0, 0.0, l.I};
+        if (halves && sky_map_sample(l, fr, i, vis, s)) {
+            if (s.u > 0) (s.f > 0 ? seen : hidden)++;
+            // What this sample says is missing from `open` (col x (f - u) <= 0).
+            const double g = (s.u - s.f) * s.col.max();
+            s1 += s.col * (s.f - s.u);
+            s2 += g * g;
+            continue;
         }
-        const double g = f * col.max();
-        s1 += col * f;
+        switch (l.type) {
+            case LightDesc::Type::Sky:  // (a map's sample below the plane: f = u = 0)
+                if (!l.env) sky_sample(fr, vis, s);
+                break;
+            case LightDesc::Type::Sun: sun_sample(l, fr, vis, s); break;
+            default: lamp_sample(l, vis, s);
+        }
+        const double g = s.f * s.col.max();
+        s1 += s.col * s.f;
         s2 += g * g;
-        s_unocc += u * col.max();
-        if (u > 0) (f > 0 ? seen : hidden)++;
+        s_unocc += s.u * s.col.max();
+        if (s.u > 0) (s.f > 0 ? seen : hidden)++;
     }
     Sampled r;
     r.mean = s1 / m;

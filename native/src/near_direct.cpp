@@ -38,6 +38,91 @@ void bilinear_cells(double fa, double fi, int na, int nr, F&& f) {
     }
 }
 
+// Per s*, kDirs^2 stratified cosine directions (no rays: they read cells).
+constexpr int kDirs = 8;
+
+// The fine cells around x in its plane, even in angle about the normal (from pu toward pv)
+// and in log distance from r_min over log_span (DirectVariation::centre gives their centres):
+// angles x radii of them, cell (a, i) at a * radii + i.
+struct FineCells {
+    const Vec3& x;
+    const Vec3& pu;
+    const Vec3& pv;
+    double r_min, log_span;
+    int angles, radii;
+    // Spends w bilinearly, in (angle, log distance), on the four cells' centres around q.
+    void spend(const Vec3& q, const Rgb& w, std::vector<Rgb>& cell_w) const {
+        const Vec3 e = q - x;
+        const double fi =
+            std::clamp(std::log(std::max(length(e), r_min) / r_min) / log_span * radii - 0.5, 0.0, double(radii - 1));
+        const double fa = std::atan2(dot(e, pv), dot(e, pu)) / (2.0 * kPi) * angles - 0.5;
+        bilinear_cells(fa, fi, angles, radii, [&](int cell, double wc) { cell_w[size_t(cell)] += w * wc; });
+    }
+};
+
+// Spends each s*'s weight rho_s over kDirs^2 stratified cosine directions about the sender's
+// normal sn, each direction's share on the fine cells around the spot q where it meets the
+// point's plane (normal n, offset `offset`), if q is within the s*'s reach R (each axis) and
+// `inside(q)`. Whether any direction was spent. (Stars: DirectVariation's list of s*.)
+template <class Stars, class Inside>
+bool spread_directions(const Stars& stars, const Vec3& n, double offset, const Vec3& sn, Rng& rng, const Inside& inside,
+                       const FineCells& cells, std::vector<Rgb>& cell_w) {
+    Vec3 su, sv;
+    frame(sn, su, sv);
+    bool any = false;
+    for (const auto& st : stars) {
+        const double ds = dot(st.p, n) - offset;
+        if (!(ds > 0)) continue;
+        const Rgb w_dir = st.rho / double(kDirs * kDirs);
+        for (int j = 0; j < kDirs * kDirs; ++j) {
+            const Vec3 w = cosine_direction(su, sv, sn, (j % kDirs + rng.next()) / kDirs, (j / kDirs + rng.next()) / kDirs);
+            const double dn = -dot(w, n);
+            if (!(dn > 1e-6)) continue;
+            const Vec3 q = st.p + w * (ds / dn);
+            if (std::abs(q.x - st.p.x) > st.R || std::abs(q.y - st.p.y) > st.R || std::abs(q.z - st.p.z) > st.R) continue;
+            if (!inside(q)) continue;
+            cells.spend(q, w_dir, cell_w);
+            any = true;
+        }
+    }
+    return any;
+}
+
+// Marks the coarse cells (angles0 x radii0, sub x sub fine cells each) whose block, or a
+// neighbouring one, holds a fine cell with weight: the coarse cells whose D is read.
+void mark_read(const std::vector<Rgb>& cell_w, const FineCells& cells, int angles0, int radii0, int sub,
+               std::vector<char>& read) {
+    for (int a = 0; a < cells.angles; ++a)
+        for (int i = 0; i < cells.radii; ++i)
+            if (cell_w[size_t(a * cells.radii + i)].max() > 0)
+                for (int da = -1; da <= 1; ++da)
+                    for (int di = -1; di <= 1; ++di) {
+                        const int b = ((a / sub + da) % angles0 + angles0) % angles0, j = i / sub + di;
+                        if (j >= 0 && j < radii0) read[size_t(b * radii0 + j)] = 1;
+                    }
+}
+
+// Marks a valid coarse cell (angles0 x radii0 of them) as on an edge when a valid
+// neighbour's dD differs from its own by more than thr in some channel. (Coarse:
+// DirectVariation's coarse cell.)
+template <class Coarse>
+void mark_edges(std::vector<Coarse>& coarse, int angles0, int radii0, double thr) {
+    auto differs = [&](const Rgb& u, const Rgb& v) {
+        return std::abs(u.r - v.r) > thr || std::abs(u.g - v.g) > thr || std::abs(u.b - v.b) > thr;
+    };
+    for (int a = 0; a < angles0; ++a)
+        for (int i = 0; i < radii0; ++i) {
+            Coarse& cl = coarse[size_t(a * radii0 + i)];
+            for (int da = -1; da <= 1 && cl.valid && !cl.edge; ++da)
+                for (int di = -1; di <= 1 && !cl.edge; ++di) {
+                    const int b = ((a + da) % angles0 + angles0) % angles0, j = i + di;
+                    if (j < 0 || j >= radii0) continue;
+                    const Coarse& nb = coarse[size_t(b * radii0 + j)];
+                    cl.edge = nb.valid && differs(cl.dD, nb.dD);
+                }
+        }
+}
+
 }  // namespace
 
 DirectVariation::DirectVariation(const Solution& s, const Config& c, const Point& pt, int near_points, Counts& counts)
@@ -166,7 +251,6 @@ Vec3 DirectVariation::centre(double a, double i, int na, int nr) const {
 }
 
 Rgb DirectVariation::sum(const Node& sender, const Rgb& L_sender, double d, const NearPlane& wall, uint64_t seed) {
-    constexpr int kDirs = 8;  // per s*, kDirs^2 stratified directions (no rays: they read cells)
     const int angles0 = kAngles0, angles = kAngles0 * sub_, radii = radii0_ * sub_;
     Rgb total;
     if (stars_.empty()) return total;
@@ -187,40 +271,12 @@ Rgb DirectVariation::sum(const Node& sender, const Rgb& L_sender, double d, cons
     // (angle, log distance), on the four fine cells' centres around its spot.
     cell_w_.assign(size_t(angles * radii), Rgb{});
     Rng rng(Hierarchy::mix(seed, 0xd1ec7u));
-    Vec3 su, sv;
-    frame(sender.normal, su, sv);
-    bool any = false;
-    for (const Star& st : stars_) {
-        const double ds = dot(st.p, n_) - wall.offset;
-        if (!(ds > 0)) continue;
-        const Rgb w_dir = st.rho / double(kDirs * kDirs);
-        for (int j = 0; j < kDirs * kDirs; ++j) {
-            const Vec3 w = cosine_direction(su, sv, sender.normal, (j % kDirs + rng.next()) / kDirs,
-                                            (j / kDirs + rng.next()) / kDirs);
-            const double dn = -dot(w, n_);
-            if (!(dn > 1e-6)) continue;
-            const Vec3 q = st.p + w * (ds / dn);
-            if (std::abs(q.x - st.p.x) > st.R || std::abs(q.y - st.p.y) > st.R || std::abs(q.z - st.p.z) > st.R) continue;
-            if (!in_region(sender, wall, q)) continue;
-            const Vec3 e = q - x_;
-            const double fi =
-                std::clamp(std::log(std::max(length(e), r_min_) / r_min_) / log_span_ * radii - 0.5, 0.0, double(radii - 1));
-            const double fa = std::atan2(dot(e, pv_), dot(e, pu_)) / (2.0 * kPi) * angles - 0.5;
-            bilinear_cells(fa, fi, angles, radii, [&](int cell, double wc) { cell_w_[size_t(cell)] += w_dir * wc; });
-            any = true;
-        }
-    }
-    if (!any) return total;
+    const FineCells cells{x_, pu_, pv_, r_min_, log_span_, angles, radii};
+    const auto inside = [&](const Vec3& q) { return in_region(sender, wall, q); };
+    if (!spread_directions(stars_, n_, wall.offset, sender.normal, rng, inside, cells, cell_w_)) return total;
     // D at the coarse cells whose block, or a neighbouring one, is read.
     read_.assign(size_t(angles0 * radii0_), 0);
-    for (int a = 0; a < angles; ++a)
-        for (int i = 0; i < radii; ++i)
-            if (cell_w_[size_t(a * radii + i)].max() > 0)
-                for (int da = -1; da <= 1; ++da)
-                    for (int di = -1; di <= 1; ++di) {
-                        const int b = ((a / sub_ + da) % angles0 + angles0) % angles0, j = i / sub_ + di;
-                        if (j >= 0 && j < radii0_) read_[size_t(b * radii0_ + j)] = 1;
-                    }
+    mark_read(cell_w_, cells, angles0, radii0_, sub_, read_);
     coarse_.assign(size_t(angles0 * radii0_), Coarse{});
     double scale_D = D_x_.max();
     for (int a = 0; a < angles0; ++a)
@@ -231,21 +287,7 @@ Rgb DirectVariation::sum(const Node& sender, const Rgb& L_sender, double d, cons
                 scale_D = std::max(scale_D, (cl.dD + D_x_).max());
         }
     // A coarse cell is on an edge when a valid neighbour's D differs from its own by 2 %.
-    const double thr = 0.02 * scale_D;
-    auto differs = [&](const Rgb& u, const Rgb& v) {
-        return std::abs(u.r - v.r) > thr || std::abs(u.g - v.g) > thr || std::abs(u.b - v.b) > thr;
-    };
-    for (int a = 0; a < angles0; ++a)
-        for (int i = 0; i < radii0_; ++i) {
-            Coarse& cl = coarse_[size_t(a * radii0_ + i)];
-            for (int da = -1; da <= 1 && cl.valid && !cl.edge; ++da)
-                for (int di = -1; di <= 1 && !cl.edge; ++di) {
-                    const int b = ((a + da) % angles0 + angles0) % angles0, j = i + di;
-                    if (j < 0 || j >= radii0_) continue;
-                    const Coarse& nb = coarse_[size_t(b * radii0_ + j)];
-                    cl.edge = nb.valid && differs(cl.dD, nb.dD);
-                }
-        }
+    mark_edges(coarse_, angles0, radii0_, 0.02 * scale_D);
     // The fine cells read: D at their own centres on an edge, else bilinear between the
     // valid coarse centres around them.
     for (int a = 0; a < angles; ++a)

@@ -141,6 +141,64 @@ constexpr double kSteepKernel = 0.25;
 // the emitter's outline crosses it (Link::outline).
 constexpr double kOutline = 0.05;
 
+// What the rays from one receiving point found of an element sender (element_link): the
+// visibility v, kernel-weighted, and how many rays were clear of how many counted.
+struct PointSight {
+    double v = 1.0;
+    int clear = 0, counted = 0;
+};
+
+// The visibility of sender P from receiving point p (normal n, the ray origin lifted off
+// it), per_point rays stratified over P and weighted by the point-to-point kernel, as F
+// (the unoccluded point form factor) is. With `record`, the leaves the clear rays reach join
+// l.samples, each weighted by its share of w F (w the point's cubature weight).
+template <class Vis>
+PointSight element_point_sight(const Hierarchy& h, const Vis& vis, const Node& P, const Vec3& p, const Vec3& n,
+                               int per_point, uint64_t seed, double w, double F, bool record, Link& l) {
+    const double lift = 1e-6 * h.scene_diag;  // keep ray ends off their own surfaces
+    const int p_id = int(&P - h.nodes.data());
+    thread_local std::vector<std::pair<Vec3, double>> hits;
+    PointSight out;
+    // Each point its own jitter stream: its rays do not depend on the points before it.
+    Rng rng(seed);
+    double wsum = 0, wclear = 0;
+    Vec3 y = p + n * lift;
+    // Rays go only to the part of the sender above the point's tangent plane, the
+    // part F integrates over: drawn over the whole sender, every ray of a point could
+    // land behind it (weight 0), and the point then counted as fully visible -- light
+    // leaked into closed boxes from walls that straddle their planes.
+    const FrontPart front = front_part(P.poly, p, n);
+    const LatinHypercube strata(rng, per_point, 2);
+    hits.clear();
+    for (int r = 0; r < per_point; ++r) {
+        // Stratified in both coordinates: fewer rays for the same variance.
+        const double u1 = strata.at(r)[0], u2 = strata.at(r)[1];
+        Vec3 x = (front.n ? front.sample(u1, u2) : P.poly.sample(u1, u2)) + P.normal * lift;
+        // Visibility weighted by the point-to-point kernel, as F is: the sender's part
+        // below the receiver's tangent plane (rays through the receiver's own object)
+        // weighs nothing instead of counting as a shadow a second time (a box side
+        // under a ceiling light came out 40 % dark), and near parts weigh more.
+        Vec3 yx = x - y;
+        double d2 = length2(yx);
+        double wr = d2 > 0 ? std::max(0.0, dot(yx, n)) * std::max(0.0, -dot(yx, P.normal)) / (d2 * d2) : 0.0;
+        if (wr <= 0) continue;
+        ++out.counted;
+        wsum += wr;
+        if (!vis.occluded(y, x)) {
+            ++out.clear, wclear += wr;
+            if (record) hits.push_back({x - P.normal * lift, wr});
+        }
+    }
+    out.v = wsum > 0 ? wclear / wsum : 1.0;
+    if (record) {
+        if (wsum > 0)
+            for (const auto& hx : hits) l.samples.push_back({h.leaf_at(p_id, hx.first), float(w * F * hx.second / wsum)});
+        else
+            l.samples.push_back({p_id, float(w * F)});  // no ray counted: v = 1 over the whole sender
+    }
+    return out;
+}
+
 template <class Vis>
 Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node& Q, int rays, uint64_t seed) {
     Link l;
@@ -149,59 +207,21 @@ Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
     if (!can_face(P.poly, P.normal, Q.poly, Q.normal, eps)) return l;
     Cubature cub = receiver_cubature(Q.poly, P.poly.v[0], P.normal);
     const int per_point = std::max(1, rays / cub.n);
-    const double lift = 1e-6 * h.scene_diag;  // keep ray ends off their own surfaces
     double kmin = 1e300, kmax = -1e300;
     double fmin = 1e300, fmax = 0;  // the unoccluded kernel's range over the receiver
     bool any_blocked = false, any_clear = false;
     // A subdivided sender: its radiance toward Q is that of the leaves its clear rays reach,
     // not its area average (see Link::samples).
     const bool record = !P.children.empty();
-    const int p_id = int(&P - h.nodes.data());
-    thread_local std::vector<std::pair<Vec3, double>> hits;
     for (int j = 0; j < cub.n; ++j) {
         double F = point_polygon_form_factor(cub.p[j], Q.normal, P.poly, P.normal);
         double v = 1.0;
         if (F > 0) {
-            // Each point its own jitter stream: its rays do not depend on the points before it.
-            Rng rng(Hierarchy::mix(seed, uint64_t(j + 1)));
-            int clear = 0, counted = 0;
-            double wsum = 0, wclear = 0;
-            Vec3 y = cub.p[j] + Q.normal * lift;
-            // Rays go only to the part of the sender above the point's tangent plane, the
-            // part F integrates over: drawn over the whole sender, every ray of a point could
-            // land behind it (weight 0), and the point then counted as fully visible -- light
-            // leaked into closed boxes from walls that straddle their planes.
-            const FrontPart front = front_part(P.poly, cub.p[j], Q.normal);
-            const LatinHypercube strata(rng, per_point, 2);
-            hits.clear();
-            for (int r = 0; r < per_point; ++r) {
-                // Stratified in both coordinates: fewer rays for the same variance.
-                const double u1 = strata.at(r)[0], u2 = strata.at(r)[1];
-                Vec3 x = (front.n ? front.sample(u1, u2) : P.poly.sample(u1, u2)) + P.normal * lift;
-                // Visibility weighted by the point-to-point kernel, as F is: the sender's part
-                // below the receiver's tangent plane (rays through the receiver's own object)
-                // weighs nothing instead of counting as a shadow a second time (a box side
-                // under a ceiling light came out 40 % dark), and near parts weigh more.
-                Vec3 yx = x - y;
-                double d2 = length2(yx);
-                double w = d2 > 0 ? std::max(0.0, dot(yx, Q.normal)) * std::max(0.0, -dot(yx, P.normal)) / (d2 * d2) : 0.0;
-                if (w <= 0) continue;
-                ++counted;
-                wsum += w;
-                if (!vis.occluded(y, x)) {
-                    ++clear, wclear += w;
-                    if (record) hits.push_back({x - P.normal * lift, w});
-                }
-            }
-            v = wsum > 0 ? wclear / wsum : 1.0;
-            if (record) {
-                if (wsum > 0)
-                    for (const auto& hx : hits) l.samples.push_back({h.leaf_at(p_id, hx.first), float(cub.w[j] * F * hx.second / wsum)});
-                else
-                    l.samples.push_back({p_id, float(cub.w[j] * F)});  // no ray counted: v = 1 over the whole sender
-            }
-            if (clear < counted) any_blocked = true;
-            if (clear > 0 || counted == 0) any_clear = true;
+            const PointSight ps = element_point_sight(h, vis, P, cub.p[j], Q.normal, per_point,
+                                                      Hierarchy::mix(seed, uint64_t(j + 1)), cub.w[j], F, record, l);
+            v = ps.v;
+            if (ps.clear < ps.counted) any_blocked = true;
+            if (ps.clear > 0 || ps.counted == 0) any_clear = true;
         }
         double k = F * v;
         fmin = std::min(fmin, F);
@@ -487,6 +507,55 @@ bool may_exchange(const Hierarchy& h, const Node& P, const Node& Q) {
     return faces_box(h, P, Q.box, eps) && faces_box(h, Q, P.box, eps);
 }
 
+// What a cluster link's pairs of points found (cluster_link): the kernel-weighted sums over
+// the pairs (wsum), over the clear ones (vsum) and over those whose receiving point its own
+// object hides (wself), and how many pairs were clear of how many cast.
+struct PairSight {
+    double wsum = 0, vsum = 0;
+    int clear = 0, cast = 0;
+    double wself = 0;
+};
+
+// Casts the rays of a cluster link from P to Q along l.dir: pairs of points drawn by the
+// samplers ps (of P) and qs (of Q), each weighted by the point-to-point kernel over the
+// samplers' density. A sending cluster's clear rays add the leaves they reach to l.samples.
+template <class Vis>
+PairSight cluster_pair_sight(const Hierarchy& h, const Vis& vis, const Node& P, const Node& Q, const FacingSampler& ps,
+                             const FacingSampler& qs, int rays, Rng& rng, Link& l) {
+    PairSight s;
+    const double lift = 1e-6 * h.scene_diag;
+    const LatinHypercube strata(rng, rays);
+    for (int k = 0; k < rays; ++k) {
+        Vec3 nx, ny;
+        int sroot = -1, rroot = -1;
+        Vec3 x = ps.sample(rng, strata.at(k), &nx, &sroot);
+        Vec3 y = qs.sample(rng, strata.at(k) + 3, &ny, &rroot);
+        Vec3 xy = y - x;
+        double d2 = length2(xy);
+        if (d2 <= 0) continue;
+        double w = std::max(0.0, dot(nx, xy)) * std::max(0.0, -dot(ny, xy)) / (d2 * d2);
+        double pdf = dot(nx, l.dir) * -dot(ny, l.dir);  // > 0 by construction
+        w /= pdf;
+        ++s.cast;
+        if (w <= 0) continue;
+        bool ok = !vis.occluded(x + nx * lift, y + ny * lift);
+        // A receiving point hidden by its own object (the inner faces of a closed two-sided
+        // box, or of one open at the bottom standing on the floor, share the room's pocket):
+        // the gather shares K by cosine over the receiver's surfaces facing the sender, so
+        // the visibility that K carries must be that of the surfaces that can be lit at all.
+        // Counted as blocked, such points halved what every outer face of a box got (sides
+        // and tops of the Cornell blocks 25-40 % short in coupling at DRAFT).
+        if (!ok && Q.is_cluster() && rroot >= 0 &&
+            vis.hidden_by(y + ny * lift, x + nx * lift, lift, h.nodes[size_t(rroot)].object))
+            s.wself += w;
+        if (ok && P.is_cluster()) l.samples.push_back({h.leaf_at(sroot, x), float(w)});
+        s.wsum += w;
+        s.vsum += ok ? w : 0.0;
+        s.clear += ok;
+    }
+    return s;
+}
+
 template <class Vis>
 Link cluster_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node& Q, int rays, Rng& rng,
                   int src, int rcv) {
@@ -529,50 +598,18 @@ Link cluster_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
     }
     // Visibility of the transfer, estimated with pairs of points drawn by projected area
     // toward each other and weighted by the true point-to-point kernel over that density.
-    double wsum = 0, vsum = 0;
-    int clear = 0, cast = 0;
-    double wself = 0;  // weight of the points hidden by their own object
-    const double lift = 1e-6 * h.scene_diag;
-    const LatinHypercube strata(rng, rays);
-    for (int k = 0; k < rays; ++k) {
-        Vec3 nx, ny;
-        int sroot = -1, rroot = -1;
-        Vec3 x = ps.sample(rng, strata.at(k), &nx, &sroot);
-        Vec3 y = qs.sample(rng, strata.at(k) + 3, &ny, &rroot);
-        Vec3 xy = y - x;
-        double d2 = length2(xy);
-        if (d2 <= 0) continue;
-        double w = std::max(0.0, dot(nx, xy)) * std::max(0.0, -dot(ny, xy)) / (d2 * d2);
-        double pdf = dot(nx, l.dir) * -dot(ny, l.dir);  // > 0 by construction
-        w /= pdf;
-        ++cast;
-        if (w <= 0) continue;
-        bool ok = !vis.occluded(x + nx * lift, y + ny * lift);
-        // A receiving point hidden by its own object (the inner faces of a closed two-sided
-        // box, or of one open at the bottom standing on the floor, share the room's pocket):
-        // the gather shares K by cosine over the receiver's surfaces facing the sender, so
-        // the visibility that K carries must be that of the surfaces that can be lit at all.
-        // Counted as blocked, such points halved what every outer face of a box got (sides
-        // and tops of the Cornell blocks 25-40 % short in coupling at DRAFT).
-        if (!ok && Q.is_cluster() && rroot >= 0 &&
-            vis.hidden_by(y + ny * lift, x + nx * lift, lift, h.nodes[size_t(rroot)].object))
-            wself += w;
-        if (ok && P.is_cluster()) l.samples.push_back({h.leaf_at(sroot, x), float(w)});
-        wsum += w;
-        vsum += ok ? w : 0.0;
-        clear += ok;
-    }
-    l.vis = wsum > 0 ? vsum / wsum : 0.0;
-    l.partial = clear > 0 && clear < cast;
+    const PairSight ray = cluster_pair_sight(h, vis, P, Q, ps, qs, rays, rng, l);
+    l.vis = ray.wsum > 0 ? ray.vsum / ray.wsum : 0.0;
+    l.partial = ray.clear > 0 && ray.clear < ray.cast;
     // Every ray blocked is weak evidence for a whole cluster: the link stays (K = 0) and the
     // oracle decides from the light at stake whether to look closer. Splitting every such
     // link unconditionally went down to element pairs: in a furnished room 8 of 12 million
     // link evaluations were element pairs facing away or hidden (under and behind furniture).
-    l.blocked = clear == 0 && cast > 0;
+    l.blocked = ray.clear == 0 && ray.cast > 0;
     // vis, partial and blocked keep every point (the oracle still sees the link as partly
     // occluded and splits the receiver when the light at stake asks for it); the coupling
     // leaves out the points their own object hides.
-    l.K = wsum > wself ? l.K_unoccluded * vsum / (wsum - wself) : 0.0;
+    l.K = ray.wsum > ray.wself ? l.K_unoccluded * ray.vsum / (ray.wsum - ray.wself) : 0.0;
     return l;
 }
 
@@ -611,30 +648,39 @@ Link evaluate_with(const Hierarchy& h, const Vis& vis, int src, int rcv, int ray
     return l;
 }
 
-PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int src, const Vec3& x, const Vec3& n,
-                                  int rcv_leaf, int rays, uint64_t seed, std::vector<std::pair<int, float>>& samples) {
-    constexpr int kExactClusterSurfaces = 12;
-    constexpr size_t kDescendChildren = 16;
-    constexpr double kGatherMinCos = 0.1;  // FacingSampler's min_cos
-    // inv_dist leaves out surfaces turned less than 60 degrees from the point's own (the
-    // faces beyond a gentle concave bend of a curved mesh, met a hair away): the light they
-    // bring changes slowly along the surface, not over their distance.
-    constexpr double kGentle = 0.5;
-    // Beyond this many surfaces (and without a facing summary) a cluster is drawn down its tree.
-    constexpr int kTreeSampleSurfaces = 256;
-    PointTransfer t;
-    const Node& P = h.nodes[size_t(src)];
-    const Node& R = h.nodes[size_t(rcv_leaf)];
-    const double lift = 1e-6 * h.scene_diag;
-    const Vec3 y = x + n * lift;  // the ray origin, off the receiving surface
-    Rng rng(seed);
-    rays = std::max(rays, 1);
-    const size_t first = samples.size();
+// Point transfers (point_transfer_with): a cluster of more children than this, with the
+// point near it, has its surfaces drawn by area.
+constexpr size_t kDescendChildren = 16;
+// A cluster of at most this many surfaces sends as its surfaces, each an element sender.
+constexpr int kExactClusterSurfaces = 12;
+constexpr double kGatherMinCos = 0.1;  // FacingSampler's min_cos
+// inv_dist leaves out surfaces turned less than 60 degrees from the point's own (the
+// faces beyond a gentle concave bend of a curved mesh, met a hair away): the light they
+// bring changes slowly along the surface, not over their distance.
+constexpr double kGentle = 0.5;
+// Beyond this many surfaces (and without a facing summary) a cluster is drawn down its tree.
+constexpr int kTreeSampleSurfaces = 256;
+
+// The rays of one point transfer from x (normal n): cast from y, x lifted off its surface,
+// `rays` of them; what they find adds to t, and the leaves the clear ones reach (with their
+// weights) to `samples`.
+struct PointRays {
+    const Hierarchy& h;
+    PointRayStream& vis;
+    const Vec3& x;
+    const Vec3& n;
+    Vec3 y;
+    double lift;
+    int rays;
+    Rng rng;
+    PointTransfer& t;
+    std::vector<std::pair<int, float>>& samples;
+    int clear_draws = 0;  // tally's rays that were clear
+
     // One ray of a sender drawn by density den / num per area (a cluster's samplers): the
     // point kernel cos cos / (pi r^2) over that density, toward s (normal ns) on surface root
     // `root`; the clear ones keep their leaf for the sender's radiance.
-    int clear_draws = 0;
-    auto tally = [&](const Vec3& s, const Vec3& ns, int root, double num, double den) {
+    void tally(const Vec3& s, const Vec3& ns, int root, double num, double den) {
         const Vec3 yx = s - y;
         const double d2 = length2(yx);
         if (d2 <= 0) return;
@@ -648,61 +694,128 @@ PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int s
             if (dot(n, ns) < kGentle) t.inv_dist += g / std::sqrt(d2);
             samples.push_back({h.leaf_at(root, s), float(g)});
         }
-    };
-    if (!P.is_cluster()) {
-        if (P.pocket != R.pocket) return t;
-        const double F = point_polygon_form_factor(x, n, P.poly, P.normal);
-        if (!(F > 0)) return t;
-        t.F_unoccluded = F;
-        // As element_link does for one cubature point: rays only to the part of the sender in
-        // front of the point's tangent plane, weighted by the point-to-point kernel.
-        const FrontPart front = front_part(P.poly, x, n);
-        const LatinHypercube strata(rng, rays, 2);
-        thread_local std::vector<std::pair<int, double>> hits;
-        hits.clear();
-        double wsum = 0, wclear = 0, winv = 0;
-        int clear = 0, counted = 0;
-        for (int r = 0; r < rays; ++r) {
-            const double u1 = strata.at(r)[0], u2 = strata.at(r)[1];
-            const Vec3 s = front.n ? front.sample(u1, u2) : P.poly.sample(u1, u2);
-            const Vec3 yx = s - y;
-            const double d2 = length2(yx);
-            const double w = d2 > 0 ? std::max(0.0, dot(yx, n)) * std::max(0.0, -dot(yx, P.normal)) / (d2 * d2) : 0.0;
-            if (w <= 0) continue;
-            ++counted;
-            ++t.cast;
-            wsum += w;
-            if (!vis.occluded(y, s + P.normal * lift)) {
-                ++clear;
-                wclear += w;
-                if (dot(n, P.normal) < kGentle) winv += w / std::sqrt(d2);
-                hits.push_back({P.children.empty() ? src : h.leaf_at(src, s), w});
-            }
+    }
+    // Some of tally's rays were blocked and some clear.
+    bool partial() const { return clear_draws > 0 && clear_draws < t.cast; }
+};
+
+// An element sender (node src, in `pocket` or no light passes): as element_link does for one
+// cubature point, rays only to the part of the sender in front of the point's tangent plane,
+// weighted by the point-to-point kernel.
+void element_transfer(PointRays& pr, int src, int pocket) {
+    const Hierarchy& h = pr.h;
+    const Node& P = h.nodes[size_t(src)];
+    const Vec3& n = pr.n;
+    PointTransfer& t = pr.t;
+    if (P.pocket != pocket) return;
+    const double F = point_polygon_form_factor(pr.x, n, P.poly, P.normal);
+    if (!(F > 0)) return;
+    t.F_unoccluded = F;
+    const FrontPart front = front_part(P.poly, pr.x, n);
+    const LatinHypercube strata(pr.rng, pr.rays, 2);
+    thread_local std::vector<std::pair<int, double>> hits;
+    hits.clear();
+    double wsum = 0, wclear = 0, winv = 0;
+    int clear = 0, counted = 0;
+    for (int r = 0; r < pr.rays; ++r) {
+        const double u1 = strata.at(r)[0], u2 = strata.at(r)[1];
+        const Vec3 s = front.n ? front.sample(u1, u2) : P.poly.sample(u1, u2);
+        const Vec3 yx = s - pr.y;
+        const double d2 = length2(yx);
+        const double w = d2 > 0 ? std::max(0.0, dot(yx, n)) * std::max(0.0, -dot(yx, P.normal)) / (d2 * d2) : 0.0;
+        if (w <= 0) continue;
+        ++counted;
+        ++t.cast;
+        wsum += w;
+        if (!pr.vis.occluded(pr.y, s + P.normal * pr.lift)) {
+            ++clear;
+            wclear += w;
+            if (dot(n, P.normal) < kGentle) winv += w / std::sqrt(d2);
+            hits.push_back({P.children.empty() ? src : h.leaf_at(src, s), w});
         }
-        t.partial = clear > 0 && clear < counted;
-        if (wsum <= 0) {
-            samples.push_back({src, float(F)});  // no ray counted: the whole sender, unoccluded
-            t.F = F;
-        } else {
-            for (const auto& hx : hits) samples.push_back({hx.first, float(F * hx.second / wsum)});
-            t.F = F * wclear / wsum;
-            t.inv_dist = F * winv / wsum;
-        }
-    } else if (length(x - P.center) < 2.0 * P.radius && P.children.size() > kDescendChildren) {
-        // Near a cluster of many children (the pieces of a fanned n-gon hang side by side):
-        // its surfaces drawn uniformly by area instead, each weighted by the true kernel,
-        // unbiased whichever way they face, and bounded in cost.
-        const double* pre = h.area_prefix.data();
-        const double lo = pre[P.surf_begin], span = pre[P.surf_end] - lo;
-        if (!(span > 0)) return t;
-        const LatinHypercube strata(rng, rays, 3);
-        for (int k = 0; k < rays; ++k) {
+    }
+    t.partial = clear > 0 && clear < counted;
+    if (wsum <= 0) {
+        pr.samples.push_back({src, float(F)});  // no ray counted: the whole sender, unoccluded
+        t.F = F;
+    } else {
+        for (const auto& hx : hits) pr.samples.push_back({hx.first, float(F * hx.second / wsum)});
+        t.F = F * wclear / wsum;
+        t.inv_dist = F * winv / wsum;
+    }
+}
+
+// Near a cluster of many children (the pieces of a fanned n-gon hang side by side): its
+// surfaces (those in `pocket`) drawn uniformly by area instead, each weighted by the true
+// kernel, unbiased whichever way they face, and bounded in cost.
+void draw_by_area(PointRays& pr, const Node& P, int pocket) {
+    const Hierarchy& h = pr.h;
+    const double* pre = h.area_prefix.data();
+    const double lo = pre[P.surf_begin], span = pre[P.surf_end] - lo;
+    if (!(span > 0)) return;
+    const LatinHypercube strata(pr.rng, pr.rays, 3);
+    for (int k = 0; k < pr.rays; ++k) {
+        const double* u = strata.at(k);
+        const SurfaceGeom& g = h.surface_geom[size_t(surface_at_area(h, P.surf_begin, P.surf_end, lo + u[0] * span))];
+        if (g.pocket != pocket || h.nodes[size_t(g.root)].dead) continue;
+        pr.tally(g.poly.sample(g.share, u[1], u[2]), g.normal, g.root, span, 1.0);
+    }
+    pr.t.partial = pr.partial();
+}
+
+// A cluster (node src) away from the point: its surfaces drawn by their facing toward the
+// direction from its centre to the point, those in `pocket` (the receiving leaf rcv_leaf's).
+void draw_far_cluster(PointRays& pr, int src, int rcv_leaf, int pocket) {
+    const Hierarchy& h = pr.h;
+    const Node& P = h.nodes[size_t(src)];
+    Vec3 d = pr.x - P.center;
+    const double r0 = length(d);
+    if (!(r0 > 1e-9 * h.scene_diag)) return;
+    d = d / r0;
+    const LatinHypercube strata(pr.rng, pr.rays, 3);
+    if (P.surf_end - P.surf_begin > kTreeSampleSurfaces && !h.has_facing_summary(src)) {
+        // A large cluster of many normals (a bevelled, subdivided sofa): drawn down its
+        // tree, the density the surface's probability over its area.
+        const TreeSampler tree(h, src, d, kGatherMinCos);
+        for (int k = 0; k < pr.rays; ++k) {
             const double* u = strata.at(k);
-            const SurfaceGeom& g = h.surface_geom[size_t(surface_at_area(h, P.surf_begin, P.surf_end, lo + u[0] * span))];
-            if (g.pocket != R.pocket || h.nodes[size_t(g.root)].dead) continue;
-            tally(g.poly.sample(g.share, u[1], u[2]), g.normal, g.root, span, 1.0);
+            double prob = 0;
+            const int root = tree.draw(u[0], &prob);
+            if (root < 0) break;
+            const Node& g = h.nodes[size_t(root)];
+            if (g.pocket != pocket || !(prob > 0)) continue;
+            pr.tally(g.poly.sample(u[1], u[2]), g.normal, root, g.area, prob);
         }
-        t.partial = clear_draws > 0 && clear_draws < t.cast;
+    } else {
+        thread_local FacingSampler::Buffers buf;
+        FacingSampler ps(h, src, d, rcv_leaf, buf, kGatherMinCos);
+        const double total = ps.total();
+        if (!(total > 0)) return;
+        for (int k = 0; k < pr.rays; ++k) {
+            Vec3 ny;
+            int sroot = -1;
+            const Vec3 s = ps.sample(pr.rng, strata.at(k), &ny, &sroot);
+            const double pdf = ps.weight(dot(ny, d));  // the sampler's density over area, times total
+            if (pdf <= 0) continue;
+            pr.tally(s, ny, sroot, total, pdf);
+        }
+    }
+    pr.t.partial = pr.partial();
+}
+
+PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int src, const Vec3& x, const Vec3& n,
+                                  int rcv_leaf, int rays, uint64_t seed, std::vector<std::pair<int, float>>& samples) {
+    PointTransfer t;
+    const Node& P = h.nodes[size_t(src)];
+    const Node& R = h.nodes[size_t(rcv_leaf)];
+    const double lift = 1e-6 * h.scene_diag;
+    rays = std::max(rays, 1);
+    PointRays pr{h, vis, x, n, x + n * lift, lift, rays, Rng(seed), t, samples};
+    const size_t first = samples.size();
+    if (!P.is_cluster()) {
+        element_transfer(pr, src, R.pocket);
+    } else if (length(x - P.center) < 2.0 * P.radius && P.children.size() > kDescendChildren) {
+        draw_by_area(pr, P, R.pocket);
     } else if (length(x - P.center) < 2.0 * P.radius) {
         // The point is near the cluster, or inside it (a floor point and the room around it):
         // no single direction says which of its surfaces face the point, and drawing them by
@@ -730,39 +843,7 @@ PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int s
         }
         return sum;
     } else {
-        Vec3 d = x - P.center;
-        const double r0 = length(d);
-        if (!(r0 > 1e-9 * h.scene_diag)) return t;
-        d = d / r0;
-        const LatinHypercube strata(rng, rays, 3);
-        if (P.surf_end - P.surf_begin > kTreeSampleSurfaces && !h.has_facing_summary(src)) {
-            // A large cluster of many normals (a bevelled, subdivided sofa): drawn down its
-            // tree, the density the surface's probability over its area.
-            const TreeSampler tree(h, src, d, kGatherMinCos);
-            for (int k = 0; k < rays; ++k) {
-                const double* u = strata.at(k);
-                double prob = 0;
-                const int root = tree.draw(u[0], &prob);
-                if (root < 0) break;
-                const Node& g = h.nodes[size_t(root)];
-                if (g.pocket != R.pocket || !(prob > 0)) continue;
-                tally(g.poly.sample(u[1], u[2]), g.normal, root, g.area, prob);
-            }
-        } else {
-            thread_local FacingSampler::Buffers buf;
-            FacingSampler ps(h, src, d, rcv_leaf, buf, kGatherMinCos);
-            const double total = ps.total();
-            if (!(total > 0)) return t;
-            for (int k = 0; k < rays; ++k) {
-                Vec3 ny;
-                int sroot = -1;
-                const Vec3 s = ps.sample(rng, strata.at(k), &ny, &sroot);
-                const double pdf = ps.weight(dot(ny, d));  // the sampler's density over area, times total
-                if (pdf <= 0) continue;
-                tally(s, ny, sroot, total, pdf);
-            }
-        }
-        t.partial = clear_draws > 0 && clear_draws < t.cast;
+        draw_far_cluster(pr, src, rcv_leaf, R.pocket);
     }
     // Same leaf twice: one sample (fewer to keep per point).
     merge_samples(samples, first);

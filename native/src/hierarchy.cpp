@@ -720,6 +720,32 @@ Hierarchy::FacingSummary summarise(const std::vector<SurfaceGeom>& g, int b, int
 }
 }  // namespace
 
+namespace {
+// The samplers' copy of the cluster tree (Hierarchy::sampler_children): per cluster, in
+// node order, its children in their order.
+void sampler_tree(const Hierarchy& h, std::vector<Hierarchy::SamplerChild>& children, std::vector<int>& first) {
+    children.clear();
+    first.assign(h.nodes.size() + 1, 0);
+    for (size_t id = 0; id < h.nodes.size(); ++id) {
+        first[id] = int(children.size());
+        const Node& n = h.nodes[id];
+        if (!n.is_cluster()) continue;
+        for (int c : n.children) {
+            const Node& m = h.nodes[size_t(c)];
+            Hierarchy::SamplerChild sc;
+            sc.id = c;
+            sc.cluster = m.is_cluster();
+            sc.dead = m.dead;
+            sc.area = m.area;
+            if (sc.cluster) sc.W = m.W;
+            else sc.W = {m.normal.x, m.normal.y, m.normal.z, 0.0, 0.0, 0.0};
+            children.push_back(sc);
+        }
+    }
+    first[h.nodes.size()] = int(children.size());
+}
+}  // namespace
+
 void Hierarchy::refresh_surface_geom() {
     surface_geom.resize(surface_order.size());
     for (size_t i = 0; i < surface_order.size(); ++i) {
@@ -742,6 +768,7 @@ void Hierarchy::refresh_surface_geom() {
         if (!n.is_cluster() || n.dead || n.surf_end - n.surf_begin < kSummaryMinSurfaces) continue;
         facing_summary[id] = summarise(surface_geom, n.surf_begin, n.surf_end);
     }
+    sampler_tree(*this, sampler_children, sampler_first);
 }
 
 bool Hierarchy::surface_geom_current() const {
@@ -771,6 +798,20 @@ bool Hierarchy::surface_geom_current() const {
         for (size_t k = 0; k < got.groups.size(); ++k) {
             const FacingGroup &a = got.groups[k], &b = fresh.groups[k];
             if (!same_facing(a.pocket, a.normal, b.pocket, b.normal) || a.area != b.area) return false;
+        }
+    }
+    // The samplers' tree: clusters are made and changed only where surface_geom is refreshed.
+    std::vector<SamplerChild> children;
+    std::vector<int> first;
+    sampler_tree(*this, children, first);
+    for (size_t id = 0; id < nodes.size(); ++id) {
+        if (!nodes[id].is_cluster()) continue;
+        if (id + 1 >= sampler_first.size() || first[id + 1] - first[id] != sampler_first[id + 1] - sampler_first[id])
+            return false;
+        for (int k = 0; k < first[id + 1] - first[id]; ++k) {
+            const SamplerChild& a = children[size_t(first[id] + k)];
+            const SamplerChild& b = sampler_children[size_t(sampler_first[id] + k)];
+            if (a.id != b.id || a.cluster != b.cluster || a.dead != b.dead || a.area != b.area || a.W != b.W) return false;
         }
     }
     return true;

@@ -392,15 +392,15 @@ public:
     TreeSampler(const Hierarchy& h, int node, const Vec3& d, double min_cos)
         : h_(h), node_(node), d_(d), min_cos_(min_cos) {}
 
-    double weight(int id) const {
-        const Node& n = h_.nodes[size_t(id)];
+    // A child's weight toward d, from the samplers' copy of the cluster tree.
+    double weight(const Hierarchy::SamplerChild& n) const {
         if (n.dead || !(n.area > 0)) return 0.0;
         double b = 0;
-        if (n.is_cluster()) {
+        if (n.cluster) {
             for (int a = 0; a < 3; ++a) b += std::fabs(d_[a]) * n.W[size_t(bin_of(a, d_[a]))];
             return b + min_cos_ * n.area;
         }
-        for (int a = 0; a < 3; ++a) b += std::fabs(d_[a]) * std::max(0.0, (d_[a] < 0 ? -1.0 : 1.0) * n.normal[a]);
+        for (int a = 0; a < 3; ++a) b += std::fabs(d_[a]) * std::max(0.0, (d_[a] < 0 ? -1.0 : 1.0) * n.W[size_t(a)]);
         return n.area * (b + min_cos_);
     }
     // A surface root, drawn by u in [0, 1) (rescaled at each level, so strata carry down), and
@@ -408,29 +408,31 @@ public:
     int draw(double u, double* prob) const {
         int id = node_;
         double p = 1.0;
-        while (h_.nodes[size_t(id)].is_cluster()) {
-            const Node& n = h_.nodes[size_t(id)];
+        for (bool cluster = h_.nodes[size_t(id)].is_cluster(); cluster;) {
+            const Hierarchy::SamplerChild* ch = h_.sampler_children.data() + h_.sampler_first[size_t(id)];
+            const int m = h_.sampler_first[size_t(id) + 1] - h_.sampler_first[size_t(id)];
             thread_local std::vector<double> ws;  // the children's weights, each read once
             ws.clear();
             double total = 0;
-            for (int c : n.children) {
-                ws.push_back(weight(c));
+            for (int i = 0; i < m; ++i) {
+                ws.push_back(weight(ch[i]));
                 total += ws.back();
             }
             if (!(total > 0)) return -1;
             double x = u * total, acc = 0;
             int pick = -1;
             double w_pick = 0;
-            for (size_t i = 0; i < n.children.size(); ++i) {
-                const double w = ws[i];
+            for (int i = 0; i < m; ++i) {
+                const double w = ws[size_t(i)];
                 if (w <= 0) continue;
-                pick = n.children[i], w_pick = w;
+                pick = i, w_pick = w;
                 if (x < acc + w) break;
                 acc += w;
             }
             u = std::min(std::max((x - acc) / w_pick, 0.0), std::nextafter(1.0, 0.0));
             p *= w_pick / total;
-            id = pick;
+            id = ch[pick].id;
+            cluster = ch[pick].cluster;
         }
         *prob = p;
         return id;

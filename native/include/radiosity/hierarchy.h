@@ -219,8 +219,20 @@ public:
     std::vector<FacingSummary> facing_summary;        // per node (empty vector: none)
     bool has_facing_summary(int node) const { return size_t(node) < facing_summary.size() && facing_summary[size_t(node)].valid; }
     static constexpr int kSummaryMinSurfaces = 256, kSummaryMaxNormals = 24;
+    // The cluster tree as a large cluster's sampler descends it (TreeSampler, transfer.cpp):
+    // per cluster, its children's facing data in one contiguous range, so that a draw reads a
+    // level in a cache line or two instead of each child's Node (most of a kilobyte apart) --
+    // once per ray and level. Refreshed with surface_geom.
+    struct SamplerChild {
+        int id = -1;
+        bool cluster = false, dead = false;
+        double area = 0;
+        std::array<double, kBins> W{};  // a cluster's Node::W; a surface root's normal in W[0..2]
+    };
+    std::vector<SamplerChild> sampler_children;
+    std::vector<int> sampler_first;  // per node (clusters): its children's range starts here
     void refresh_surface_geom();
-    // Whether surface_geom matches the nodes (tests).
+    // Whether surface_geom (and the samplers' data made with it) matches the nodes (tests).
     bool surface_geom_current() const;
     std::vector<int> object_node;     // per object: its cluster node (-1 if it has no surface)
     std::vector<int> cluster_node;    // per ClusterDesc: its node (-1 if empty)

@@ -194,15 +194,24 @@ NearField::NearField(const Run& run, const Point& pt, Counts& counts, NearScratc
       coplanar_(scratch.coplanar), stars_(scratch.stars) {}
 
 void NearField::read_surfaces() {
+    // (In the order the samples first read each surface, found through an index by surface.)
+    std::vector<int>& at = scratch_.seen_index;
+    if (at.size() < h_.surfaces.size()) at.resize(h_.surfaces.size(), -1);
     seen_.clear();
     for (const auto& [node, w] : pt_.samples) {
         const Node& m = h_.nodes[size_t(h_.live_element(node))];
         if (m.is_cluster() || m.surface < 0) continue;
         const double size = std::sqrt(m.area);
-        auto it = std::find_if(seen_.begin(), seen_.end(), [&](const Seen& e) { return e.surface == m.surface; });
-        if (it == seen_.end()) seen_.push_back({m.surface, double(w), m.L * double(w), size * double(w)});
-        else it->W += double(w), it->WL += m.L * double(w), it->WS += size * double(w);
+        int& k = at[size_t(m.surface)];
+        if (k < 0) {
+            k = int(seen_.size());
+            seen_.push_back({m.surface, double(w), m.L * double(w), size * double(w)});
+        } else {
+            Seen& e = seen_[size_t(k)];
+            e.W += double(w), e.WL += m.L * double(w), e.WS += size * double(w);
+        }
     }
+    for (const Seen& e : seen_) at[size_t(e.surface)] = -1;
 }
 
 Rgb NearField::uncorrected() const {

@@ -95,6 +95,7 @@ struct NearScratch {
     // radiance_at's estimate of what a link may bring: coupling, sender radiance.
     struct Estimate { double F, L; };
     std::vector<Seen> seen;
+    std::vector<int> seen_index;  // per surface: its entry in `seen`, or -1 (reset after each point)
     NearPlane wall;
     std::vector<int> coplanar;
     std::vector<Vec3> stars;

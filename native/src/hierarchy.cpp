@@ -726,6 +726,8 @@ namespace {
 void sampler_tree(const Hierarchy& h, std::vector<Hierarchy::SamplerChild>& children, std::vector<int>& first) {
     children.clear();
     first.assign(h.nodes.size() + 1, 0);
+    std::vector<int> geom_of(h.surfaces.size(), -1);
+    for (size_t i = 0; i < h.surface_order.size(); ++i) geom_of[size_t(h.surface_order[i])] = int(i);
     for (size_t id = 0; id < h.nodes.size(); ++id) {
         first[id] = int(children.size());
         const Node& n = h.nodes[id];
@@ -737,8 +739,13 @@ void sampler_tree(const Hierarchy& h, std::vector<Hierarchy::SamplerChild>& chil
             sc.cluster = m.is_cluster();
             sc.dead = m.dead;
             sc.area = m.area;
-            if (sc.cluster) sc.W = m.W;
-            else sc.W = {m.normal.x, m.normal.y, m.normal.z, 0.0, 0.0, 0.0};
+            if (sc.cluster) {
+                sc.W = m.W;
+            } else {
+                sc.W = {m.normal.x, m.normal.y, m.normal.z, 0.0, 0.0, 0.0};
+                sc.pocket = m.pocket;
+                sc.geom = m.surface >= 0 ? geom_of[size_t(m.surface)] : -1;
+            }
             children.push_back(sc);
         }
     }
@@ -811,7 +818,9 @@ bool Hierarchy::surface_geom_current() const {
         for (int k = 0; k < first[id + 1] - first[id]; ++k) {
             const SamplerChild& a = children[size_t(first[id] + k)];
             const SamplerChild& b = sampler_children[size_t(sampler_first[id] + k)];
-            if (a.id != b.id || a.cluster != b.cluster || a.dead != b.dead || a.area != b.area || a.W != b.W) return false;
+            if (a.id != b.id || a.cluster != b.cluster || a.dead != b.dead || a.pocket != b.pocket || a.geom != b.geom ||
+                a.area != b.area || a.W != b.W)
+                return false;
         }
     }
     return true;

@@ -404,10 +404,11 @@ public:
         return n.area * (b + min_cos_);
     }
     // A surface root, drawn by u in [0, 1) (rescaled at each level, so strata carry down), and
-    // the probability of drawing it; -1 when the cluster has nothing to draw.
-    int draw(double u, double* prob) const {
+    // the probability of drawing it; nullptr when the cluster has nothing to draw.
+    const Hierarchy::SamplerChild* draw(double u, double* prob) const {
         int id = node_;
         double p = 1.0;
+        const Hierarchy::SamplerChild* got = nullptr;
         for (bool cluster = h_.nodes[size_t(id)].is_cluster(); cluster;) {
             const Hierarchy::SamplerChild* ch = h_.sampler_children.data() + h_.sampler_first[size_t(id)];
             const int m = h_.sampler_first[size_t(id) + 1] - h_.sampler_first[size_t(id)];
@@ -418,7 +419,7 @@ public:
                 ws.push_back(weight(ch[i]));
                 total += ws.back();
             }
-            if (!(total > 0)) return -1;
+            if (!(total > 0)) return nullptr;
             double x = u * total, acc = 0;
             int pick = -1;
             double w_pick = 0;
@@ -431,11 +432,12 @@ public:
             }
             u = std::min(std::max((x - acc) / w_pick, 0.0), std::nextafter(1.0, 0.0));
             p *= w_pick / total;
-            id = ch[pick].id;
-            cluster = ch[pick].cluster;
+            got = &ch[pick];
+            id = got->id;
+            cluster = got->cluster;
         }
         *prob = p;
-        return id;
+        return got;
     }
 
 private:
@@ -782,11 +784,11 @@ void draw_far_cluster(PointRays& pr, int src, int rcv_leaf, int pocket) {
         for (int k = 0; k < pr.rays; ++k) {
             const double* u = strata.at(k);
             double prob = 0;
-            const int root = tree.draw(u[0], &prob);
-            if (root < 0) break;
-            const Node& g = h.nodes[size_t(root)];
-            if (g.pocket != pocket || !(prob > 0)) continue;
-            pr.tally(g.poly.sample(u[1], u[2]), g.normal, root, g.area, prob);
+            const Hierarchy::SamplerChild* c = tree.draw(u[0], &prob);
+            if (!c) break;
+            if (c->pocket != pocket || !(prob > 0)) continue;
+            const SurfaceGeom& g = h.surface_geom[size_t(c->geom)];
+            pr.tally(g.poly.sample(g.share, u[1], u[2]), g.normal, c->id, g.area, prob);
         }
     } else {
         thread_local FacingSampler::Buffers buf;

@@ -226,6 +226,7 @@ public:
     struct SamplerChild {
         int id = -1;
         bool cluster = false, dead = false;
+        int pocket = -1, geom = -1;     // a surface root's pocket and index in surface_geom
         double area = 0;
         std::array<double, kBins> W{};  // a cluster's Node::W; a surface root's normal in W[0..2]
     };

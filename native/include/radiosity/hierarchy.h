@@ -232,6 +232,8 @@ public:
     };
     std::vector<SamplerChild> sampler_children;
     std::vector<int> sampler_first;  // per node (clusters): its children's range starts here
+    // Remakes sampler_children from the nodes (after the clusters' geometry changed).
+    void refresh_sampler_tree();
     void refresh_surface_geom();
     // Whether surface_geom (and the samplers' data made with it) matches the nodes (tests).
     bool surface_geom_current() const;

@@ -775,10 +775,8 @@ void Hierarchy::refresh_surface_geom() {
         if (!n.is_cluster() || n.dead || n.surf_end - n.surf_begin < kSummaryMinSurfaces) continue;
         facing_summary[id] = summarise(surface_geom, n.surf_begin, n.surf_end);
     }
-    refresh_sampler_tree();
+    sampler_tree(*this, sampler_children, sampler_first);  // after the clusters' geometry
 }
-
-void Hierarchy::refresh_sampler_tree() { sampler_tree(*this, sampler_children, sampler_first); }
 
 bool Hierarchy::surface_geom_current() const {
     if (surface_geom.size() != surface_order.size()) return false;
@@ -841,7 +839,6 @@ void Hierarchy::rebuild_surface_order() {
         n.surf_end = int(surface_order.size());
     };
     walk(root);
-    refresh_surface_geom();
 }
 
 void Hierarchy::set_pocket_sets() {
@@ -947,7 +944,7 @@ int Hierarchy::add_object(const SceneDesc& scene, int oi, bool use_clustering) {
         if (nodes[id].is_cluster()) refresh_cluster_geometry(int(id));
     const int above = top >= 0 ? nodes[top].parent : root;
     for (int a = above; a >= 0; a = nodes[a].parent) refresh_cluster_geometry(a);
-    refresh_sampler_tree();  // the clusters' areas and facing bins as they are now
+    refresh_surface_geom();  // its samplers' tree reads the clusters' areas and facing bins
     return top;
 }
 
@@ -988,7 +985,7 @@ int Hierarchy::remove_object(int oi) {
         if (p.object == oi) p.object = -1;
     rebuild_surface_order();
     for (int a = deepest; a >= 0; a = nodes[a].parent) refresh_cluster_geometry(a);
-    refresh_sampler_tree();  // the clusters' areas and facing bins as they are now
+    refresh_surface_geom();  // its samplers' tree reads the clusters' areas and facing bins
     return deepest;
 }
 

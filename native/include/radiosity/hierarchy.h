@@ -232,8 +232,8 @@ public:
     };
     std::vector<SamplerChild> sampler_children;
     std::vector<int> sampler_first;  // per node (clusters): its children's range starts here
-    // Remakes sampler_children from the nodes (after the clusters' geometry changed).
-    void refresh_sampler_tree();
+    // Remakes surface_geom, area_prefix, the facing summaries and the samplers' tree from the
+    // nodes; call it after the clusters' geometry (refresh_cluster_geometry) is current.
     void refresh_surface_geom();
     // Whether surface_geom (and the samplers' data made with it) matches the nodes (tests).
     bool surface_geom_current() const;
@@ -285,7 +285,8 @@ private:
     static uint64_t object_key(const SceneDesc& scene, int object);
     // The node of collection cluster c, made (with its parents) when missing.
     int ensure_cluster_node(const SceneDesc& scene, int c);
-    // surface_order and every cluster's [surf_begin, surf_end) from a walk of the tree.
+    // surface_order and every cluster's [surf_begin, surf_end) from a walk of the tree (the
+    // caller refreshes the clusters' geometry, then surface_geom).
     void rebuild_surface_order();
     void set_surface_ancestors(int s);
     void set_surface_material(const SceneDesc& scene, int s);

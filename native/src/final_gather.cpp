@@ -164,8 +164,8 @@ void trace_lamps(const Run& run, Point& pt, const Point* old, Counts& counts) {
 
 // trace_transfer's transfer traced afresh with `rays` (its share of the budget), again with more
 // where a shadow edge crosses it: fills rec's coupling, rays and outcomes.
-void trace_afresh(const Run& run, Point& pt, Counts& counts, Record& rec, uint64_t lseed, int rays, int refined_rays,
-                  double weight, double total, size_t links) {
+void trace_afresh(const Run& run, Point& pt, Counts& counts, Record& rec, uint32_t begin, uint64_t lseed, int rays,
+                  int refined_rays, double weight, double total, size_t links) {
     const Solution& s = run.s;
     const Config& c = run.c;
     const Hierarchy& h = s.h;
@@ -175,15 +175,15 @@ void trace_afresh(const Run& run, Point& pt, Counts& counts, Record& rec, uint64
     PointRayStream rs(s.vis);
     PointTransfer t = point_transfer(h, rs, src, x, n, pt.leaf, rays, lseed, pt.samples);
     counts.rays += rs.cast;
-    rec.outcome = rs.out;
+    rec.set_outcome(rs.out);
     // The transfer again with more rays (and another seed), in place of the last.
     auto retrace_with = [&](int more, uint64_t seed_step) {
-        pt.samples.resize(rec.begin);
+        pt.samples.resize(begin);
         rays = more;
         PointRayStream again(s.vis);
         t = point_transfer(h, again, src, x, n, pt.leaf, rays, lseed + seed_step, pt.samples);
         counts.rays += again.cast;
-        rec.outcome = again.out;
+        rec.set_outcome(again.out);
         rec.refined = true;
         ++counts.refined;
     };
@@ -222,7 +222,7 @@ Record trace_transfer(const Run& run, Point& pt, const Point* old, Counts& count
     const uint64_t lseed = transfer_seed(h, pt.seed, src);
     Record rec;
     rec.src = src;
-    rec.begin = uint32_t(pt.samples.size());
+    const uint32_t begin = uint32_t(pt.samples.size());  // (where the last record ends)
     const Record* was = nullptr;
     // The link's share of the budget, in powers of two: a small change of the light (an
     // update's solution against a full solve's) then rarely changes a link's rays, so the
@@ -245,7 +245,7 @@ Record trace_transfer(const Run& run, Point& pt, const Point* old, Counts& count
     if (was && int(was->rays) != (was->refined ? refined_rays : rays)) was = nullptr;
     // Its samples name leaves that are still leaves: the same rays would land on them again.
     auto samples_current = [&](const Record& r) {
-        for (uint32_t i = r.begin; i < r.end; ++i) {
+        for (uint32_t i = old->begin_of(r); i < r.end; ++i) {
             const Node& m = h.nodes[size_t(old->samples[i].first)];
             if (m.dead || !m.children.empty()) return false;
         }
@@ -253,27 +253,29 @@ Record trace_transfer(const Run& run, Point& pt, const Point* old, Counts& count
     };
     if (was && !moves->cast_all && !hull_meets(x, h.nodes[size_t(src)].box, moves->clips) && samples_current(*was)) {
         // No ray of this transfer can meet a moved box: as it was.
-        pt.samples.insert(pt.samples.end(), old->samples.begin() + was->begin, old->samples.begin() + was->end);
+        pt.samples.insert(pt.samples.end(), old->samples.begin() + old->begin_of(*was), old->samples.begin() + was->end);
         rec.F = was->F;
         rec.inv_dist = was->inv_dist;
         rec.rays = was->rays;
         rec.refined = was->refined;
-        rec.outcome = was->outcome;
+        rec.blocked = was->blocked;
+        rec.count = was->count;
         ++counts.kept;
     } else if (was) {
         // Its rays again, with the same budget and seed; those through no moved box keep
         // their recorded outcome.
-        PointRayStream rs(s.vis, moves->cast_all ? nullptr : &was->outcome, &moves->clips);
+        const PointRays recorded = was->outcome();
+        PointRayStream rs(s.vis, moves->cast_all ? nullptr : &recorded, &moves->clips);
         const PointTransfer t = point_transfer(h, rs, src, x, n, pt.leaf, was->rays, lseed + (was->refined ? 1 : 0), pt.samples);
         rec.F = float(t.F);
         rec.inv_dist = float(t.inv_dist);
         rec.rays = was->rays;
         rec.refined = was->refined;
-        rec.outcome = rs.out;
+        rec.set_outcome(rs.out);
         counts.rays += rs.cast;
         ++counts.replayed;
     } else {
-        trace_afresh(run, pt, counts, rec, lseed, rays, refined_rays, weight, total, links);
+        trace_afresh(run, pt, counts, rec, begin, lseed, rays, refined_rays, weight, total, links);
     }
     return rec;
 }
@@ -355,8 +357,9 @@ PointCouplings trace_transfers(const Run& run, Point& pt, const Point* old, Coun
         rec.own = u.own;
         rec.emits = emits;
         ++counts.links;
+        const uint32_t begin = pt.records.empty() ? 0 : pt.records.back().end;
         rec.end = uint32_t(pt.samples.size());
-        couplings.add(closing_coupling(h, l.src, rec.F, pt.samples.data() + rec.begin, rec.end - rec.begin), u.own,
+        couplings.add(closing_coupling(h, l.src, rec.F, pt.samples.data() + begin, rec.end - begin), u.own,
                       h.nodes[size_t(l.src)].is_cluster());
         pt.records.push_back(rec);
     }
@@ -488,7 +491,7 @@ int ray_share(int budget, double weight, double total, int lo, int hi) {
 
 Rgb record_light(const Hierarchy& h, const Point& p, const Record& r) {
     Rgb g;
-    for (uint32_t i = r.begin; i < r.end; ++i)
+    for (uint32_t i = p.begin_of(r); i < r.end; ++i)
         g += h.nodes[size_t(h.live_element(p.samples[i].first))].L * double(p.samples[i].second);
     return g;
 }

@@ -3,6 +3,7 @@
 // and per point-link transfer (Record), one point to trace (Job), what a run passes along to
 // each point it traces (Run, Scratch), and FinalGather::Impl, which holds the last trace.
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -22,21 +23,36 @@ using Config = FinalGather::Config;
 using Counts = FinalGather::Counts;
 using Moves = FinalGather::Moves;
 
-// One link's transfer to a point, as traced: its samples, coupling and ray outcomes.
+// One link's transfer to a point, as traced: its samples, coupling and ray outcomes. Compact
+// (32 bytes): a large room keeps tens of millions of them for its updates. Its samples end at
+// `end` in Point::samples and begin where the record before it ends (Point::begin_of).
 struct Record {
+    uint64_t blocked = 0;  // its rays' outcomes (outcome(): bit k set when ray k was blocked)
     // The link's sender: a point reads each sender through one link, and what it finds
     // does not depend on the receiver node that holds the link (its seed is the point's
     // and the sender's), so after a split on the receiver side the record still serves.
     int src = -1;
-    uint32_t begin = 0, end = 0;  // its samples in Point::samples
-    float F = 0;                  // coupling, visibility included (for the closure)
-    uint16_t rays = 0;            // ray budget it was traced with
-    bool own = false;             // a link at the leaf itself (not inherited)
-    bool refined = false;         // traced again with more rays (a shadow edge)
-    bool emits = false;           // its sender emits, or holds a surface that does
-    float inv_dist = 0;           // PointTransfer::inv_dist
-    PointRays outcome;            // for replay after a move
+    uint32_t end = 0;
+    float F = 0;               // coupling, visibility included (for the closure)
+    float inv_dist = 0;        // PointTransfer::inv_dist
+    uint16_t rays = 0;         // ray budget it was traced with
+    uint16_t count = 0;        // rays streamed, at most 65535 (over 64 no outcome is replayed)
+    bool own = false;          // a link at the leaf itself (not inherited)
+    bool refined = false;      // traced again with more rays (a shadow edge)
+    bool emits = false;        // its sender emits, or holds a surface that does
+    // The outcomes as a ray stream replays them after a move.
+    PointRays outcome() const {
+        PointRays o;
+        o.count = count;
+        o.blocked = blocked;
+        return o;
+    }
+    void set_outcome(const PointRays& o) {
+        count = uint16_t(std::min(o.count, 65535));
+        blocked = o.blocked;
+    }
 };
+static_assert(sizeof(Record) == 32, "a Record stays 32 bytes");
 struct Point {
     // Empties what a trace found (before tracing the point again); `gather`: it gathers all
     // its links, not only its emitters (a shared point).
@@ -59,6 +75,11 @@ struct Point {
         std::vector<Record>().swap(records);
         std::vector<std::pair<int, float>>().swap(borrow);
         lamp_rays = LampRays{};
+    }
+    // Where record r's samples begin in `samples` (r one of `records`).
+    uint32_t begin_of(const Record& r) const {
+        const size_t i = size_t(&r - records.data());
+        return i > 0 ? records[i - 1].end : 0;
     }
     int object = -1, prim = -1, k = 0;  // the corner it was made for (first of its corners)
     Vec3 x, n;

@@ -217,7 +217,7 @@ void NearField::read_surfaces() {
 Rgb NearField::uncorrected() const {
     Rgb S_own, S_all;
     for (const Record& r : pt_.records)
-        for (uint32_t i = r.begin; i < r.end; ++i) {
+        for (uint32_t i = pt_.begin_of(r); i < r.end; ++i) {
             const Rgb e = h_.nodes[size_t(h_.live_element(pt_.samples[i].first))].L * double(pt_.samples[i].second);
             S_all += e;
             if (r.own) S_own += e;

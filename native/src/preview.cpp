@@ -197,7 +197,8 @@ int64_t add_emitter_changes(const FinalGather::Solution& s, const FinalGather::P
         const uint64_t seed =
             fg::transfer_seed(h, pt.seed, r.src) + (r.refined ? (int(r.rays) > config.rays ? 2 : 1) : 0);
         fresh.clear();
-        PointRayStream rs(s.vis, moved || src_moved ? nullptr : &r.outcome, &p.clips);
+        const PointRays recorded = r.outcome();
+        PointRayStream rs(s.vis, moved || src_moved ? nullptr : &recorded, &p.clips);
         point_transfer(h, rs, r.src, x, n, pt.leaf, int(r.rays), seed, fresh);
         Rgb now;
         for (const auto& [node, w] : fresh) now += h.nodes[size_t(h.live_element(node))].L * double(w);

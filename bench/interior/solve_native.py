@@ -3,8 +3,8 @@ solver's stats and its phases (seconds and rays): where a bake's time goes, and 
 elements, output points and rays it takes, without the add-on around it.
 
     python3 bench/export_scene.py-style export first, e.g. in PyPI bpy:
-      python3 -c "import bpy, sys; bpy.ops.wm.open_mainfile(filepath='F.blend'); \\
-                  sys.argv = ['x', '--', 'F.npz']; exec(open('bench/export_scene.py').read())"
+      python3 -c "import bpy, runpy, sys; bpy.ops.wm.open_mainfile(filepath='F.blend'); \\
+                  sys.argv = ['x', '--', 'F.npz']; runpy.run_path('bench/export_scene.py', run_name='__main__')"
     python3 bench/interior/solve_native.py F.npz [PRESET] [NAME=VALUE ...] [--save OUT.npz]
 
 NAME=VALUE overrides a Settings field (e.g. gather_min_rays=1); --save writes every written

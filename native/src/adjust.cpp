@@ -203,7 +203,8 @@ void Solver::freshen_stale(std::vector<int>& ids, bool first_bounce) {
     std::vector<Judgement> first(first_bounce ? stale.size() : 0);
     if (first_bounce)
         at_first_bounce([&] {
-            parallel_for(stale.size(), settings_.threads, [&](size_t k) { first[k] = judge(dry[k]); }, 256);
+            const Oracle o = oracle();
+            parallel_for(stale.size(), settings_.threads, [&](size_t k) { first[k] = o.judge(dry[k]); }, 256);
         });
     std::vector<char> again(stale.size(), 0);
     parallel_for(stale.size(), settings_.threads, [&](size_t k) {
@@ -248,7 +249,7 @@ void Solver::unrefine(int id) {
 bool Solver::acceptable_again(const Link& l, const Judgement* first, Judgement& use) const {
     const Node& S = h_.nodes[l.src];
     const bool fixed_sender = !S.is_cluster() && S.rho.max() <= 0 && S.emission.max() > 0;
-    const Judgement j = judge(l);
+    const Judgement j = oracle().judge(l);
     use = j;
     const bool settle_ok = first || fixed_sender;
     if (first && first->side == Side::Settle) use = *first;
@@ -294,7 +295,8 @@ void Solver::unrefine_pass(const std::vector<char>* senders) {
     std::vector<Judgement> first(lit ? cand.size() : 0);
     if (lit)
         at_first_bounce([&] {
-            parallel_for(cand.size(), settings_.threads, [&](size_t k) { first[k] = judge(links_[cand[k]]); }, 256);
+            const Oracle o = oracle();
+            parallel_for(cand.size(), settings_.threads, [&](size_t k) { first[k] = o.judge(links_[cand[k]]); }, 256);
         });
     for (size_t k = 0; k < cand.size(); ++k) {
         const int id = cand[k];

@@ -22,7 +22,7 @@ Settings Settings::preset(const std::string& name) {
         // A threshold that follows the receiver's light (threshold_floor) refines what a
         // viewer sees as wrong -- a dim gap behind a cabinet, a corner in shadow -- and leaves
         // bright, smooth walls coarse. Leaves stop at DRAFT's area floor except where a narrow
-        // gap, an emitter's outline or a lamp's shadow edge needs them finer (refine.cpp,
+        // gap, an emitter's outline or a lamp's shadow edge needs them finer (oracle.cpp,
         // lights.cpp): half the links of the old floor (1e-5) at the same accuracy.
         s.error_threshold = 0.1;
         s.threshold_floor = 0.1;

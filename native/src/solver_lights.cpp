@@ -54,7 +54,8 @@ bool Solver::light_refine() {
     return direct_light_.refine(h_, light_sight(), threshold_, leaves_, [this](int id) {
         // A shadow's edge splits below the area floor too (may_split_below_floor): a floor
         // leaf across it sends its half-lit average under the object that casts it.
-        if (!(can_split(id) || may_split_below_floor(id))) return false;
+        const Oracle o = oracle();  // made here: the element count grows with each split
+        if (!(o.can_split(id) || o.may_split_below_floor(id))) return false;
         h_.subdivide(id);
         stats_.element_nodes += 4;
         return true;

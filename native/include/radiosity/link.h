@@ -30,7 +30,7 @@ struct Link {
     bool outline = false;  // an emitting sender's outline crosses the receiver: its kernel falls to ~0 within it
     bool occluded = false; // fully occluded: kept (not gathered) so a move can reopen it
     // A cluster link whose rays were all blocked. It stays active with K = 0 so that the
-    // oracle weighs the light the rays may have missed (refine.cpp) instead of splitting it
+    // oracle weighs the light the rays may have missed (oracle.cpp) instead of splitting it
     // down to element pairs unconditionally.
     bool blocked = false;
     bool dead = false;     // removed by a dynamic update or an un-refinement

@@ -20,6 +20,7 @@
 #include "radiosity/lights.h"
 #include "radiosity/link.h"
 #include "radiosity/link_store.h"
+#include "radiosity/oracle.h"
 #include "radiosity/pending_edits.h"
 #include "radiosity/pockets.h"
 #include "radiosity/rigid.h"
@@ -153,9 +154,9 @@ public:
 
 private:
     static constexpr int kRoundSweeps = 40;  // gathering sweeps between refinement rounds
-    enum class Side { Keep, Src, Rcv, Settle };
+    using Side = Oracle::Side;
+    using Judgement = Oracle::Judgement;
     struct Candidate { int src, rcv, parent; };
-    struct Judgement { Side side = Side::Keep; double settled_K = 0; };
 
     // solve()'s phases (solver.cpp): the scene built, and a lit scene linked and refined.
     void build_scene();
@@ -164,24 +165,13 @@ private:
     void fit_ray_epsilon();
     // refine.cpp
     void link_from(std::vector<Candidate> wave);
-    Judgement judge(const Link& l) const;
-    // judge()'s parts (refine.cpp): which end of a link over the threshold to split, and
-    // whether a link whose receiver would split may settle instead (3.5).
-    static Side split_side(const Link& l, const Node& P, const Node& Q, double err_rcv, double err_src,
-                           double threshold, bool ps, bool qs);
-    bool settles(const Link& l, const Node& P, const Node& Q, double rho, double Lp, double threshold,
-                 double err_src, double& settled_K) const;
+    // The oracle (oracle.h) on the hierarchy, the settings, the direct light and the threshold
+    // state: the nodes' radiance is read at each judgement, the threshold state and the
+    // element count are those of now, so one is made where links are judged or split.
+    Oracle oracle() const {
+        return Oracle(h_, settings_, direct_light_, {threshold_, L_ref_, min_area_, light_known_}, stats_.element_nodes);
+    }
     void apply(int link_id, const Judgement& j, std::vector<Candidate>& next);
-    bool can_split(int node) const;
-    // Whether a link's receiver leaf may split below the area floor because an emitter's
-    // outline crosses it (refine.cpp).
-    bool splits_at_outline(const Link& l, double err_rcv, double threshold) const;
-    // Whether node `id`, one end of link l, may split below the area floor because the other
-    // end is across a narrow gap from it (refine.cpp). `err`: the link's error on id's side.
-    bool splits_at_gap(int other, int id, const Link& l, double err, double threshold) const;
-    // A leaf element those rules (and a lamp's shadow edge, DirectLight::refine) may split
-    // below the area floor: Settings::below_floor_levels levels under it, within the element cap.
-    bool may_split_below_floor(int id) const;
     // memory.cpp. Estimated bytes the solve holds with `more` links and nodes: nodes and
     // links as their vectors hold them (a vector that must grow holds its old and new blocks
     // at once), Embree's BVHs, and the final gather's trace (the one made, or the forecast of
@@ -378,7 +368,6 @@ private:
     // Whether the nodes' radiance L estimates the light (false from a solve's start until
     // its first gathering): only then may a link's threshold follow its receiver's light.
     bool light_known_ = false;
-    double link_threshold(const Node& receiver) const;  // refine.cpp
     // Judgements that stand for a full solve's first linking (an update's relink of moved and
     // added objects) use the scene-wide threshold as that linking does, so an update links as
     // a full solve of the new scene would. (Judgements at the first bounce, at_first_bounce,

@@ -6,8 +6,8 @@
 #   // NOLINTNEXTLINE(readability-function-size): <why this one reads better whole>
 # A NOLINT of any kind without a reason after it is a finding too.
 # Usage: scripts/check_function_size.sh [BUILD_DIR]. BUILD_DIR must hold a compile_commands.json
-# of this tree; without one, a small build dir of the solver library alone is configured in
-# build-tidy/. Prints each finding and exits 1 on any.
+# of this tree; without one, a small build dir of the solver library alone is configured (again)
+# in build-tidy/. Prints each finding and exits 1 on any.
 set -euo pipefail
 BUILD_DIR=${1:-}
 if [ -n "$BUILD_DIR" ]; then BUILD_DIR=$(cd "$BUILD_DIR" && pwd); fi
@@ -15,11 +15,10 @@ cd "$(dirname "$0")/.."
 ROOT=$(pwd)
 THRESHOLD=80
 if [ -z "$BUILD_DIR" ]; then
+  # Configured every time (a second): a source file added since lists only after a configure.
   BUILD_DIR=$ROOT/build-tidy
-  if [ ! -f "$BUILD_DIR/compile_commands.json" ]; then
-    cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DCMAKE_EXPORT_COMPILE_COMMANDS=ON \
-      -DRADIOSITY_TESTS=OFF -DRADIOSITY_BENCH=OFF -DRADIOSITY_PYTHON=OFF >/dev/null
-  fi
+  cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release -DCMAKE_EXPORT_COMPILE_COMMANDS=ON \
+    -DRADIOSITY_TESTS=OFF -DRADIOSITY_BENCH=OFF -DRADIOSITY_PYTHON=OFF >/dev/null
 fi
 DB=$BUILD_DIR/compile_commands.json
 if [ ! -f "$DB" ]; then

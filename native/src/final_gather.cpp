@@ -258,8 +258,7 @@ Record trace_transfer(const Run& run, Point& pt, const Point* old, Counts& count
         rec.inv_dist = was->inv_dist;
         rec.rays = was->rays;
         rec.refined = was->refined;
-        rec.blocked = was->blocked;
-        rec.count = was->count;
+        rec.set_outcome(was->outcome());
         ++counts.kept;
     } else if (was) {
         // Its rays again, with the same budget and seed; those through no moved box keep
@@ -357,11 +356,11 @@ PointCouplings trace_transfers(const Run& run, Point& pt, const Point* old, Coun
         rec.own = u.own;
         rec.emits = emits;
         ++counts.links;
-        const uint32_t begin = pt.records.empty() ? 0 : pt.records.back().end;
         rec.end = uint32_t(pt.samples.size());
+        pt.records.push_back(rec);
+        const uint32_t begin = pt.begin_of(pt.records.back());
         couplings.add(closing_coupling(h, l.src, rec.F, pt.samples.data() + begin, rec.end - begin), u.own,
                       h.nodes[size_t(l.src)].is_cluster());
-        pt.records.push_back(rec);
     }
     return couplings;
 }

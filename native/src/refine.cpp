@@ -182,7 +182,8 @@ bool Solver::closure_refine(const std::vector<double>& fsum) {
         // in a furnished room for what one leaf's sum says.
         for (int a = n.parent; a >= 0 && !h_.nodes[a].is_cluster(); a = h_.nodes[a].parent)
             for (int li : h_.nodes[a].in_links)
-                if (!queued[li] && (!far || int64_t(li) >= update_run_->links_before) && o.can_split(links_[li].rcv) && may_differ_below(links_[li])) {
+                if (!queued[li] && (!far || int64_t(li) >= update_run_->links_before) &&
+                    o.can_split(links_[li].rcv) && may_differ_below(links_[li])) {
                     queued[li] = 1;
                     ids.push_back(li);
                 }

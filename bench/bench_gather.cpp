@@ -52,7 +52,7 @@ double fastest(int reps, F&& f) {
 
 std::string micro(const Solver& solver, int threads) {
     const Hierarchy& h = solver.hierarchy();
-    const std::vector<Link>& links = solver.links();
+    const LinkStore& links = solver.links();
     auto direct = [](int) { return Rgb{}; };
     GatherPlan plan;
     CouplingSums fsum;

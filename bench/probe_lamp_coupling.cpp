@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
     Solver s(sc, Settings::preset(preset));
     s.solve();
     const Hierarchy& h = s.hierarchy();
-    const std::vector<Link>& links = s.links();
+    const LinkStore& links = s.links();
     Poly lamp;
     lamp.n = 4;
     lamp.v = {h.to_internal(c0), h.to_internal(c1), h.to_internal(c2), h.to_internal(c3)};

@@ -546,7 +546,7 @@ void trace_point(const Run& run, Point& pt, const Point* old, Counts& counts, Sc
     }
 }
 
-void OccludedLinks::build(const Hierarchy& h, const std::vector<Link>& links) {
+void OccludedLinks::build(const Hierarchy& h, const LinkStore& links) {
     begin.assign(h.nodes.size() + 1, 0);
     for (const Link& l : links)
         if (!l.dead && l.occluded && !l.active && size_t(l.rcv) < h.nodes.size()) ++begin[size_t(l.rcv) + 1];

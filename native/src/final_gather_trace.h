@@ -130,7 +130,7 @@ struct Use { int link; bool own; double weight; };
 // duration of a run.
 struct OccludedLinks {
     std::vector<int32_t> begin, links;  // links[begin[node] .. begin[node + 1])
-    void build(const Hierarchy& h, const std::vector<Link>& links);
+    void build(const Hierarchy& h, const LinkStore& links);
 };
 
 // One trace or retrace, as every point it traces reads it.

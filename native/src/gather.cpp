@@ -31,10 +31,10 @@ void Solver::ensure_plan(bool radiometry) {
     if (valid && (!radiometry || plan_.has_radiometry())) return;
     const auto t0 = std::chrono::steady_clock::now();
     if (!valid) {
-        plan_.build(h_, links_.all(), settings_.threads);
+        plan_.build(h_, links_, settings_.threads);
         ++stats_.gather_plans;
     }
-    if (radiometry) plan_.prepare_radiometry(h_, links_.all(), [this](int id) { return direct_light_.direct(id); }, settings_.threads);
+    if (radiometry) plan_.prepare_radiometry(h_, links_, [this](int id) { return direct_light_.direct(id); }, settings_.threads);
     stats_.seconds_gather_plan += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
@@ -44,12 +44,12 @@ void Solver::ensure_plan(bool radiometry) {
 // build as that one sweep, and iterate_to builds its own after the closure pass).
 double Solver::sweep(bool unit, CouplingSums* sums) {
     if (unit && !plan_.valid(links_.size(), h_.nodes.size())) {
-        coupling_sums(h_, links_.all(), *sums, settings_.threads);
+        coupling_sums(h_, links_, *sums, settings_.threads);
         return 0.0;
     }
     ensure_plan(!unit);
     const double d = plan_.sweep(unit, sums, settings_.threads);
-    plan_.write_back(h_, links_.all(), settings_.threads);
+    plan_.write_back(h_, links_, settings_.threads);
     return d;
 }
 
@@ -64,7 +64,7 @@ int Solver::iterate_to(double tolerance, int max_iterations, double p0, double p
     // while unwinding), so the nodes never hold a half-copied state.
     struct WriteBackOnUnwind {
         Solver& s;
-        ~WriteBackOnUnwind() { s.plan_.write_back(s.h_, s.links_.all(), 1); }
+        ~WriteBackOnUnwind() { s.plan_.write_back(s.h_, s.links_, 1); }
     } unwind{*this};
     int sweeps = 0;
     bool converged = false;
@@ -85,7 +85,7 @@ int Solver::iterate_to(double tolerance, int max_iterations, double p0, double p
         set_progress(p0 + (p1 - p0) * std::min(1.0, double(sweeps) / max_iterations));
         converged = delta == 0 || (sweeps >= 2 && remaining < tolerance);
     }
-    plan_.write_back(h_, links_.all(), settings_.threads);
+    plan_.write_back(h_, links_, settings_.threads);
     if (!converged) stats_.iteration_capped = true;
     return sweeps;
 }

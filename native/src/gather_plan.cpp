@@ -22,14 +22,14 @@ constexpr size_t kAhead = 16;
 constexpr size_t kParallelFrom = 65536;
 
 // Irradiance / pi (all colours alike) that the links into a node bring from unit senders.
-Rgb unit_gather(const Hierarchy& h, const Node& n, const std::vector<Link>& links) {
+Rgb unit_gather(const Hierarchy& h, const Node& n, const LinkStore& links) {
     Rgb g;
     for (int li : n.in_links)
         if (h.closes(links[size_t(li)].src)) g += Rgb::all(1.0) * links[size_t(li)].K;
     return g;
 }
 
-void unit_push_down(const Hierarchy& h, const std::vector<Link>& links, int id, Rgb acc, CouplingSums& sums) {
+void unit_push_down(const Hierarchy& h, const LinkStore& links, int id, Rgb acc, CouplingSums& sums) {
     const Node& n = h.nodes[size_t(id)];
     const Rgb own = n.in_links.empty() ? Rgb{} : unit_gather(h, n, links);
     acc += own;
@@ -43,7 +43,7 @@ void unit_push_down(const Hierarchy& h, const std::vector<Link>& links, int id, 
 
 }  // namespace
 
-void coupling_sums(const Hierarchy& h, const std::vector<Link>& links, CouplingSums& sums, int threads) {
+void coupling_sums(const Hierarchy& h, const LinkStore& links, CouplingSums& sums, int threads) {
     parallel_for(h.surfaces.size(), threads, [&](size_t s) {
         const Node& root = h.nodes[size_t(h.surfaces[s].root)];
         const Vec3 nrm = root.normal;
@@ -73,7 +73,7 @@ int32_t GatherPlan::slot_of(int node) {
     return slot_[size_t(node)];
 }
 
-void GatherPlan::build(const Hierarchy& h, const std::vector<Link>& links, int threads) {
+void GatherPlan::build(const Hierarchy& h, const LinkStore& links, int threads) {
     valid_ = radiometry_ = dirty_ = false;  // until the build completes (it may throw bad_alloc)
     built_links_ = links.size();
     built_nodes_ = h.nodes.size();
@@ -163,7 +163,7 @@ std::vector<int32_t> GatherPlan::build_clusters(const Hierarchy& h) {
 // cache miss; this way the misses overlap). Cluster senders and element senders with samples
 // are marked -2 and senders outside the plan -3 for the serial pass after, which gives the
 // former their sender records and the latter their slots.
-void GatherPlan::build_links(const Hierarchy& h, const std::vector<Link>& links, int threads) {
+void GatherPlan::build_links(const Hierarchy& h, const LinkStore& links, int threads) {
     const int32_t cl_lo = n_elem_, cl_hi = n_elem_ + n_clusters_;
     plinks_.resize(plink_id_.size());
     parallel_for(plinks_.size(), workers(threads), [&](size_t k) {
@@ -201,7 +201,7 @@ uint64_t bits_of(double x) {
 // chain (the same deepest ancestor), the same normal (keyed by its bits) and the same pocket
 // (a link brings nothing to surfaces in pockets its sender has none in). Terms in the order
 // the ancestors (root first) and their in_links come, as a per-surface walk would add them.
-void GatherPlan::build_flux_groups(const Hierarchy& h, const std::vector<Link>& links,
+void GatherPlan::build_flux_groups(const Hierarchy& h, const LinkStore& links,
                                    const std::vector<int32_t>& c_value_begin) {
     const int32_t cl_lo = n_elem_, cl_hi = n_elem_ + n_clusters_;
     const size_t ns = h.surfaces.size();
@@ -240,7 +240,7 @@ void GatherPlan::build_flux_groups(const Hierarchy& h, const std::vector<Link>& 
     g_flux_.assign(g_begin_.size() - 1, Rgb{});
 }
 
-void GatherPlan::prepare_radiometry(const Hierarchy& h, const std::vector<Link>& links,
+void GatherPlan::prepare_radiometry(const Hierarchy& h, const LinkStore& links,
                                     const std::function<Rgb(int)>& direct, int threads) {
     if (radiometry_) return;
     prepare_elements(h, direct, threads);
@@ -320,7 +320,7 @@ void GatherPlan::prepare_clusters(const Hierarchy& h) {
 // count, and where its list is, for fetching it ahead), then the copies (in parallel); a
 // sample node outside the plan (not expected: samples are surface roots) gets its slot in a
 // serial pass after.
-void GatherPlan::prepare_sends(const Hierarchy& h, const std::vector<Link>& links, int threads) {
+void GatherPlan::prepare_sends(const Hierarchy& h, const LinkStore& links, int threads) {
     sends_.assign(send_at_.size(), ClusterSend{});
     auto link_of = [&](size_t k) -> const Link& { return links[size_t(plink_id_[size_t(send_at_[k])])]; };
     std::vector<const std::pair<int, float>*> lists(send_at_.size());
@@ -488,7 +488,7 @@ double GatherPlan::sweep(bool unit, CouplingSums* sums, int threads) {
     return d;
 }
 
-void GatherPlan::write_back(Hierarchy& h, std::vector<Link>& links, int threads) {
+void GatherPlan::write_back(Hierarchy& h, LinkStore& links, int threads) {
     if (!dirty_) return;
     dirty_ = false;
     // Range of leaf radiance below every node, in the plan's arrays: bottom-up per surface

@@ -5,22 +5,22 @@
 namespace radiosity {
 
 int LinkStore::add(Hierarchy& h, Link l) {
-    int id = int(links_.size());
+    const int id = int(links_.size());
     if (l.active) {
         h.nodes[l.rcv].in_links.push_back(id);
         h.nodes[l.src].out_links.push_back(id);
     }
     if (l.parent >= 0) {
-        l.next_sibling = links_[l.parent].first_child;
-        links_[l.parent].first_child = id;
+        l.next_sibling = (*this)[size_t(l.parent)].first_child;
+        (*this)[size_t(l.parent)].first_child = id;
     }
-    links_.push_back(l);
+    links_.push_back(std::move(l));
     ++live_;
     return id;
 }
 
 void LinkStore::activate(Hierarchy& h, int id) {
-    Link& l = links_[id];
+    Link& l = (*this)[id];
     if (l.active) return;
     l.active = true;
     l.occluded = false;
@@ -29,20 +29,20 @@ void LinkStore::activate(Hierarchy& h, int id) {
 }
 
 void LinkStore::kill(Hierarchy& h, int id) {
-    if (links_[id].dead) return;
-    if (links_[id].active) deactivate(h, id);
-    links_[id].dead = true;
+    if ((*this)[id].dead) return;
+    if ((*this)[id].active) deactivate(h, id);
+    (*this)[id].dead = true;
     --live_;
     kill_refined(h, id);
 }
 
 void LinkStore::kill_refined(Hierarchy& h, int id) {
-    for (int c = links_[id].first_child; c >= 0; c = links_[c].next_sibling) kill(h, c);
-    links_[id].first_child = -1;
+    for (int c = (*this)[id].first_child; c >= 0; c = (*this)[c].next_sibling) kill(h, c);
+    (*this)[id].first_child = -1;
 }
 
 void LinkStore::deactivate(Hierarchy& h, int id) {
-    Link& l = links_[id];
+    Link& l = (*this)[id];
     if (!l.active) return;
     l.active = false;
     auto drop = [id](std::vector<int>& v) {

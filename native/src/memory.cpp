@@ -13,27 +13,14 @@
 
 namespace radiosity {
 
-namespace {
-
-// Bytes a vector of `size` items of `item` bytes, `capacity` reserved, holds once `more` are
-// added: while it grows (to twice its capacity, as libstdc++ does) the old block and the new
-// one are both held.
-double vector_bytes(size_t size, size_t capacity, size_t more, size_t item) {
-    const size_t need = size + more;
-    if (need <= capacity) return double(capacity) * double(item);
-    return double(capacity + std::max(need, 2 * capacity)) * double(item);
-}
-
-}  // namespace
-
 double Solver::memory_estimate(size_t more_links, size_t more_nodes) const {
     // Per node its index lists (children, in and out links), per link its visibility samples
     // (cluster senders and subdivided ones), on average.
     const double node_lists = 4.0 * sizeof(int);
     const double link_samples = 2.0 * sizeof(int) + 0.5 * settings_.rays_per_link * sizeof(std::pair<int, float>);
-    double b = vector_bytes(h_.nodes.size(), h_.nodes.capacity(), more_nodes, sizeof(Node)) +
+    double b = h_.nodes.bytes(more_nodes) +
                double(h_.nodes.size() + more_nodes) * node_lists +
-               vector_bytes(links_.size(), links_.capacity(), more_links, sizeof(Link)) +
+               links_.bytes(more_links) +
                double(links_.size() + more_links) * link_samples;
     if (vis_) b += double(std::max<int64_t>(0, vis_->bytes()));
     b += direct_light_.bytes(scene_, settings_.rays_per_link);

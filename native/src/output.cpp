@@ -79,7 +79,7 @@ void Solver::final_gather(double from, double to, const FinalGather::Moves* move
     c.seed = settings_.seed;
     c.cycles_points = settings_.cycles_corner_points;
     c.sealed_solids = settings_.gather_sealed_solids;
-    const FinalGather::Solution s{scene_, h_, *vis_, links_.all(),
+    const FinalGather::Solution s{scene_, h_, *vis_, links_,
                                   [this](int surface, const Vec3& p) { return direct_light_.contact(h_, surface, p); }, &tri_prim_};
     auto progress = [&](double f) {
         check_cancel();

@@ -366,7 +366,7 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
     FinalGather::PreviewCounts k;
     std::vector<CornerPatch> out;
     if (!placed.empty()) {
-        const FinalGather::Solution s{scene_, h_, *vis_, links_.all(),
+        const FinalGather::Solution s{scene_, h_, *vis_, links_,
                                       [this](int surface, const Vec3& q) { return direct_light_.contact(h_, surface, q); }, &tri_prim_};
         out = preview_patches(output_.preview(s, p, k));
     }

@@ -153,10 +153,10 @@ struct PointSight {
 // (the unoccluded point form factor) is. With `record`, the leaves the clear rays reach join
 // l.samples, each weighted by its share of w F (w the point's cubature weight).
 template <class Vis>
-PointSight element_point_sight(const Hierarchy& h, const Vis& vis, const Node& P, const Vec3& p, const Vec3& n,
+PointSight element_point_sight(const Hierarchy& h, const Vis& vis, int p_id, const Vec3& p, const Vec3& n,
                                int per_point, uint64_t seed, double w, double F, bool record, Link& l) {
     const double lift = 1e-6 * h.scene_diag;  // keep ray ends off their own surfaces
-    const int p_id = int(&P - h.nodes.data());
+    const Node& P = h.nodes[size_t(p_id)];
     thread_local std::vector<std::pair<Vec3, double>> hits;
     PointSight out;
     // Each point its own jitter stream: its rays do not depend on the points before it.
@@ -200,7 +200,8 @@ PointSight element_point_sight(const Hierarchy& h, const Vis& vis, const Node& P
 }
 
 template <class Vis>
-Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node& Q, int rays, uint64_t seed) {
+Link element_link(const Hierarchy& h, const Vis& vis, int src, const Node& Q, int rays, uint64_t seed) {
+    const Node& P = h.nodes[size_t(src)];
     Link l;
     const double eps = 1e-7 * h.scene_diag;
     if (P.pocket != Q.pocket) return l;  // closed pockets (Pockets::compute): nothing gets in or out
@@ -217,7 +218,7 @@ Link element_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
         double F = point_polygon_form_factor(cub.p[j], Q.normal, P.poly, P.normal);
         double v = 1.0;
         if (F > 0) {
-            const PointSight ps = element_point_sight(h, vis, P, cub.p[j], Q.normal, per_point,
+            const PointSight ps = element_point_sight(h, vis, src, cub.p[j], Q.normal, per_point,
                                                       Hierarchy::mix(seed, uint64_t(j + 1)), cub.w[j], F, record, l);
             v = ps.v;
             if (ps.clear < ps.counted) any_blocked = true;
@@ -639,7 +640,7 @@ Link evaluate_with(const Hierarchy& h, const Vis& vis, int src, int rcv, int ray
     Rng rng(seed);
     Link l;
     if (!P.is_cluster() && !Q.is_cluster()) {
-        l = element_link(h, vis, P, Q, rays, seed);
+        l = element_link(h, vis, src, Q, rays, seed);
         Vec3 d = Q.center - P.center;
         l.dist = length(d);
         l.dir = l.dist > 0 ? d / l.dist : P.normal;

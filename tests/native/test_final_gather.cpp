@@ -407,9 +407,9 @@ TEST(FinalGather, ClusterSenderWeightsStayBoundedForAFaceEdgeOnToTheCentre) {
         if (h.nodes[i].is_cluster() && !h.nodes[i].dead && h.nodes[i].surf_end - h.nodes[i].surf_begin == 32) src = int(i);
     ASSERT_GE(src, 0) << "no cluster of the plate's and the wall's 32 faces";
     const Node& P = h.nodes[size_t(src)];
-    const std::vector<const Node*> probe_leaves = front_leaves(s, probe);
+    const std::vector<int> probe_leaves = front_leaf_ids(s, probe);
     ASSERT_FALSE(probe_leaves.empty());
-    const int rcv = int(probe_leaves[0] - h.nodes.data());
+    const int rcv = probe_leaves[0];
     // The point (internal frame), 2 cm (world) above the cluster's centre, facing the cluster.
     const Vec3 c = P.center * h.unit + h.origin;  // world
     const Vec3 x = h.to_internal(Vec3{6.0, c.y, c.z + 0.02});
@@ -508,9 +508,9 @@ TEST(FinalGather, LargeClustersOfManyNormalsAreDrawnDownTheirTreeUnbiased) {
     const Node& P = h.nodes[size_t(src)];
     ASSERT_GT(P.surf_end - P.surf_begin, 256) << "the sphere's cluster must be large enough to be drawn down its tree";
     ASSERT_FALSE(h.has_facing_summary(src));
-    const std::vector<const Node*> probe_leaves = front_leaves(s, probe);
+    const std::vector<int> probe_leaves = front_leaf_ids(s, probe);
     ASSERT_FALSE(probe_leaves.empty());
-    const int rcv = int(probe_leaves[0] - h.nodes.data());
+    const int rcv = probe_leaves[0];
     const Vec3 x = h.to_internal(Vec3{4, 0.3, 0.2});
     ASSERT_GT(length(x - P.center), 2.0 * P.radius);
     const Vec3 n = normalize(Vec3{-1, -0.1, -0.05});

@@ -21,7 +21,7 @@ using Direct = std::function<Rgb(int)>;
 // The reference sweep: reads and writes the nodes and links directly.
 struct ReferenceSweep {
     Hierarchy& h;
-    std::vector<Link>& links;
+    LinkStore& links;
     Direct direct;
 
     void push_down(int id, Rgb acc, bool unit, CouplingSums* sums, double& delta) {
@@ -120,7 +120,7 @@ bool same(const Rgb& a, const Rgb& b) { return std::memcmp(&a, &b, sizeof(Rgb)) 
 // start far from the fixed point and every term matters.
 struct Solved {
     Hierarchy h;
-    std::vector<Link> links;
+    LinkStore links;
 };
 
 Solved solved(const SceneDesc& scene, double eps, bool clustering) {

@@ -70,19 +70,26 @@ inline Rgb object_front_radiance(const Solver& s, int object) {
 }
 
 // Every front-side leaf of an object.
-inline std::vector<const Node*> front_leaves(const Solver& s, int object) {
+// The ids of an object's front leaves (the elements its polygons' fronts end in).
+inline std::vector<int> front_leaf_ids(const Solver& s, int object) {
     const Hierarchy& h = s.hierarchy();
-    std::vector<const Node*> out;
+    std::vector<int> out;
     for (const Primitive& p : h.prims) {
         if (p.object != object || p.front < 0) continue;
         std::vector<int> st{h.surfaces[p.front].root};
         while (!st.empty()) {
             int id = st.back();
             st.pop_back();
-            if (h.nodes[id].children.empty()) out.push_back(&h.nodes[id]);
+            if (h.nodes[id].children.empty()) out.push_back(id);
             for (int c : h.nodes[id].children) st.push_back(c);
         }
     }
+    return out;
+}
+
+inline std::vector<const Node*> front_leaves(const Solver& s, int object) {
+    std::vector<const Node*> out;
+    for (int id : front_leaf_ids(s, object)) out.push_back(&s.hierarchy().nodes[size_t(id)]);
     return out;
 }
 

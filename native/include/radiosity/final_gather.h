@@ -21,6 +21,7 @@
 #include "radiosity/gather_plan.h"
 #include "radiosity/hierarchy.h"
 #include "radiosity/link.h"
+#include "radiosity/link_store.h"
 #include "radiosity/rigid.h"
 #include "radiosity/scene.h"
 #include "radiosity/transfer.h"
@@ -43,7 +44,7 @@ public:
         const SceneDesc& scene;
         const Hierarchy& h;
         const Visibility& vis;
-        const std::vector<Link>& links;
+        const LinkStore& links;
         // The surface of another polygon lying on a surface at a point, turned against it (a
         // box's bottom on a floor: lights.cpp's contact test), or -1.
         std::function<int(int surface, const Vec3& p)> contact;

@@ -23,6 +23,7 @@
 
 #include "radiosity/hierarchy.h"
 #include "radiosity/link.h"
+#include "radiosity/link_store.h"
 
 namespace radiosity {
 
@@ -68,16 +69,16 @@ inline ClosureFactors closure_factors(double own, double inherited) {
 // leaf's coupling sums go to `sums`, exactly as GatherPlan::sweep(true) computes them. One
 // such sweep reads every link once, as building a plan does, so for a single unit sweep (the
 // closure correction right after links changed) no plan is built.
-void coupling_sums(const Hierarchy& h, const std::vector<Link>& links, CouplingSums& sums, int threads);
+void coupling_sums(const Hierarchy& h, const LinkStore& links, CouplingSums& sums, int threads);
 
 class GatherPlan {
 public:
     // The structure: element trees, clusters, the active links (every live node's in_links)
     // and the flux groups. Discards the radiometric part.
-    void build(const Hierarchy& h, const std::vector<Link>& links, int threads);
+    void build(const Hierarchy& h, const LinkStore& links, int threads);
     // The radiometric part, once per build: each leaf's emission, reflectance, closure factor
     // and direct light (`direct(node)`), radiances as the starting point, cluster senders.
-    void prepare_radiometry(const Hierarchy& h, const std::vector<Link>& links,
+    void prepare_radiometry(const Hierarchy& h, const LinkStore& links,
                             const std::function<Rgb(int)>& direct, int threads);
     // Valid since the last build and not invalidated. `links` and `nodes` are the current
     // sizes: a plan built from fewer is stale even if nobody invalidated it.
@@ -94,7 +95,7 @@ public:
     // Copies the result of the radiometric sweeps since the last build or write-back to the
     // hierarchy and links: L, Lmin, Lmax of elements and clusters, G of receivers, S of
     // clusters, value of links into clusters. A no-op when there was none.
-    void write_back(Hierarchy& h, std::vector<Link>& links, int threads);
+    void write_back(Hierarchy& h, LinkStore& links, int threads);
 
 private:
     // One link as gathered: receiver += K * radiance(sender). send < 0: an element sender,
@@ -142,13 +143,13 @@ private:
     // build()'s steps, in order (each described in gather_plan.cpp).
     void build_elements(const Hierarchy& h);
     std::vector<int32_t> build_clusters(const Hierarchy& h);
-    void build_links(const Hierarchy& h, const std::vector<Link>& links, int threads);
-    void build_flux_groups(const Hierarchy& h, const std::vector<Link>& links,
+    void build_links(const Hierarchy& h, const LinkStore& links, int threads);
+    void build_flux_groups(const Hierarchy& h, const LinkStore& links,
                            const std::vector<int32_t>& c_value_begin);
     // prepare_radiometry()'s steps, in order.
     void prepare_elements(const Hierarchy& h, const std::function<Rgb(int)>& direct, int threads);
     void prepare_clusters(const Hierarchy& h);
-    void prepare_sends(const Hierarchy& h, const std::vector<Link>& links, int threads);
+    void prepare_sends(const Hierarchy& h, const LinkStore& links, int threads);
     Rgb sender_radiance(const PlanLink& p) const;
     void push_pull(size_t s, bool unit, CouplingSums* sums, double& delta);
     void pull_up_clusters();

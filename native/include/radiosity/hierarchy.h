@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "radiosity/chunked.h"
 #include "radiosity/geometry.h"
 #include "radiosity/rigid.h"
 #include "radiosity/scene.h"
@@ -175,7 +176,7 @@ public:
     // Node ids of the clusters strictly above a surface root, root first.
     const std::vector<int>& ancestors_of_surface(int s) const { return surface_ancestors_[s]; }
 
-    std::vector<Node> nodes;
+    Chunked<Node, 12> nodes;  // in chunks that never move (chunked.h)
     std::vector<Primitive> prims;
     // A textured polygon's reflectance pieces (ObjectDesc::pieces) in the primitive that holds
     // them: position = v0 + a (v1 - v0) + b (v[n-1] - v0) of its polygon, so they move with it.

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "radiosity/chunked.h"
 #include "radiosity/hierarchy.h"
 #include "radiosity/link.h"
 
@@ -32,18 +33,18 @@ public:
     // and history list are changed by the calls above only.
     Link& operator[](size_t id) { return links_[id]; }
     const Link& operator[](size_t id) const { return links_[id]; }
-    std::vector<Link>::iterator begin() { return links_.begin(); }
-    std::vector<Link>::iterator end() { return links_.end(); }
-    std::vector<Link>::const_iterator begin() const { return links_.begin(); }
-    std::vector<Link>::const_iterator end() const { return links_.end(); }
-    // The links as one array: for the gather plan and the final gather, which read them, and
-    // the plan's write-back of the sweeps' values (it never adds or relinks one).
-    const std::vector<Link>& all() const { return links_; }
-    std::vector<Link>& all() { return links_; }
-    size_t capacity() const { return links_.capacity(); }  // for the memory estimate
+    using iterator = Chunked<Link, 14>::iterator;
+    using const_iterator = Chunked<Link, 14>::const_iterator;
+    iterator begin() { return links_.begin(); }
+    iterator end() { return links_.end(); }
+    const_iterator begin() const { return links_.begin(); }
+    const_iterator end() const { return links_.end(); }
+    // Bytes the store holds once `more` links are added (for the memory estimate).
+    double bytes(size_t more = 0) const { return links_.bytes(more); }
 
 private:
-    std::vector<Link> links_;
+    // In chunks that never move (chunked.h): growing copies no link.
+    Chunked<Link, 14> links_;
     int64_t live_ = 0;
 };
 

@@ -134,7 +134,7 @@ public:
     const std::vector<std::vector<PocketRay>>& pocket_records() const { return pockets_.records(); }
     const Hierarchy& hierarchy() const { return h_; }
     const Visibility& visibility() const { return *vis_; }
-    const std::vector<Link>& links() const { return links_.all(); }
+    const LinkStore& links() const { return links_; }
     const Settings& settings() const { return settings_; }
     const SceneDesc& scene() const { return scene_; }
     double reference_radiance() const { return L_ref_; }

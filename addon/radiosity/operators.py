@@ -170,12 +170,13 @@ def any_shows_bake(context):
     return any(shows_bake(s) for s in _views(context))
 
 
-def _views_or_warn(op, context):
-    """The 3D viewports to change; none (and a warning) in background mode."""
+def _views_and_saved(op, context):
+    """The 3D viewports to change and the scene's record of their shading before the bake
+    was shown; no viewports (and a warning) in background mode."""
     views = _views(context)
     if not views:
         op.report({"WARNING"}, "no 3D viewport (background mode?)")
-    return views
+    return views, session.session(bake.scene_key(context.scene)).shading
 
 
 class RADIOSITY_OT_show_colors(bpy.types.Operator):
@@ -187,10 +188,9 @@ class RADIOSITY_OT_show_colors(bpy.types.Operator):
     bl_options = {"REGISTER"}
 
     def execute(self, context):
-        views = _views_or_warn(self, context)
+        views, saved = _views_and_saved(self, context)
         if not views:
             return {"CANCELLED"}
-        saved = session.session(bake.scene_key(context.scene)).shading
         for space in views:
             if not shows_bake(space):
                 saved[space.as_pointer()] = _shading_of(space)
@@ -206,10 +206,9 @@ class RADIOSITY_OT_restore_shading(bpy.types.Operator):
     bl_options = {"REGISTER"}
 
     def execute(self, context):
-        views = _views_or_warn(self, context)
+        views, saved = _views_and_saved(self, context)
         if not views:
             return {"CANCELLED"}
-        saved = session.session(bake.scene_key(context.scene)).shading
         for space in views:
             # Unknown (a file opened showing the bake): Blender's default Solid look.
             kind, color, light = saved.pop(space.as_pointer(),
@@ -225,11 +224,4 @@ CLASSES = (RADIOSITY_OT_bake, RADIOSITY_OT_clear, RADIOSITY_OT_show_colors,
            RADIOSITY_OT_restore_shading)
 
 
-def register():
-    for c in CLASSES:
-        bpy.utils.register_class(c)
-
-
-def unregister():
-    for c in reversed(CLASSES):
-        bpy.utils.unregister_class(c)
+register, unregister = bpy.utils.register_classes_factory(CLASSES)

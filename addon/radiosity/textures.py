@@ -213,20 +213,14 @@ def _apply(o, slots, mi, values):
                                     None if emitted is None else scene_data.clamp_emission(emitted[keep]))
             continue
         corners, means = entry
-        if kind == "DIFFUSE":
-            rho = o.reflectance.astype(np.float64)
-            rho[textured] = means[textured]
-            o.reflectance = scene_data.clamp_reflectance(rho)
-            cr = o.reflectance[face_of].astype(np.float64)
-            cr[sel] = corners[sel]
-            o.corner_reflectance = scene_data.clamp_reflectance(cr)
-        else:
-            em = o.emission.astype(np.float64)
-            em[textured] = means[textured]
-            o.emission = scene_data.clamp_emission(em)
-            ce = o.emission[face_of].astype(np.float64)
-            ce[sel] = corners[sel]
-            o.corner_emission = scene_data.clamp_emission(ce)
+        name, clamp = (("reflectance", scene_data.clamp_reflectance) if kind == "DIFFUSE"
+                       else ("emission", scene_data.clamp_emission))
+        per_face = getattr(o, name).astype(np.float64)
+        per_face[textured] = means[textured]
+        setattr(o, name, clamp(per_face))
+        per_corner = getattr(o, name)[face_of].astype(np.float64)
+        per_corner[sel] = corners[sel]
+        setattr(o, "corner_" + name, clamp(per_corner))
 
 
 def evaluate(si, requests, depsgraph, materials, warnings):

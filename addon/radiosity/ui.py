@@ -128,11 +128,4 @@ class RADIOSITY_PT_render(bpy.types.Panel):
 CLASSES = (RADIOSITY_PT_view3d, RADIOSITY_PT_render)
 
 
-def register():
-    for c in CLASSES:
-        bpy.utils.register_class(c)
-
-
-def unregister():
-    for c in reversed(CLASSES):
-        bpy.utils.unregister_class(c)
+register, unregister = bpy.utils.register_classes_factory(CLASSES)

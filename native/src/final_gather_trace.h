@@ -10,17 +10,12 @@
 #include <utility>
 #include <vector>
 
-#include "radiosity/final_gather.h"
 #include "radiosity/lights.h"
-#include "radiosity/transfer.h"
-#include "near_field.h"
+#include "near_field.h"  // (with FinalGather's Solution, Config and Counts as fg's own)
 
 namespace radiosity {
 namespace fg {
 
-using Solution = FinalGather::Solution;
-using Config = FinalGather::Config;
-using Counts = FinalGather::Counts;
 using Moves = FinalGather::Moves;
 
 // One link's transfer to a point, as traced: its samples, coupling and ray outcomes. Compact

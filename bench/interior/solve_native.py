@@ -56,7 +56,7 @@ def main():
     keys = ("input_surfaces", "elements", "links", "cluster_links", "surface_links", "obj_obj_links",
             "history_links", "occluded_links", "capped", "iterations", "refine_rounds", "rays",
             "gather_points", "gather_corners", "gather_links", "gather_rays", "gather_near", "gather_near_rays",
-            "gather_lamp_rays", "gather_shared")
+            "gather_lamp_rays", "gather_shared", "memory_bytes", "gather_bytes", "gather_forecast_bytes", "memory_capped")
     print("  " + ", ".join(f"{k} {stats[k]:,}" if isinstance(stats[k], int) and not isinstance(stats[k], bool)
                             else f"{k} {stats[k]}" for k in keys if k in stats))
     if stats.get("gather_points"):

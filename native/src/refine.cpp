@@ -74,13 +74,22 @@ void Solver::apply(int id, const Judgement& j, std::vector<Candidate>& next) {
     }
 }
 
+namespace {
+// The output's forecast is made again once there are this many links, then at each doubling.
+constexpr int64_t kForecastLinks = 10000;
+}  // namespace
+
 void Solver::link_from(std::vector<Candidate> wave) {
     while (!wave.empty()) {
         check_cancel();
-        // Near the memory cap, the output's forecast follows the links wave by wave (memory.cpp).
-        // Once the output is traced (an update), the estimate counts the trace itself: no
-        // forecast, which would read every link and corner of the scene at each wave.
-        if (!output_.traced() && memory_estimate() > 0.5 * memory_limit_) forecast_output();
+        // The output's forecast follows the links: made again each time they have doubled,
+        // and wave by wave near the memory cap (memory.cpp). Once the output is traced (an
+        // update), the estimate counts the trace itself: no forecast, which would read every
+        // link and corner of the scene.
+        if (!output_.traced() &&
+            (links_.live() >= std::max<int64_t>(kForecastLinks, 2 * output_forecast_links_) ||
+             memory_estimate() > 0.5 * memory_limit_))
+            forecast_output();
         std::vector<Candidate> eval, next;
         // A self-link of a cluster stands for all interactions inside it: expand it into
         // links between its children (and their own self-links) without evaluating it.

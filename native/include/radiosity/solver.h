@@ -173,9 +173,8 @@ private:
     }
     void apply(int link_id, const Judgement& j, std::vector<Candidate>& next);
     // memory.cpp. Estimated bytes the solve holds with `more` links and nodes: nodes and
-    // links as their vectors hold them (a vector that must grow holds its old and new blocks
-    // at once), Embree's BVHs, and the final gather's trace (the one made, or the forecast of
-    // the next); compared with memory_limit_ before refining.
+    // links in their chunks, Embree's BVHs, and the final gather's trace (the one made, or
+    // the forecast of the next); compared with memory_limit_ before refining.
     double memory_estimate(size_t more_links = 0, size_t more_nodes = 0) const;
     // The final gather's trace for the links as they stand, forecast from the output points'
     // leaves and the links that reach them; kept in output_forecast_ (per active link in

@@ -11,8 +11,8 @@ int LinkStore::add(Hierarchy& h, Link l) {
         h.nodes[l.src].out_links.push_back(id);
     }
     if (l.parent >= 0) {
-        l.next_sibling = (*this)[size_t(l.parent)].first_child;
-        (*this)[size_t(l.parent)].first_child = id;
+        l.next_sibling = links_[size_t(l.parent)].first_child;
+        links_[size_t(l.parent)].first_child = id;
     }
     links_.push_back(std::move(l));
     ++live_;
@@ -20,7 +20,7 @@ int LinkStore::add(Hierarchy& h, Link l) {
 }
 
 void LinkStore::activate(Hierarchy& h, int id) {
-    Link& l = (*this)[id];
+    Link& l = links_[id];
     if (l.active) return;
     l.active = true;
     l.occluded = false;
@@ -29,20 +29,20 @@ void LinkStore::activate(Hierarchy& h, int id) {
 }
 
 void LinkStore::kill(Hierarchy& h, int id) {
-    if ((*this)[id].dead) return;
-    if ((*this)[id].active) deactivate(h, id);
-    (*this)[id].dead = true;
+    if (links_[id].dead) return;
+    if (links_[id].active) deactivate(h, id);
+    links_[id].dead = true;
     --live_;
     kill_refined(h, id);
 }
 
 void LinkStore::kill_refined(Hierarchy& h, int id) {
-    for (int c = (*this)[id].first_child; c >= 0; c = (*this)[c].next_sibling) kill(h, c);
-    (*this)[id].first_child = -1;
+    for (int c = links_[id].first_child; c >= 0; c = links_[c].next_sibling) kill(h, c);
+    links_[id].first_child = -1;
 }
 
 void LinkStore::deactivate(Hierarchy& h, int id) {
-    Link& l = (*this)[id];
+    Link& l = links_[id];
     if (!l.active) return;
     l.active = false;
     auto drop = [id](std::vector<int>& v) {

@@ -69,7 +69,6 @@ inline Rgb object_front_radiance(const Solver& s, int object) {
     return acc / a;
 }
 
-// Every front-side leaf of an object.
 // The ids of an object's front leaves (the elements its polygons' fronts end in).
 inline std::vector<int> front_leaf_ids(const Solver& s, int object) {
     const Hierarchy& h = s.hierarchy();
@@ -87,6 +86,7 @@ inline std::vector<int> front_leaf_ids(const Solver& s, int object) {
     return out;
 }
 
+// Every front-side leaf of an object.
 inline std::vector<const Node*> front_leaves(const Solver& s, int object) {
     std::vector<const Node*> out;
     for (int id : front_leaf_ids(s, object)) out.push_back(&s.hierarchy().nodes[size_t(id)]);

@@ -13,6 +13,9 @@
 namespace radiosity {
 
 class LinkStore {
+    // In chunks that never move (chunked.h): growing copies no link.
+    using Links = Chunked<Link, 14>;
+
 public:
     // Stores `l` and returns its id: in its ends' link lists when active, among its parent's
     // children when it has one.
@@ -33,8 +36,8 @@ public:
     // and history list are changed by the calls above only.
     Link& operator[](size_t id) { return links_[id]; }
     const Link& operator[](size_t id) const { return links_[id]; }
-    using iterator = Chunked<Link, 14>::iterator;
-    using const_iterator = Chunked<Link, 14>::const_iterator;
+    using iterator = Links::iterator;
+    using const_iterator = Links::const_iterator;
     iterator begin() { return links_.begin(); }
     iterator end() { return links_.end(); }
     const_iterator begin() const { return links_.begin(); }
@@ -43,8 +46,7 @@ public:
     double bytes(size_t more = 0) const { return links_.bytes(more); }
 
 private:
-    // In chunks that never move (chunked.h): growing copies no link.
-    Chunked<Link, 14> links_;
+    Links links_;
     int64_t live_ = 0;
 };
 

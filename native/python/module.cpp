@@ -183,6 +183,7 @@ PYBIND11_MODULE(radiosity_native, m) {
         .def_readwrite("gather_rays", &Settings::gather_rays)
         .def_readwrite("gather_min_rays", &Settings::gather_min_rays)
         .def_readwrite("gather_share", &Settings::gather_share)
+        .def_readwrite("preview_work", &Settings::preview_work)
         .def_readwrite("cycles_corner_points", &Settings::cycles_corner_points)
         .def_readwrite("gather_sealed_solids", &Settings::gather_sealed_solids)
         .def_readwrite("closure_rays", &Settings::closure_rays)
@@ -333,8 +334,9 @@ PYBIND11_MODULE(radiosity_native, m) {
         // Live drag: with the objects of `moves` ({object_id: 4x4 matrix}, as move_object
         // takes) placed there, direct light re-traced and the rest as solved, the corners that
         // change ({object_id: (corner indices, (k,3) values)}; the others keep corner_radiance's
-        // value) and what it re-traced. Changes nothing.
-        .def("preview", [](PySolver& s, const py::dict& moves) {
+        // value) and what it re-traced. Changes nothing of the solution. `work`: as
+        // Solver::preview's (-1: Settings.preview_work; 0: every point).
+        .def("preview", [](PySolver& s, const py::dict& moves, int64_t work) {
             s.solved();
             std::map<int, std::array<double, 16>> mv;
             for (const auto& item : moves) {
@@ -347,7 +349,7 @@ PYBIND11_MODULE(radiosity_native, m) {
             std::vector<CornerPatch> patches;
             {
                 py::gil_scoped_release release;
-                patches = s.solver->preview(mv, &k);
+                patches = s.solver->preview(mv, &k, work);
             }
             py::dict out;
             for (const CornerPatch& p : patches) {
@@ -363,8 +365,9 @@ PYBIND11_MODULE(radiosity_native, m) {
             d["rays"] = k.rays;
             d["uncovered"] = k.uncovered;
             d["covered"] = k.covered;
+            d["deferred"] = k.deferred;
             return py::make_tuple(out, d);
-        }, py::arg("moves"))
+        }, py::arg("moves"), py::arg("work") = -1)
         .def("corner_irradiance", [](const PySolver& s, int object) {
             s.solved();
             std::vector<float> v = s.solver->corner_irradiance(object);

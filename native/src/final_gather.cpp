@@ -584,6 +584,7 @@ void FinalGather::clear() {
     t.corner_point.clear();
     t.counts = Counts{};
     t.bytes = 0;
+    t.preview_state = Impl::PreviewState{};
 }
 
 int FinalGather::corner_point(int object, size_t corner) const {
@@ -795,6 +796,7 @@ struct Tally {
 
 void FinalGather::Impl::run(const Solution& s, const Config& c, std::vector<fg::Job>& jobs, const Moves* moves,
                             const std::function<void(double)>& progress) {
+    preview_state = PreviewState{};
     std::vector<fg::Point> old;
     if (moves) old.swap(points);
     fg::Run r{s, c, moves, {}, false};

@@ -181,6 +181,16 @@ struct FinalGather::Impl {
     std::vector<std::vector<int>> corner_point;  // per object, per corner: its point (-1: none)
     Counts counts;
     size_t bytes = 0;
+    // The live drag's last previews (preview.cpp): per point the change shown and whether it
+    // showed the point covered (unlit), the objects dragged, where among the dragged objects'
+    // points the next step starts, and per node whether it emits or holds an emitter.
+    struct PreviewState {
+        std::vector<Rgb> shown;
+        std::vector<char> unlit;
+        std::vector<char> moved;
+        size_t turn = 0;
+        std::vector<char> emits;
+    } preview_state;
 
     // The points to trace, one per corner or per vertex's corners alike; fills corner_point.
     std::vector<fg::Job> make_jobs(const Solution& s);

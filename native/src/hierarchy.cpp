@@ -637,7 +637,7 @@ void set_element_poly(Hierarchy& h, int id, const Poly& poly) {
 }
 }  // namespace
 
-void Hierarchy::place_object(int object, const Rigid& placement) {
+void Hierarchy::place_object(int object, const Rigid& placement, bool whole) {
     for (Primitive& p : prims) {
         if (p.object != object) continue;
         for (int k = 0; k < p.poly.n; ++k) p.poly.v[k] = placement.point(p.poly0.v[k]);
@@ -654,15 +654,54 @@ void Hierarchy::place_object(int object, const Rigid& placement) {
         if (nodes[id].is_cluster()) cl.push_back(id);
     std::sort(cl.rbegin(), cl.rend());
     for (int id : cl) refresh_cluster_geometry(id);
-    int top = object_node[object] >= 0 ? object_node[object] : -1;
+    const int top = object_node[object];
     std::vector<int> up;
     if (top >= 0) {
         for (int a = nodes[top].parent; a >= 0; a = nodes[a].parent) up.push_back(a);
     } else {
         up.push_back(root);
     }
-    for (int a : up) refresh_cluster_geometry(a);
-    refresh_surface_geom();
+    if (whole || top < 0 || !nodes[top].is_cluster()) {
+        for (int a : up) refresh_cluster_geometry(a);
+        refresh_surface_geom();
+        return;
+    }
+    for (int a : up) cluster_geometry_from_children(a);
+    cl.insert(cl.end(), up.begin(), up.end());
+    refresh_surface_geom(nodes[top].surf_begin, nodes[top].surf_end, cl);
+}
+
+void Hierarchy::cluster_geometry_from_children(int id) {
+    Node& c = nodes[id];
+    c.area = 0;
+    c.box = Aabb{};
+    c.W.fill(0);
+    Vec3 acc;
+    double rho_max = 0;
+    for (int k : c.children) {
+        const Node& e = nodes[k];
+        c.area += e.area;
+        acc += e.center * e.area;
+        c.box.grow(e.box);
+        if (e.is_cluster()) {
+            rho_max = std::max(rho_max, e.rho_max);
+            for (int b = 0; b < kBins; ++b) c.W[b] += e.W[b];
+        } else {
+            rho_max = std::max(rho_max, e.rho.max());
+            for (int a = 0; a < 3; ++a) {
+                const double v = e.normal[a] * e.area;
+                c.W[bin_of(a, v)] += std::fabs(v);
+            }
+        }
+    }
+    c.rho_max = rho_max;
+    c.center = c.area > 0 ? acc / c.area : c.box.center();
+    c.radius = 0;
+    for (int k = 0; k < 8; ++k) {
+        Vec3 corner{(k & 1) ? c.box.hi.x : c.box.lo.x, (k & 2) ? c.box.hi.y : c.box.lo.y,
+                    (k & 4) ? c.box.hi.z : c.box.lo.z};
+        c.radius = std::max(c.radius, length(corner - c.center));
+    }
 }
 
 }  // namespace radiosity
@@ -776,6 +815,30 @@ void Hierarchy::refresh_surface_geom() {
         facing_summary[id] = summarise(surface_geom, n.surf_begin, n.surf_end);
     }
     sampler_tree(*this, sampler_children, sampler_first);  // after the clusters' geometry
+}
+
+void Hierarchy::refresh_surface_geom(int b, int e, const std::vector<int>& changed) {
+    for (int i = b; i < e; ++i) {
+        const Node& n = nodes[surfaces[surface_order[size_t(i)]].root];
+        SurfaceGeom& g = surface_geom[size_t(i)];
+        g.poly = n.poly;
+        g.normal = n.normal;
+        g.area = n.area;
+        g.share = n.poly.first_share();
+    }
+    for (size_t i = size_t(b); i < surface_geom.size(); ++i) area_prefix[i + 1] = area_prefix[i] + surface_geom[i].area;
+    for (int id : changed) {
+        const Node& n = nodes[size_t(id)];
+        const bool wanted = !n.dead && n.surf_end - n.surf_begin >= kSummaryMinSurfaces;
+        facing_summary[size_t(id)] = wanted ? summarise(surface_geom, n.surf_begin, n.surf_end) : FacingSummary{};
+        for (int k = sampler_first[size_t(id)]; k < sampler_first[size_t(id) + 1]; ++k) {
+            SamplerChild& sc = sampler_children[size_t(k)];
+            const Node& m = nodes[size_t(sc.id)];
+            sc.area = m.area;
+            if (sc.cluster) sc.W = m.W;
+            else sc.W = {m.normal.x, m.normal.y, m.normal.z, 0.0, 0.0, 0.0};
+        }
+    }
 }
 
 bool Hierarchy::surface_geom_current() const {

@@ -73,6 +73,7 @@ void Settings::validate() const {
     if (gather_min_rays < 1 || gather_min_rays > 4096) bad("gather_min_rays must be in [1, 4096]");
     if (!(std::isfinite(gather_share) && gather_share >= 0 && gather_share <= 1)) bad("gather_share must be in [0, 1]");
     if (closure_rays < 0) bad("closure_rays must be >= 0");
+    if (preview_work < 0) bad("preview_work must be >= 0 (0 = every point)");
     if (!(std::isfinite(closure_refine_tolerance) && closure_refine_tolerance >= 0))
         bad("closure_refine_tolerance must be >= 0");
     if (closure_refine_passes < 0) bad("closure_refine_passes must be >= 0");

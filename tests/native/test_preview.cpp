@@ -92,6 +92,7 @@ TEST(Preview, ChangesNothingOfTheSolution) {
     const double ca = std::cos(0.4), sa = std::sin(0.4);
     const std::array<double, 16> turn = {ca, -sa, 0, 12, sa, ca, 0, -7, 0, 0, 1, 3, 0, 0, 0, 1};
     c.preview({{panel, turn}});
+    EXPECT_TRUE(c.hierarchy().surface_geom_current());  // the samplers' tables put back too
     for (Solver* x : {&c, &e}) {
         x->move_object(3, translation({-20, -30, 0}).data());
         x->update();
@@ -166,4 +167,92 @@ TEST(Preview, FollowsADraggedEmitter) {
                 d.preview());
     EXPECT_GT(d.k.transfers, 0);
     EXPECT_LT(d.preview(), 0.5 * d.stale());
+}
+
+// A step with little work (Settings::preview_work) relights the points nearest the dragged box
+// first, each exactly as a step without a limit would, and leaves the rest showing what an
+// earlier step of the drag showed; steps at one place take turns over the box's own points.
+TEST(Preview, AStepWithLittleWorkRelightsTheNearestAndKeepsTheRest) {
+    const std::array<double, 16> m = translation({-1.2, 0, 0});
+    Solver s(scenes::point_light_box_on_floor({0.3, 0.2, 2.5}), settings());
+    s.solve();
+    const std::vector<float> base = s.all_corner_radiance();
+    FinalGather::PreviewCounts all, part;
+    const std::vector<float> full = patched(s, s.preview({{1, m}}, &all, 0));
+    EXPECT_EQ(all.deferred, 0);
+    constexpr int64_t kWork = 20000;
+    const std::vector<float> first = patched(s, s.preview({{1, m}}, &part, kWork));
+    std::printf("[ figure ] box on a floor, a step of %lld work: %lld points relit (%lld without a limit), %lld deferred\n",
+                (long long)kWork, (long long)part.points, (long long)all.points, (long long)part.deferred);
+    EXPECT_GT(part.deferred, 0);
+    EXPECT_LT(part.points, all.points);
+    EXPECT_EQ(part.covered, all.covered);  // the floor under the new place first
+    size_t relit = 0, kept = 0;
+    for (size_t i = 0; i < full.size(); ++i) {
+        if (full[i] == base[i]) continue;
+        if (first[i] == full[i]) {
+            ++relit;
+        } else {
+            ++kept;
+            EXPECT_EQ(first[i], base[i]) << "value " << i << ": neither relit nor the bake's";
+        }
+    }
+    EXPECT_GT(relit, 0u);
+    EXPECT_GT(kept, 0u);
+    // Steps at the same place: the box's own corners take turns until all are relit.
+    const size_t box_begin = 3 * s.scene().objects()[0].corner_count();
+    std::vector<float> later;
+    for (int k = 0; k < 40; ++k) later = patched(s, s.preview({{1, m}}, nullptr, kWork));
+    for (size_t i = box_begin; i < later.size(); ++i) ASSERT_EQ(later[i], full[i]) << "box value " << i << " base " << base[i] << " first " << first[i];
+    // After an update the shown changes are forgotten: a step elsewhere shows each value
+    // relit or as the new solution has it.
+    s.move_object(1, m.data());
+    s.update();
+    const std::vector<float> now = s.all_corner_radiance();
+    const std::array<double, 16> back = translation({0.4, 0, 0});
+    const std::vector<float> whole = patched(s, s.preview({{1, back}}, nullptr, 0));
+    const std::vector<float> step = patched(s, s.preview({{1, back}}, &part, kWork));
+    EXPECT_GT(part.deferred, 0);
+    for (size_t i = 0; i < step.size(); ++i) ASSERT_TRUE(step[i] == whole[i] || step[i] == now[i]) << "value " << i;
+}
+
+// A preview places the dragged object without remaking the whole scene's tables (its clusters
+// from their children, the tables where its surfaces are): what a whole placement gives, up
+// to rounding.
+TEST(Preview, ItsPlacementIsTheWholeOnesUpToRounding) {
+    const SceneDesc scene = scenes::point_light_box_on_floor({0.3, 0.2, 2.5});
+    Hierarchy whole;
+    whole.build(scene, true);
+    Hierarchy part = whole;
+    Rigid q;
+    const double c = std::cos(0.6), s = std::sin(0.6);
+    q.R = {c, -s, 0, s, c, 0, 0, 0, 1};
+    q.t = Vec3{-0.7, 0.3, 0};
+    whole.place_object(1, q, true);
+    part.place_object(1, q, false);
+    auto near = [](double a, double b) { return std::abs(a - b) <= 1e-12 * std::max(1.0, std::abs(b)); };
+    ASSERT_EQ(part.nodes.size(), whole.nodes.size());
+    for (size_t i = 0; i < whole.nodes.size(); ++i) {
+        const Node &a = part.nodes[i], &b = whole.nodes[i];
+        ASSERT_TRUE(near(a.area, b.area) && near(a.center.x, b.center.x) && near(a.center.y, b.center.y) &&
+                    near(a.center.z, b.center.z) && near(a.radius, b.radius) && near(a.box.lo.x, b.box.lo.x) &&
+                    near(a.box.hi.y, b.box.hi.y))
+            << "node " << i;
+        for (size_t k = 0; k < a.W.size(); ++k) ASSERT_TRUE(near(a.W[k], b.W[k])) << "node " << i << " bin " << k;
+    }
+    ASSERT_EQ(part.surface_geom.size(), whole.surface_geom.size());
+    for (size_t i = 0; i < whole.surface_geom.size(); ++i) {
+        EXPECT_EQ(part.surface_geom[i].area, whole.surface_geom[i].area);
+        EXPECT_EQ(part.surface_geom[i].poly.v[0].x, whole.surface_geom[i].poly.v[0].x) << "surface " << i;
+        EXPECT_EQ(part.surface_geom[i].normal.y, whole.surface_geom[i].normal.y) << "surface " << i;
+        ASSERT_TRUE(near(part.area_prefix[i + 1], whole.area_prefix[i + 1]));
+    }
+    ASSERT_EQ(part.sampler_children.size(), whole.sampler_children.size());
+    for (size_t k = 0; k < whole.sampler_children.size(); ++k) {
+        ASSERT_TRUE(near(part.sampler_children[k].area, whole.sampler_children[k].area)) << "record " << k;
+        for (size_t b = 0; b < whole.sampler_children[k].W.size(); ++b)
+            ASSERT_TRUE(near(part.sampler_children[k].W[b], whole.sampler_children[k].W[b])) << "record " << k;
+    }
+    for (size_t i = 0; i < whole.nodes.size(); ++i)
+        EXPECT_EQ(part.has_facing_summary(int(i)), whole.has_facing_summary(int(i))) << "node " << i;
 }

@@ -119,6 +119,9 @@ public:
         // Whether a point (on `surface`, normal n) lies under another polygon at the new
         // placements (a floor point under the dragged box): covered, unlit as in Cycles.
         std::function<bool(int surface, const Vec3& x, const Vec3& n)> covered;
+        // Work a step may do (Settings::preview_work; 0: every point): the points nearest the
+        // boxes first, the rest showing what an earlier step of the same drag found.
+        int64_t work = 0;
     };
     struct PreviewCounts {
         int64_t points = 0;     // points re-traced (their light may have changed)
@@ -127,9 +130,11 @@ public:
         int64_t uncovered = 0;  // points a moved object covered and covers no more (gathered afresh)
         int64_t covered = 0;    // points it covers now
         int64_t rays = 0;
+        int64_t deferred = 0;   // points the work left showing an earlier step's change
     };
-    // Per point, the change of its irradiance / pi.
-    std::vector<Rgb> preview(const Solution& s, const Preview& p, PreviewCounts& counts) const;
+    // Per point, the change of its irradiance / pi. Remembers what it showed until the next
+    // trace, or a drag of other objects.
+    std::vector<Rgb> preview(const Solution& s, const Preview& p, PreviewCounts& counts);
     // One corner's value as corner_radiance (or with `irradiance`, corner_irradiance) gives
     // it, with `change` (preview's) added to what arrives there; false when the object or
     // corner was not traced (its value is 0).

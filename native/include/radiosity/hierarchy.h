@@ -116,8 +116,10 @@ public:
 
     // Splits an element into 4 children (kept for later re-use); returns nothing new if split.
     void subdivide(int node);
-    // Cluster bookkeeping after geometry changed (center, box, radius, bins).
+    // Cluster bookkeeping after geometry changed (center, box, radius, bins), from its
+    // surfaces; or from its children's, which must be current (the same up to rounding).
     void refresh_cluster_geometry(int node);
+    void cluster_geometry_from_children(int node);
     // Per node, whether some (kEmitsAny) and every (kEmitsAll) surface below it emits (an
     // element, the surface roots and their quadtrees: itself), from the emission now. Set before a final gather,
     // which asks it per point; nodes made since count as unknown (emit_flags returns -1).
@@ -126,7 +128,11 @@ public:
     int emit_flags(int node) const { return size_t(node) < emits_.size() ? emits_[size_t(node)] : -1; }
     // Places an object rigidly: p = R p0 + t in the internal frame (R row-major 3x3), its
     // surfaces and elements re-derived from the given geometry, clusters above refreshed.
-    void place_object(int object, const Rigid& placement);
+    // `whole`: the clusters above it from their surfaces and the surface tables anew, bit for
+    // bit as a build makes them. Otherwise (a live drag's placement, put back after) the
+    // clusters above it from their children and the tables only where its surfaces are: the
+    // same up to rounding, in time that follows the object and the tree's depth, not the scene.
+    void place_object(int object, const Rigid& placement, bool whole = true);
     // Nodes of an object (its cluster subtree, or its surfaces' quadtrees when unclustered).
     std::vector<int> object_nodes(int object) const;
 
@@ -236,6 +242,9 @@ public:
     // Remakes surface_geom, area_prefix, the facing summaries and the samplers' tree from the
     // nodes; call it after the clusters' geometry (refresh_cluster_geometry) is current.
     void refresh_surface_geom();
+    // The same for surface_order range [b, e) and the clusters `changed` alone (those whose
+    // surfaces or children's geometry changed); the tree's shape as it was.
+    void refresh_surface_geom(int b, int e, const std::vector<int>& changed);
     // Whether surface_geom (and the samplers' data made with it) matches the nodes (tests).
     bool surface_geom_current() const;
     std::vector<int> object_node;     // per object: its cluster node (-1 if it has no surface)

@@ -64,6 +64,12 @@ struct Settings {
     // or new box and take the others' outcomes from the link's record (exact: the result is
     // the same; off only to check that, or to measure what it saves).
     bool replay_rays = true;
+    // The live drag's preview (Solver::preview): a step re-lights the points nearest the
+    // dragged objects first and stops after about this much work (shadow rays streamed from
+    // their records, each one cast counting 5); the others show what an earlier step of the
+    // drag found. On two cores a step takes about 45 ms in a 17 k-triangle room and 160 ms in
+    // a 0.25 M one (bench/results/live_drag.md); 0 = every point at every step.
+    int64_t preview_work = 1000000;
 
     // 'DRAFT' | 'MEDIUM' | 'HIGH'; throws std::invalid_argument otherwise.
     static Settings preset(const std::string& name);

@@ -97,8 +97,10 @@ public:
     // other corner keeps corner_radiance's value. The solution, pending moves and the dragged
     // objects' placements (Embree's and the hierarchy's, which the call uses for a moment) stay
     // as they were, bit for bit. Without a final gather (gather_rays 0) or a solution: logic_error.
+    // A step does about `work` (Settings::preview_work when negative; 0: all there is), the
+    // points nearest the dragged objects first; the others keep what earlier steps showed.
     std::vector<CornerPatch> preview(const std::map<int, std::array<double, 16>>& moves,
-                                     FinalGather::PreviewCounts* counts = nullptr);
+                                     FinalGather::PreviewCounts* counts = nullptr, int64_t work = -1);
 
     // Incremental update of the kept solution (a full solve if there is none).
     void update(Control* control = nullptr);

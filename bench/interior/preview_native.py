@@ -21,7 +21,7 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-from solve_native import accuracy_native, rn, scene_data  # noqa: E402
+from solve_native import solve_export  # noqa: E402
 
 
 def step_matrix(z, root, f, turn):
@@ -61,17 +61,8 @@ def main():
     ap.add_argument("--turn", type=float, default=0.0)
     ap.add_argument("--work", type=int, default=-1, help="Solver.preview's work (-1: Settings.preview_work)")
     a = ap.parse_args()
-    z = np.load(a.npz)
-    si, _ = accuracy_native.scene_input(z)
-    scene, _, _ = scene_data.build_native_scene(rn, si)
-    s = rn.Solver(scene, rn.Settings.preset(a.preset))
-    t0 = time.time()
-    s.solve()
-    full = time.time() - t0
-    names = [str(o).split("\t")[0] for o in z["objects"]]
+    z, s, full, names, parts = solve_export(a.npz, a.preset)
     root = int(z["move_ids"][0])
-    # Its parts ("Armchair back": the root's name as first word) move with it.
-    parts = [i for i, n in enumerate(names) if n.split(" ")[0] == names[root]]
     st = s.stats()
     print(f"{os.path.basename(a.npz)} {a.preset}: full solve {full:.1f} s, {st['gather_points']:,} output points; "
           f"dragged {[names[i] for i in parts]} in {a.steps} steps")

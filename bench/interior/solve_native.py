@@ -29,6 +29,24 @@ import accuracy_native  # noqa: E402  (scene_input: the exported arrays as the a
 from radiosity.core import scene_data  # noqa: E402
 
 
+def solve_export(path, preset):
+    """An exported interior solved at `preset`, as the update and preview benchmarks start:
+    (its arrays, the solver, the solve's wall seconds, the objects' names, the moved object's
+    parts: the stored move's root and the objects named after it, "Armchair back" for
+    "Armchair", which move with it as the add-on moves a collection)."""
+    z = np.load(path)
+    si, _ = accuracy_native.scene_input(z)
+    scene, _, _ = scene_data.build_native_scene(rn, si)
+    s = rn.Solver(scene, rn.Settings.preset(preset))
+    t0 = time.time()
+    s.solve()
+    seconds = time.time() - t0
+    names = [str(o).split("\t")[0] for o in z["objects"]]
+    root = int(z["move_ids"][0])
+    parts = [i for i, n in enumerate(names) if n.split(" ")[0] == names[root]]
+    return z, s, seconds, names, parts
+
+
 def main():
     args = sys.argv[1:]
     save = None

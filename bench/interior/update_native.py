@@ -18,7 +18,7 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 # The native module, the add-on's core and accuracy_native, found as solve_native finds them.
-from solve_native import accuracy_native, rn, scene_data  # noqa: E402
+from solve_native import solve_export  # noqa: E402
 import update_examples  # noqa: E402  (moves: the stored move plus a turn; bench/ is on the path)
 
 
@@ -28,20 +28,9 @@ def main():
     ap.add_argument("preset", nargs="?", default="MEDIUM")
     ap.add_argument("--turn", type=float, default=0.6)
     a = ap.parse_args()
-    z = np.load(a.npz)
-    si, _ = accuracy_native.scene_input(z)
-    scene, _, _ = scene_data.build_native_scene(rn, si)
-    s = rn.Solver(scene, rn.Settings.preset(a.preset))
-    t0 = time.time()
-    s.solve()
-    full = time.time() - t0
+    z, s, full, names, parts = solve_export(a.npz, a.preset)
     peak_full = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-    # The stored move is the armchair's root object's; its parts ("Armchair back": the root's
-    # name as first word; the other rooms' are "Armchair.R1 back") move with it, as the
-    # add-on moves a collection.
-    names = [str(o).split("\t")[0] for o in z["objects"]]
     (root, m), = update_examples.moves(z, a.turn).items()
-    parts = [i for i, n in enumerate(names) if n.split(" ")[0] == names[root]]
     for i in parts:
         s.move_object(i, np.ascontiguousarray(m))
     t0 = time.time()

@@ -336,32 +336,60 @@ void Hierarchy::add_surfaces_of_prims(const std::vector<int>& ids, int begin, in
     }
 }
 
-void Hierarchy::refresh_cluster_geometry(int id) {
-    Node& c = nodes[id];
-    c.area = 0;
-    c.box = Aabb{};
-    c.W.fill(0);
-    Vec3 acc;
-    double rho_max = 0;
-    for (int i = c.surf_begin; i < c.surf_end; ++i) {
-        const Node& e = nodes[surfaces[surface_order[i]].root];
-        c.area += e.area;
-        acc += e.center * e.area;
-        c.box.grow(e.box);
-        rho_max = std::max(rho_max, e.rho.max());
+namespace {
+// A cluster's geometry summed over its parts (its surfaces' roots, or its children): area,
+// box, facing bins, largest reflectance, then its centre (area-weighted, or its box's when it
+// has no area) and radius.
+class ClusterSum {
+public:
+    explicit ClusterSum(Node& c) : c_(c) {
+        c_.area = 0;
+        c_.box = Aabb{};
+        c_.W.fill(0);
+    }
+    void add(const Node& e) {
+        c_.area += e.area;
+        acc_ += e.center * e.area;
+        c_.box.grow(e.box);
+        if (e.is_cluster()) {
+            rho_max_ = std::max(rho_max_, e.rho_max);
+            for (int b = 0; b < kBins; ++b) c_.W[b] += e.W[b];
+            return;
+        }
+        rho_max_ = std::max(rho_max_, e.rho.max());
         for (int a = 0; a < 3; ++a) {
-            double v = e.normal[a] * e.area;
-            c.W[bin_of(a, v)] += std::fabs(v);
+            const double v = e.normal[a] * e.area;
+            c_.W[bin_of(a, v)] += std::fabs(v);
         }
     }
-    c.rho_max = rho_max;
-    c.center = c.area > 0 ? acc / c.area : c.box.center();
-    c.radius = 0;
-    for (int k = 0; k < 8; ++k) {
-        Vec3 corner{(k & 1) ? c.box.hi.x : c.box.lo.x, (k & 2) ? c.box.hi.y : c.box.lo.y,
-                    (k & 4) ? c.box.hi.z : c.box.lo.z};
-        c.radius = std::max(c.radius, length(corner - c.center));
+    void finish() {
+        c_.rho_max = rho_max_;
+        c_.center = c_.area > 0 ? acc_ / c_.area : c_.box.center();
+        c_.radius = 0;
+        for (int k = 0; k < 8; ++k) {
+            Vec3 corner{(k & 1) ? c_.box.hi.x : c_.box.lo.x, (k & 2) ? c_.box.hi.y : c_.box.lo.y,
+                        (k & 4) ? c_.box.hi.z : c_.box.lo.z};
+            c_.radius = std::max(c_.radius, length(corner - c_.center));
+        }
     }
+
+private:
+    Node& c_;
+    Vec3 acc_;
+    double rho_max_ = 0;
+};
+}  // namespace
+
+void Hierarchy::refresh_cluster_geometry(int id) {
+    ClusterSum sum(nodes[id]);
+    for (int i = nodes[id].surf_begin; i < nodes[id].surf_end; ++i) sum.add(nodes[surfaces[surface_order[i]].root]);
+    sum.finish();
+}
+
+void Hierarchy::cluster_geometry_from_children(int id) {
+    ClusterSum sum(nodes[id]);
+    for (int k : nodes[id].children) sum.add(nodes[k]);
+    sum.finish();
 }
 
 void Hierarchy::index_emitters() {
@@ -669,39 +697,6 @@ void Hierarchy::place_object(int object, const Rigid& placement, bool whole) {
     for (int a : up) cluster_geometry_from_children(a);
     cl.insert(cl.end(), up.begin(), up.end());
     refresh_surface_geom(nodes[top].surf_begin, nodes[top].surf_end, cl);
-}
-
-void Hierarchy::cluster_geometry_from_children(int id) {
-    Node& c = nodes[id];
-    c.area = 0;
-    c.box = Aabb{};
-    c.W.fill(0);
-    Vec3 acc;
-    double rho_max = 0;
-    for (int k : c.children) {
-        const Node& e = nodes[k];
-        c.area += e.area;
-        acc += e.center * e.area;
-        c.box.grow(e.box);
-        if (e.is_cluster()) {
-            rho_max = std::max(rho_max, e.rho_max);
-            for (int b = 0; b < kBins; ++b) c.W[b] += e.W[b];
-        } else {
-            rho_max = std::max(rho_max, e.rho.max());
-            for (int a = 0; a < 3; ++a) {
-                const double v = e.normal[a] * e.area;
-                c.W[bin_of(a, v)] += std::fabs(v);
-            }
-        }
-    }
-    c.rho_max = rho_max;
-    c.center = c.area > 0 ? acc / c.area : c.box.center();
-    c.radius = 0;
-    for (int k = 0; k < 8; ++k) {
-        Vec3 corner{(k & 1) ? c.box.hi.x : c.box.lo.x, (k & 2) ? c.box.hi.y : c.box.lo.y,
-                    (k & 4) ? c.box.hi.z : c.box.lo.z};
-        c.radius = std::max(c.radius, length(corner - c.center));
-    }
 }
 
 }  // namespace radiosity

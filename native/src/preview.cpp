@@ -506,11 +506,78 @@ bool FinalGather::corner_value(const Hierarchy& h, int object, size_t corner, bo
     return true;
 }
 
-struct Solver::PlacedPolygon {
+namespace {
+
+// A dragged object's polygon at its new place, both sides (the preview's cover test).
+struct PlacedPolygon {
     Poly poly;
     Vec3 normal;
     Aabb box;
 };
+
+// The dragged objects' polygons where the preview places them.
+std::vector<PlacedPolygon> placed_polygons(const SceneDesc& scene, const Hierarchy& h, const FinalGather::Preview& p) {
+    // As DirectLight::find_contacts: coplanar within 1e-7 of the scene, facing the other way, the point inside.
+    std::vector<PlacedPolygon> polys;
+    const double tol = 1e-7 * h.scene_diag;
+    const size_t no = scene.objects().size();
+    for (const Primitive& pr : h.prims) {
+        if (pr.object < 0 || size_t(pr.object) >= no || !p.moved[size_t(pr.object)]) continue;
+        for (int side : {pr.front, pr.back}) {
+            if (side < 0) continue;
+            const Node& root = h.nodes[size_t(h.surfaces[size_t(side)].root)];
+            if (root.dead) continue;
+            PlacedPolygon q;
+            q.poly = root.poly;
+            const Rigid& c = p.carry[size_t(pr.object)];
+            for (int j = 0; j < q.poly.n; ++j) q.poly.v[size_t(j)] = c.point(root.poly.v[size_t(j)]);
+            q.normal = c.dir(root.normal);
+            for (int j = 0; j < q.poly.n; ++j) q.box.grow(q.poly.v[size_t(j)]);
+            q.box.lo -= Vec3{tol, tol, tol};
+            q.box.hi += Vec3{tol, tol, tol};
+            polys.push_back(q);
+        }
+    }
+    return polys;
+}
+
+// The corners whose colour the per-point changes `d` alter, and their values.
+std::vector<CornerPatch> preview_patches(const SceneDesc& scene, const Hierarchy& h, const FinalGather& output,
+                                         const std::vector<Rgb>& d) {
+    // Only the corners whose light changed: the caller shows the last bake's colours elsewhere.
+    std::vector<CornerPatch> out;
+    for (size_t o = 0; o < scene.objects().size(); ++o) {
+        const ObjectDesc& od = scene.objects()[o];
+        // A textured surface reflects with each corner's own reflectance (corner_radiance).
+        const bool textured = !od.corner_reflectance.empty() || !od.corner_emission.empty();
+        CornerPatch patch;
+        patch.object = int(o);
+        for (size_t f = 0; f < od.polygon_count(); ++f)
+            for (int j = 0; j < od.loop_totals[f]; ++j) {
+                const size_t c = size_t(od.loop_starts[f]) + size_t(j);
+                const int pi = output.corner_point(int(o), c);
+                if (pi < 0) continue;
+                const Rgb& dE = d[size_t(pi)];
+                if (dE.r == 0 && dE.g == 0 && dE.b == 0) continue;
+                Rgb v;
+                if (!output.corner_value(h, int(o), c, textured, dE, v)) continue;
+                if (textured) {
+                    const Rgb rho = od.corner_reflectance.empty() ? od.reflectance[f] : od.corner_reflectance[c];
+                    const Rgb e = od.corner_emission.empty() ? od.emission[f] : od.corner_emission[c];
+                    v = e + rho * v;
+                }
+                // Stale bounced light plus fresh direct can undershoot where a shadow is cast.
+                patch.corners.push_back(int32_t(c));
+                patch.values.push_back(std::max(0.f, float(v.r)));
+                patch.values.push_back(std::max(0.f, float(v.g)));
+                patch.values.push_back(std::max(0.f, float(v.b)));
+            }
+        if (!patch.corners.empty()) out.push_back(std::move(patch));
+    }
+    return out;
+}
+
+}  // namespace
 
 std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 16>>& moves,
                                          FinalGather::PreviewCounts* counts, int64_t work) {
@@ -522,7 +589,7 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
     preview_moves(moves, p, placed);
     p.work = work < 0 ? settings_.preview_work : work;
     // (DirectLight::contact's test, with the moved objects where they are now.)
-    const std::vector<PlacedPolygon> polys = placed_polygons(p);
+    const std::vector<PlacedPolygon> polys = placed_polygons(scene_, h_, p);
     const double tol = 1e-7 * h_.scene_diag;
     const double inside_tol = 1e-9 * h_.scene_diag;
     p.covered = [&](int surface, const Vec3& x, const Vec3& n) {
@@ -580,7 +647,7 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
     if (!placed.empty()) {
         const FinalGather::Solution s{scene_, h_, *vis_, links_,
                                       [this](int surface, const Vec3& q) { return direct_light_.contact(h_, surface, q); }, &tri_prim_};
-        out = preview_patches(output_.preview(s, p, k));
+        out = preview_patches(scene_, h_, output_, output_.preview(s, p, k));
     }
     if (counts) *counts = k;
     return out;
@@ -613,65 +680,6 @@ void Solver::preview_moves(const std::map<int, std::array<double, 16>>& moves, F
         c.hi += Vec3{1e-5, 1e-5, 1e-5};
     }
     for (size_t k = 1; k < p.clips.size(); k += 2) p.now.push_back(p.clips[k]);
-}
-
-std::vector<Solver::PlacedPolygon> Solver::placed_polygons(const FinalGather::Preview& p) const {
-    // As DirectLight::find_contacts: coplanar within 1e-7 of the scene, facing the other way, the point inside.
-    std::vector<PlacedPolygon> polys;
-    const double tol = 1e-7 * h_.scene_diag;
-    const size_t no = scene_.objects().size();
-    for (const Primitive& pr : h_.prims) {
-        if (pr.object < 0 || size_t(pr.object) >= no || !p.moved[size_t(pr.object)]) continue;
-        for (int side : {pr.front, pr.back}) {
-            if (side < 0) continue;
-            const Node& root = h_.nodes[size_t(h_.surfaces[size_t(side)].root)];
-            if (root.dead) continue;
-            PlacedPolygon q;
-            q.poly = root.poly;
-            const Rigid& c = p.carry[size_t(pr.object)];
-            for (int j = 0; j < q.poly.n; ++j) q.poly.v[size_t(j)] = c.point(root.poly.v[size_t(j)]);
-            q.normal = c.dir(root.normal);
-            for (int j = 0; j < q.poly.n; ++j) q.box.grow(q.poly.v[size_t(j)]);
-            q.box.lo -= Vec3{tol, tol, tol};
-            q.box.hi += Vec3{tol, tol, tol};
-            polys.push_back(q);
-        }
-    }
-    return polys;
-}
-
-std::vector<CornerPatch> Solver::preview_patches(const std::vector<Rgb>& d) const {
-    // Only the corners whose light changed: the caller shows the last bake's colours elsewhere.
-    std::vector<CornerPatch> out;
-    for (size_t o = 0; o < scene_.objects().size(); ++o) {
-        const ObjectDesc& od = scene_.objects()[o];
-        // A textured surface reflects with each corner's own reflectance (corner_radiance).
-        const bool textured = !od.corner_reflectance.empty() || !od.corner_emission.empty();
-        CornerPatch patch;
-        patch.object = int(o);
-        for (size_t f = 0; f < od.polygon_count(); ++f)
-            for (int j = 0; j < od.loop_totals[f]; ++j) {
-                const size_t c = size_t(od.loop_starts[f]) + size_t(j);
-                const int pi = output_.corner_point(int(o), c);
-                if (pi < 0) continue;
-                const Rgb& dE = d[size_t(pi)];
-                if (dE.r == 0 && dE.g == 0 && dE.b == 0) continue;
-                Rgb v;
-                if (!output_.corner_value(h_, int(o), c, textured, dE, v)) continue;
-                if (textured) {
-                    const Rgb rho = od.corner_reflectance.empty() ? od.reflectance[f] : od.corner_reflectance[c];
-                    const Rgb e = od.corner_emission.empty() ? od.emission[f] : od.corner_emission[c];
-                    v = e + rho * v;
-                }
-                // Stale bounced light plus fresh direct can undershoot where a shadow is cast.
-                patch.corners.push_back(int32_t(c));
-                patch.values.push_back(std::max(0.f, float(v.r)));
-                patch.values.push_back(std::max(0.f, float(v.g)));
-                patch.values.push_back(std::max(0.f, float(v.b)));
-            }
-        if (!patch.corners.empty()) out.push_back(std::move(patch));
-    }
-    return out;
 }
 
 }  // namespace radiosity

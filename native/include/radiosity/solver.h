@@ -263,14 +263,10 @@ private:
     void link_changed(const Change& ch);
     // The enclosure deciders ask again, casting only escape rays through a changed box.
     void redecide_enclosures(const Change& ch);
-    // preview.cpp: preview()'s parts. The drag's placements (carries, old and new boxes);
-    // the moved objects' polygons at them, both sides (for the cover test); and the corners
-    // whose colour the per-point changes `d` alter.
+    // preview.cpp: the drag's placements (carries, old and new boxes), validated as
+    // move_object validates them.
     void preview_moves(const std::map<int, std::array<double, 16>>& moves, FinalGather::Preview& p,
                        std::vector<std::pair<int, Rigid>>& placed) const;
-    struct PlacedPolygon;
-    std::vector<PlacedPolygon> placed_polygons(const FinalGather::Preview& p) const;
-    std::vector<CornerPatch> preview_patches(const std::vector<Rgb>& d) const;
     // topology.cpp
     void check_live(int object, const char* what) const;
     void blank_object(int object);           // the scene slot of a removed object, emptied

@@ -665,9 +665,8 @@ void set_element_poly(Hierarchy& h, int id, const Poly& poly) {
 }
 }  // namespace
 
-void Hierarchy::place_object(int object, const Rigid& placement, bool whole) {
-    for (Primitive& p : prims) {
-        if (p.object != object) continue;
+void Hierarchy::place_object(int object, const Rigid& placement, bool whole, const std::vector<int>* own) {
+    auto place = [&](Primitive& p) {
         for (int k = 0; k < p.poly.n; ++k) p.poly.v[k] = placement.point(p.poly0.v[k]);
         if (p.front >= 0) set_element_poly(*this, surfaces[p.front].root, p.poly);
         if (p.back >= 0) {
@@ -675,6 +674,13 @@ void Hierarchy::place_object(int object, const Rigid& placement, bool whole) {
             std::reverse(b.v.begin(), b.v.begin() + b.n);
             set_element_poly(*this, surfaces[p.back].root, b);
         }
+    };
+    if (own) {
+        for (int i : *own)
+            if (prims[size_t(i)].object == object) place(prims[size_t(i)]);
+    } else {
+        for (Primitive& p : prims)
+            if (p.object == object) place(p);
     }
     // Clusters of the object (children have larger ids), then every cluster above it.
     std::vector<int> cl;

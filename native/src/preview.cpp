@@ -83,7 +83,8 @@ bool lamps_meet(const SceneDesc& scene, const Hierarchy& h, const Vec3& x, const
 // same bits (children's normals are their parents' when built, recomputed when placed).
 class SavedGeometry {
 public:
-    SavedGeometry(const Hierarchy& h, const std::vector<int>& objects) {
+    // `prims`: per object of `objects`, its primitives.
+    SavedGeometry(const Hierarchy& h, const std::vector<int>& objects, const std::vector<std::vector<int>>& prims) {
         std::vector<char> seen(h.nodes.size(), 0);
         auto keep = [&](int id) {
             if (id < 0 || seen[size_t(id)]) return;
@@ -96,7 +97,8 @@ public:
                     samplers_.emplace_back(k, h.sampler_children[size_t(k)]);
             }
         };
-        for (int o : objects) {
+        for (size_t j = 0; j < objects.size(); ++j) {
+            const int o = objects[j];
             for (int id : h.object_nodes(o)) keep(id);
             const int top = h.object_node[size_t(o)];
             for (int a = top >= 0 ? h.nodes[size_t(top)].parent : h.root; a >= 0; a = h.nodes[size_t(a)].parent) keep(a);
@@ -105,13 +107,13 @@ public:
                     geoms_.emplace_back(i, h.surface_geom[size_t(i)]);
             else
                 whole_ = true;
-            for (size_t i = 0; i < h.prims.size(); ++i)
-                if (h.prims[i].object == o) {
-                    prims_.emplace_back(i, h.prims[i].poly);
-                    for (int side : {h.prims[i].front, h.prims[i].back})
-                        if (side >= 0)
-                            for (int id : subtree(h, h.surfaces[size_t(side)].root)) keep(id);
-                }
+            for (int pi : prims[j]) {
+                const Primitive& pr = h.prims[size_t(pi)];
+                prims_.emplace_back(size_t(pi), pr.poly);
+                for (int side : {pr.front, pr.back})
+                    if (side >= 0)
+                        for (int id : subtree(h, h.surfaces[size_t(side)].root)) keep(id);
+            }
         }
         area_prefix_ = h.area_prefix;
         if (whole_) {  // (an unclustered object: placed whole)
@@ -614,8 +616,15 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
             p.moved_nodes[size_t(a)] = 1;
     }
     auto place = [this](int object, const Rigid& q) { vis_->set_object_transform(object, q); };
+    // Each dragged object's primitives (its Embree triangles', a quad's two named once).
     std::vector<int> objects;
-    for (const auto& op : placed) objects.push_back(op.first);
+    std::vector<std::vector<int>> prims;
+    for (const auto& op : placed) {
+        objects.push_back(op.first);
+        std::vector<int>& own = prims.emplace_back();
+        for (int pi : tri_prim_[size_t(op.first)])
+            if (own.empty() || own.back() != pi) own.push_back(pi);
+    }
     // The solution's placements back however the preview ends (Embree's from the same poses:
     // the same floats; the hierarchy's from the saved copy).
     struct Restore {
@@ -635,10 +644,10 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
                 s->solved_ = false;
             }
         }
-    } restore{this, placed, place, SavedGeometry(h_, objects)};
-    for (const auto& [object, q] : placed) {
-        place(object, q);
-        h_.place_object(object, q, false);  // (put back by `restore`)
+    } restore{this, placed, place, SavedGeometry(h_, objects, prims)};
+    for (size_t j = 0; j < placed.size(); ++j) {
+        place(placed[j].first, placed[j].second);
+        h_.place_object(placed[j].first, placed[j].second, false, &prims[j]);  // (put back by `restore`)
     }
     if (!placed.empty()) vis_->commit();
 

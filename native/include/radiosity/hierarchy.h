@@ -132,7 +132,8 @@ public:
     // bit as a build makes them. Otherwise (a live drag's placement, put back after) the
     // clusters above it from their children and the tables only where its surfaces are: the
     // same up to rounding, in time that follows the object and the tree's depth, not the scene.
-    void place_object(int object, const Rigid& placement, bool whole = true);
+    // `own`: the object's primitives, when the caller knows them (else found among all).
+    void place_object(int object, const Rigid& placement, bool whole = true, const std::vector<int>* own = nullptr);
     // Nodes of an object (its cluster subtree, or its surfaces' quadtrees when unclustered).
     std::vector<int> object_nodes(int object) const;
 

@@ -763,6 +763,28 @@ Hierarchy::FacingSummary summarise(const std::vector<SurfaceGeom>& g, int b, int
 namespace {
 // The samplers' copy of the cluster tree (Hierarchy::sampler_children): per cluster, in
 // node order, its children in their order.
+// A sampler record's facing data from its node: area, and a cluster's bins or a surface
+// root's normal.
+void take_facing(Hierarchy::SamplerChild& sc, const Node& m) {
+    sc.area = m.area;
+    if (sc.cluster) sc.W = m.W;
+    else sc.W = {m.normal.x, m.normal.y, m.normal.z, 0.0, 0.0, 0.0};
+}
+
+// A surface's geometry from its root node.
+void take_geometry(SurfaceGeom& g, const Node& e) {
+    g.poly = e.poly;
+    g.normal = e.normal;
+    g.area = e.area;
+    g.share = e.poly.first_share();
+}
+
+// Node n's facing summary: none unless it is a live cluster of enough surfaces.
+Hierarchy::FacingSummary summary_of(const std::vector<SurfaceGeom>& g, const Node& n) {
+    if (!n.is_cluster() || n.dead || n.surf_end - n.surf_begin < Hierarchy::kSummaryMinSurfaces) return {};
+    return summarise(g, n.surf_begin, n.surf_end);
+}
+
 void sampler_tree(const Hierarchy& h, std::vector<Hierarchy::SamplerChild>& children, std::vector<int>& first) {
     children.clear();
     first.assign(h.nodes.size() + 1, 0);
@@ -778,11 +800,8 @@ void sampler_tree(const Hierarchy& h, std::vector<Hierarchy::SamplerChild>& chil
             sc.id = c;
             sc.cluster = m.is_cluster();
             sc.dead = m.dead;
-            sc.area = m.area;
-            if (sc.cluster) {
-                sc.W = m.W;
-            } else {
-                sc.W = {m.normal.x, m.normal.y, m.normal.z, 0.0, 0.0, 0.0};
+            take_facing(sc, m);
+            if (!sc.cluster) {
                 sc.pocket = m.pocket;
                 sc.geom = m.surface >= 0 ? geom_of[size_t(m.surface)] : -1;
             }
@@ -799,10 +818,7 @@ void Hierarchy::refresh_surface_geom() {
         const int r = surfaces[surface_order[i]].root;
         const Node& e = nodes[r];
         SurfaceGeom& g = surface_geom[i];
-        g.poly = e.poly;
-        g.normal = e.normal;
-        g.area = e.area;
-        g.share = e.poly.first_share();
+        take_geometry(g, e);
         g.root = r;
         g.object = e.object;
         g.pocket = e.pocket;
@@ -810,35 +826,17 @@ void Hierarchy::refresh_surface_geom() {
     area_prefix.assign(surface_geom.size() + 1, 0.0);
     for (size_t i = 0; i < surface_geom.size(); ++i) area_prefix[i + 1] = area_prefix[i] + surface_geom[i].area;
     facing_summary.assign(nodes.size(), FacingSummary{});
-    for (size_t id = 0; id < nodes.size(); ++id) {
-        const Node& n = nodes[id];
-        if (!n.is_cluster() || n.dead || n.surf_end - n.surf_begin < kSummaryMinSurfaces) continue;
-        facing_summary[id] = summarise(surface_geom, n.surf_begin, n.surf_end);
-    }
+    for (size_t id = 0; id < nodes.size(); ++id) facing_summary[id] = summary_of(surface_geom, nodes[id]);
     sampler_tree(*this, sampler_children, sampler_first);  // after the clusters' geometry
 }
 
 void Hierarchy::refresh_surface_geom(int b, int e, const std::vector<int>& changed) {
-    for (int i = b; i < e; ++i) {
-        const Node& n = nodes[surfaces[surface_order[size_t(i)]].root];
-        SurfaceGeom& g = surface_geom[size_t(i)];
-        g.poly = n.poly;
-        g.normal = n.normal;
-        g.area = n.area;
-        g.share = n.poly.first_share();
-    }
+    for (int i = b; i < e; ++i) take_geometry(surface_geom[size_t(i)], nodes[surfaces[surface_order[size_t(i)]].root]);
     for (size_t i = size_t(b); i < surface_geom.size(); ++i) area_prefix[i + 1] = area_prefix[i] + surface_geom[i].area;
     for (int id : changed) {
-        const Node& n = nodes[size_t(id)];
-        const bool wanted = !n.dead && n.surf_end - n.surf_begin >= kSummaryMinSurfaces;
-        facing_summary[size_t(id)] = wanted ? summarise(surface_geom, n.surf_begin, n.surf_end) : FacingSummary{};
-        for (int k = sampler_first[size_t(id)]; k < sampler_first[size_t(id) + 1]; ++k) {
-            SamplerChild& sc = sampler_children[size_t(k)];
-            const Node& m = nodes[size_t(sc.id)];
-            sc.area = m.area;
-            if (sc.cluster) sc.W = m.W;
-            else sc.W = {m.normal.x, m.normal.y, m.normal.z, 0.0, 0.0, 0.0};
-        }
+        facing_summary[size_t(id)] = summary_of(surface_geom, nodes[size_t(id)]);
+        for (int k = sampler_first[size_t(id)]; k < sampler_first[size_t(id) + 1]; ++k)
+            take_facing(sampler_children[size_t(k)], nodes[size_t(sampler_children[size_t(k)].id)]);
     }
 }
 
@@ -860,9 +858,7 @@ bool Hierarchy::surface_geom_current() const {
     for (size_t i = 0; i < surface_geom.size(); ++i)
         if (area_prefix[i + 1] != area_prefix[i] + surface_geom[i].area) return false;
     for (size_t id = 0; id < nodes.size(); ++id) {
-        const Node& n = nodes[id];
-        const bool wanted = n.is_cluster() && !n.dead && n.surf_end - n.surf_begin >= kSummaryMinSurfaces;
-        const FacingSummary fresh = wanted ? summarise(surface_geom, n.surf_begin, n.surf_end) : FacingSummary{};
+        const FacingSummary fresh = summary_of(surface_geom, nodes[id]);
         const FacingSummary none;
         const FacingSummary& got = id < facing_summary.size() ? facing_summary[id] : none;
         if (got.valid != fresh.valid || got.groups.size() != fresh.groups.size()) return false;

@@ -311,10 +311,6 @@ std::vector<uint32_t> preview_order(const FinalGather::Solution& s, const std::v
     return order;
 }
 
-}  // namespace
-
-namespace {
-
 // Per node: it emits, or holds an emitting element below it.
 std::vector<char> emitting_senders(const Hierarchy& h) {
     std::vector<char> emits(h.nodes.size(), 0);

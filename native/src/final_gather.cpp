@@ -883,8 +883,8 @@ std::vector<float> FinalGather::Impl::values(const Hierarchy& h, int object, boo
     return out;
 }
 
-Rgb FinalGather::Impl::point_value(const Hierarchy& h, const fg::Point& p, bool irradiance, const Rgb& change,
-                                   std::vector<std::pair<bool, Rgb>>* bounced) const {
+Rgb FinalGather::Impl::arriving(const Hierarchy& h, const fg::Point& p,
+                                std::vector<std::pair<bool, Rgb>>* bounced) const {
     const Node& leaf = h.nodes[size_t(h.live_element(p.leaf))];
     Rgb e;
     if (!p.gathered && !p.sealed) {  // (a sealed one reads nothing, below)
@@ -907,11 +907,16 @@ Rgb FinalGather::Impl::point_value(const Hierarchy& h, const fg::Point& p, bool 
     } else {
         e = p.beyond >= 0 ? h.nodes[size_t(h.live_element(p.beyond))].L : Rgb{};
     }
-    e += change;
+    return e;
+}
+
+Rgb FinalGather::Impl::shown_value(const Hierarchy& h, const fg::Point& p, const Rgb& e, bool irradiance) {
     // Irradiance is not negative: differences (a shared point's lenders' bounced light, a near
     // field's correction) may round a dark point below 0 by ~1e-11.
-    e = cmax(e, Rgb{});
-    return irradiance ? e : leaf.emission + leaf.rho * e;
+    const Rgb c = cmax(e, Rgb{});
+    if (irradiance) return c;
+    const Node& leaf = h.nodes[size_t(h.live_element(p.leaf))];
+    return leaf.emission + leaf.rho * c;
 }
 
 }  // namespace radiosity

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -14,6 +15,9 @@
 #include "near_field.h"  // (with FinalGather's Solution, Config and Counts as fg's own)
 
 namespace radiosity {
+
+class PointIndex;  // preview_order.h
+
 namespace fg {
 
 using Moves = FinalGather::Moves;
@@ -182,14 +186,23 @@ struct FinalGather::Impl {
     Counts counts;
     size_t bytes = 0;
     // The live drag's last previews (preview.cpp): per point the change shown and whether it
-    // showed the point covered (unlit), the objects dragged, where among the dragged objects'
-    // points the next step starts, and per node whether it emits or holds an emitter.
+    // showed the point covered (unlit), those points, the points whose change was ever
+    // non-zero (`touched`, and per point whether it is one), the objects dragged, where among
+    // the dragged objects' points the next step starts; per node whether it emits or holds an
+    // emitter, where the points are (preview_order.h) and what arrives at them in the bake; the
+    // last three kept for the trace.
     struct PreviewState {
         std::vector<Rgb> shown;
         std::vector<char> unlit;
+        std::vector<uint32_t> unlit_points;
+        std::vector<uint32_t> touched;
+        std::vector<char> is_touched;
         std::vector<char> moved;
         size_t turn = 0;
         std::vector<char> emits;
+        std::shared_ptr<const PointIndex> index;
+        std::vector<Rgb> arriving;        // per point: what arrives in the bake (arriving()), ...
+        std::vector<char> has_arriving;   // ... where made
     } preview_state;
 
     // The points to trace, one per corner or per vertex's corners alike; fills corner_point.
@@ -203,9 +216,16 @@ struct FinalGather::Impl {
                           const std::function<void(size_t, bool)>& trace, const std::function<void(double)>& progress);
     size_t measure_bytes() const;
     std::vector<float> values(const Hierarchy& h, int object, bool irradiance) const;
-    // `bounced` (values()'s cache, per point): a lender's bounced light, made when first read.
+    // What arrives at a point (irradiance / pi) from its trace and the current leaf
+    // radiances, before it is clamped at 0. `bounced` (values()'s cache, per point): a
+    // lender's bounced light, made when first read.
+    Rgb arriving(const Hierarchy& h, const fg::Point& p, std::vector<std::pair<bool, Rgb>>* bounced = nullptr) const;
+    // What a point shows when `e` arrives: irradiance / pi, or the radiance it leaves with.
+    static Rgb shown_value(const Hierarchy& h, const fg::Point& p, const Rgb& e, bool irradiance);
     Rgb point_value(const Hierarchy& h, const fg::Point& p, bool irradiance, const Rgb& change = Rgb{},
-                    std::vector<std::pair<bool, Rgb>>* bounced = nullptr) const;
+                    std::vector<std::pair<bool, Rgb>>* bounced = nullptr) const {
+        return shown_value(h, p, arriving(h, p, bounced) + change, irradiance);
+    }
     // A gathered point's irradiance / pi without what emitted_part gives: what it lends
     // (shared_gather.cpp).
     Rgb bounced_part(const Hierarchy& h, const fg::Point& p) const;

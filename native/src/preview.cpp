@@ -17,6 +17,7 @@
 #include <tbb/enumerable_thread_specific.h>
 
 #include "final_gather_trace.h"
+#include "preview_order.h"
 #include "radiosity/lights.h"
 #include "radiosity/parallel.h"
 #include "radiosity/solver.h"
@@ -25,56 +26,6 @@
 namespace radiosity {
 
 namespace {
-
-// Whether a shadow ray of some lamp from x (normal n) may meet one of `clips`: a point or spot
-// light's segment hull; the sun's rays toward the sun disk; the sky's, anywhere in front
-// (unless `sky` is false: lamps whose shadows are sharp and may fall far from the boxes).
-bool lamps_meet(const SceneDesc& scene, const Hierarchy& h, const Vec3& x, const Vec3& n, const std::vector<Aabb>& clips,
-                bool sky = true) {
-    // Whether some clip's bounding sphere comes within `spread` (plus the distance along it
-    // times `slope`) of the segment from x along unit u for length len: a quick, conservative
-    // test before the shaft's.
-    auto near_axis = [&](const Vec3& u, double len, double spread, double slope) {
-        for (const Aabb& c : clips) {
-            const Vec3 o = c.center() - x;
-            const double R = 0.5 * length(c.hi - c.lo) + 1e-4;
-            const double t = std::clamp(dot(o, u), 0.0, len);
-            if (length(o - u * t) <= R + spread + t * slope) return true;
-        }
-        return false;
-    };
-    for (const LightDesc& d : scene.lights()) {
-        if (!(d.intensity.max() > 0)) continue;
-        if (!sky && d.type == LightDesc::Type::Sky) continue;
-        Aabb lb;
-        if (d.type == LightDesc::Type::Point || d.type == LightDesc::Type::Spot) {
-            const Vec3 q = h.to_internal(d.position);
-            const double r = d.radius / h.unit;
-            const double len = length(q - x);
-            if (len > 0 && !near_axis((q - x) / len, len, r, 0.0)) continue;
-            lb.lo = q - Vec3{r, r, r};
-            lb.hi = q + Vec3{r, r, r};
-        } else if (d.type == LightDesc::Type::Sun) {
-            // Past the scene's far end toward the sun, as wide as the disk is there.
-            const double far = 4.0 * h.scene_diag;
-            const double slope = std::tan(0.5 * std::min(d.angle, 3.0));
-            if (!near_axis(normalize(d.direction) * -1.0, far, 1e-9, slope)) continue;
-            const Vec3 q = x - d.direction * far;
-            const double r = far * slope + 1e-9;
-            lb.lo = q - Vec3{r, r, r};
-            lb.hi = q + Vec3{r, r, r};
-        } else {
-            for (const Aabb& c : clips)
-                for (int k = 0; k < 8; ++k) {
-                    const Vec3 corner{(k & 1) ? c.hi.x : c.lo.x, (k & 2) ? c.hi.y : c.lo.y, (k & 4) ? c.hi.z : c.lo.z};
-                    if (dot(corner - x, n) > 0) return true;
-                }
-            continue;
-        }
-        if (hull_meets(x, lb, clips)) return true;
-    }
-    return false;
-}
 
 // The hierarchy's geometry that placing objects for a preview rewrites
 // (Hierarchy::place_object, not whole): their nodes, the clusters above them, their primitives
@@ -260,57 +211,6 @@ int64_t add_emitter_changes(const FinalGather::Solution& s, const FinalGather::P
     return transfers;
 }
 
-// One preview step's points in three runs: those inside an old or new box and those an
-// earlier step showed unlit (a footprint: its light must come back as soon as the object
-// leaves; relit at every step whatever the work), the dragged objects' own points (from
-// `turn` on, so that steps that stop early take turns among them), and the others: first
-// those a point, spot or sun light's shadow rays may carry a box's sharp shadow to (a low
-// sun throws it across the room), then the rest (the sky's soft shadow), each by distance to
-// the nearest box in rings of a 64th of the scene; within a ring by index. The second run is
-// [moved_begin, moved_end). Points of no object are left out.
-std::vector<uint32_t> preview_order(const FinalGather::Solution& s, const std::vector<fg::Point>& points,
-                                    const FinalGather::Preview& p, const std::vector<char>& unlit, size_t turn,
-                                    size_t& moved_begin, size_t& moved_end) {
-    const Hierarchy& h = s.h;
-    constexpr int kRings = 64;
-    constexpr uint8_t kNone = 2 * kRings + 2;
-    std::vector<uint8_t> ring(points.size(), kNone);
-    const double step = h.scene_diag / kRings;
-    parallel_for(points.size(), 0, [&](size_t i) {
-        const fg::Point& pt = points[i];
-        if (pt.object < 0 || size_t(pt.object) >= p.moved.size()) return;
-        if (p.moved[size_t(pt.object)]) {
-            ring[i] = 1;
-            return;
-        }
-        double d2 = std::numeric_limits<double>::max();
-        for (const Aabb& b : p.clips) {
-            const Vec3 q = vmax(b.lo, vmin(pt.x, b.hi));
-            d2 = std::min(d2, dot(pt.x - q, pt.x - q));
-        }
-        if (d2 == 0 || unlit[i]) {
-            ring[i] = 0;
-            return;
-        }
-        const bool sharp = !pt.covered && lamps_meet(s.scene, h, pt.x, pt.n, p.clips, false);
-        ring[i] = uint8_t((sharp ? 2 : 2 + kRings) + std::min(kRings - 1, int(std::sqrt(d2) / step)));
-    }, 4096);
-    std::vector<size_t> start(size_t(kNone) + 1, 0);
-    for (uint8_t r : ring) ++start[size_t(r) + 1];
-    for (size_t r = 1; r < start.size(); ++r) start[r] += start[r - 1];
-    std::vector<uint32_t> order(start[kNone]);
-    std::vector<size_t> at(start.begin(), start.end() - 1);
-    for (size_t i = 0; i < points.size(); ++i)
-        if (ring[i] < kNone) order[at[ring[i]]++] = uint32_t(i);
-    moved_begin = start[1];
-    moved_end = start[2];
-    const size_t moved = start[2] - start[1];
-    if (moved > 0)
-        std::rotate(order.begin() + long(start[1]), order.begin() + long(start[1] + turn % moved),
-                    order.begin() + long(start[2]));
-    return order;
-}
-
 // Per node: it emits, or holds an emitting element below it.
 std::vector<char> emitting_senders(const Hierarchy& h) {
     std::vector<char> emits(h.nodes.size(), 0);
@@ -322,15 +222,15 @@ std::vector<char> emitting_senders(const Hierarchy& h) {
     return emits;
 }
 
-// One preview step: each point's change of irradiance / pi at the new placements (d), whether
-// the dragged object covers it now (unlit), and what the step re-traced and cost (work:
-// shadow rays streamed from records, each one cast counting 5).
+// One preview step: each relit point's change of irradiance / pi at the new placements (into
+// d, per point), whether the dragged object covers it now (unlit), and what the step
+// re-traced and cost (work: shadow rays streamed from records, each one cast counting 5).
 class PreviewStep {
 public:
     PreviewStep(const FinalGather::Solution& s, const FinalGather::Preview& p, const FinalGather::Config& config,
                 const std::vector<fg::Point>& points, const std::vector<char>& emits,
-                std::function<Rgb(const fg::Point&)> bake_value)
-        : d(points.size()), unlit(points.size(), 0), s_(s), p_(p), config_(config), points_(points), emits_(emits),
+                std::function<Rgb(const fg::Point&)> bake_value, std::vector<Rgb>& d, std::vector<char>& unlit)
+        : d(d), unlit(unlit), s_(s), p_(p), config_(config), points_(points), emits_(emits),
           bake_value_(std::move(bake_value)) {}
     // Point i's change into d[i] (and unlit[i]); adds what it cost to work().
     void relight(size_t i);
@@ -343,8 +243,8 @@ public:
         k.covered = n_covered_;
     }
     int64_t work() const { return work_; }
-    std::vector<Rgb> d;
-    std::vector<char> unlit;
+    std::vector<Rgb>& d;
+    std::vector<char>& unlit;
 
 private:
     bool footprint(size_t i, const Vec3& x, const Vec3& n, PreviewScratch& sc);
@@ -393,16 +293,15 @@ bool PreviewStep::footprint(size_t i, const Vec3& x, const Vec3& n, PreviewScrat
 void PreviewStep::relight(size_t i) {
     const fg::Point& pt = points_[i];
     PreviewScratch& sc = scratch_.local();
+    d[i] = Rgb{};
+    unlit[i] = 0;
     if (pt.object < 0 || size_t(pt.object) >= p_.moved.size()) return;
     const bool moved = p_.moved[size_t(pt.object)] != 0;
     const Vec3 x = moved ? p_.carry[size_t(pt.object)].point(pt.x) : pt.x;
     const Vec3 n = moved ? p_.carry[size_t(pt.object)].dir(pt.n) : pt.n;
     if (!moved && p_.covered && footprint(i, x, n, sc)) return;
     // (A covered point is sealed too under a closed solid: the footprint's rule comes first.)
-    if (pt.covered || pt.sealed) {
-        d[i] = Rgb{};
-        return;
-    }
+    if (pt.covered || pt.sealed) return;
     Rgb dE;
     int64_t rays = 0, streamed = 0;
     bool changed = false;
@@ -427,41 +326,48 @@ void PreviewStep::relight(size_t i) {
     work_ += streamed + 4 * rays;
 }
 
-// A step that stops at `limit` work: the points inside the boxes (order's first run) all,
-// then chunks from the dragged objects' points and from the others (nearest first), the side
-// that has had less work first, so that the shadow a dragged armchair casts follows it even
-// where its own points alone would take all the work. Marks the points relit in `done`;
-// returns how many of the dragged points were.
-size_t relight_in_order(PreviewStep& step, const std::vector<uint32_t>& order, size_t moved_begin, size_t moved_end,
-                        int64_t limit, int threads, std::vector<char>& done, size_t& deferred) {
+// A step that stops at `limit` work: the points inside the boxes all, then chunks from the
+// dragged objects' points and from the others (nearest first), the side that has had less
+// work first, so that the shadow a dragged armchair casts follows it even where its own points
+// alone would take all the work. Appends the points relit to `relit`; returns how many of the
+// dragged points were.
+size_t relight_in_order(PreviewStep& step, PreviewOrder& order, size_t points, int64_t limit, int threads,
+                        std::vector<uint32_t>& relit, size_t& deferred) {
     // (Chunks of up to 256 points, a sixteenth of a small scene's: the work is checked
     // between chunks.)
-    const size_t chunk = std::clamp<size_t>(order.size() / 16, 16, 256);
-    auto run = [&](size_t from, size_t to) {
-        parallel_for(to - from, threads, [&](size_t j) {
-            step.relight(order[from + j]);
-            done[order[from + j]] = 1;
-        }, 8);
+    const size_t chunk = std::clamp<size_t>(points / 16, 16, 256);
+    auto run = [&](const uint32_t* first, size_t n) {
+        parallel_for(n, threads, [&](size_t j) { step.relight(first[j]); }, 8);
+        relit.insert(relit.end(), first, first + n);
     };
-    for (size_t k = 0; k < moved_begin; k += chunk) run(k, std::min(moved_begin, k + chunk));
-    size_t mv = moved_begin, env = moved_end;
+    const std::vector<uint32_t>& inside = order.inside();
+    for (size_t k = 0; k < inside.size(); k += chunk) run(inside.data() + k, std::min(chunk, inside.size() - k));
+    const std::vector<uint32_t>& dragged = order.dragged();
+    size_t mv = 0;
+    std::vector<uint32_t> next;
     int64_t spent[2] = {step.work(), 0};  // by the others (the boxes' insides too), by the dragged points
-    while (step.work() < limit && (mv < moved_end || env < order.size())) {
-        const bool dragged = mv < moved_end && (env == order.size() || spent[1] <= spent[0]);
-        size_t& at = dragged ? mv : env;
-        const size_t to = std::min(dragged ? moved_end : order.size(), at + chunk);
+    while (step.work() < limit && (mv < dragged.size() || order.others_left() > 0)) {
+        const bool drag = mv < dragged.size() && (order.others_left() == 0 || spent[1] <= spent[0]);
         const int64_t before = step.work();
-        run(at, to);
-        spent[dragged] += step.work() - before;
-        at = to;
+        if (drag) {
+            const size_t n = std::min(chunk, dragged.size() - mv);
+            run(dragged.data() + mv, n);
+            mv += n;
+        } else {
+            next.clear();
+            if (!order.next(chunk, next)) break;
+            run(next.data(), next.size());
+        }
+        spent[drag] += step.work() - before;
     }
-    deferred = (moved_end - mv) + (order.size() - env);
-    return mv - moved_begin;
+    deferred = (dragged.size() - mv) + order.others_left();
+    return mv;
 }
 
 }  // namespace
 
-std::vector<Rgb> FinalGather::preview(const Solution& s, const Preview& p, PreviewCounts& counts) {
+std::vector<FinalGather::CornerChange> FinalGather::preview(const Solution& s, const Preview& p,
+                                                            PreviewCounts& counts) {
     if (!traced()) return {};
     Impl& t = *impl_;
     const std::vector<fg::Point>& points = t.points;
@@ -470,38 +376,75 @@ std::vector<Rgb> FinalGather::preview(const Solution& s, const Preview& p, Previ
         shown.moved = p.moved;
         shown.shown.assign(points.size(), Rgb{});
         shown.unlit.assign(points.size(), 0);
+        shown.unlit_points.clear();
+        shown.touched.clear();
+        shown.is_touched.assign(points.size(), 0);
         shown.turn = 0;
     }
     // Only emitting senders' transfers are re-traced (a dark sender's light is bounced light,
-    // left as solved); which they are is found once per trace.
+    // left as solved); which they are, and where the points are, is found once per trace.
     if (shown.emits.size() != s.h.nodes.size()) shown.emits = emitting_senders(s.h);
-    PreviewStep step(s, p, t.config, points, shown.emits,
-                     [&](const fg::Point& pt) { return t.point_value(s.h, pt, true); });
+    if (!shown.index) shown.index = std::make_shared<const PointIndex>(points, t.corner_point);
+    const PointIndex& index = *shown.index;
+    auto bake_value = [&](const fg::Point& pt) { return t.point_value(s.h, pt, true); };
+    std::vector<uint32_t> changed;  // the points whose change may be non-zero
+    std::vector<Rgb> all;
+    const std::vector<Rgb>* d = &shown.shown;
     if (p.work <= 0) {
+        all.resize(points.size());
+        std::vector<char> unlit(points.size(), 0);
+        PreviewStep step(s, p, t.config, points, shown.emits, bake_value, all, unlit);
         parallel_for(points.size(), t.config.threads, [&](size_t i) { step.relight(i); }, 8);
+        step.tally(counts);
+        for (size_t i = 0; i < points.size(); ++i)
+            if (!all[i].is_zero()) changed.push_back(uint32_t(i));
+        d = &all;
     } else {
-        // The rest show what an earlier step of the drag showed.
-        size_t moved_begin = 0, moved_end = 0, deferred = 0;
-        const std::vector<uint32_t> order =
-            preview_order(s, points, p, shown.unlit, shown.turn, moved_begin, moved_end);
-        std::vector<char> done(points.size(), 0);
-        shown.turn += relight_in_order(step, order, moved_begin, moved_end, p.work, t.config.threads, done, deferred);
-        for (size_t i = 0; i < points.size(); ++i) {
-            if (done[i]) shown.shown[i] = step.d[i], shown.unlit[i] = step.unlit[i];
-            else step.d[i] = shown.shown[i];
-        }
+        // The points not relit show what an earlier step of the drag showed.
+        PreviewStep step(s, p, t.config, points, shown.emits, bake_value, shown.shown, shown.unlit);
+        PreviewOrder order(s, points, index, p, shown.unlit, shown.unlit_points, shown.turn);
+        std::vector<uint32_t> relit;
+        size_t deferred = 0;
+        shown.turn += relight_in_order(step, order, points.size(), p.work, t.config.threads, relit, deferred);
+        step.tally(counts);
         counts.deferred = int64_t(deferred);
+        std::vector<uint32_t> unlit_points;
+        for (const std::vector<uint32_t>* list : {&shown.unlit_points, &relit})
+            for (uint32_t i : *list)
+                if (shown.unlit[i]) unlit_points.push_back(i);
+        std::sort(unlit_points.begin(), unlit_points.end());
+        unlit_points.erase(std::unique(unlit_points.begin(), unlit_points.end()), unlit_points.end());
+        shown.unlit_points.swap(unlit_points);
+        for (uint32_t i : relit)
+            if (!shown.is_touched[i] && !shown.shown[i].is_zero()) {
+                shown.is_touched[i] = 1;
+                shown.touched.push_back(i);
+            }
+        changed = shown.touched;
     }
-    step.tally(counts);
-    return std::move(step.d);
-}
-
-bool FinalGather::corner_value(const Hierarchy& h, int object, size_t corner, bool irradiance, const Rgb& change,
-                               Rgb& out) const {
-    const int p = corner_point(object, corner);
-    if (p < 0) return false;
-    out = impl_->point_value(h, impl_->points[size_t(p)], irradiance, change);
-    return true;
+    // What the bake has arriving at a point, made when first asked for.
+    if (shown.arriving.size() != points.size()) {
+        shown.arriving.assign(points.size(), Rgb{});
+        shown.has_arriving.assign(points.size(), 0);
+    }
+    std::vector<CornerChange> out;
+    for (uint32_t i : changed) {
+        const Rgb& change = (*d)[i];
+        if (change.is_zero()) continue;
+        const fg::Point& pt = points[i];
+        if (!shown.has_arriving[i]) {
+            shown.arriving[i] = t.arriving(s.h, pt);
+            shown.has_arriving[i] = 1;
+        }
+        const Rgb e = shown.arriving[i] + change;
+        const Rgb irradiance = Impl::shown_value(s.h, pt, e, true), radiance = Impl::shown_value(s.h, pt, e, false);
+        const auto [first, last] = index.corners(i);
+        for (auto c = first; c != last; ++c) out.push_back({c->first, c->second, irradiance, radiance});
+    }
+    std::sort(out.begin(), out.end(), [](const CornerChange& a, const CornerChange& b) {
+        return a.object != b.object ? a.object < b.object : a.corner < b.corner;
+    });
+    return out;
 }
 
 namespace {
@@ -513,14 +456,15 @@ struct PlacedPolygon {
     Aabb box;
 };
 
-// The dragged objects' polygons where the preview places them.
-std::vector<PlacedPolygon> placed_polygons(const SceneDesc& scene, const Hierarchy& h, const FinalGather::Preview& p) {
+// The dragged objects' polygons where the preview places them (`prims`: their primitives).
+std::vector<PlacedPolygon> placed_polygons(const Hierarchy& h, const FinalGather::Preview& p,
+                                           const std::vector<std::vector<int>>& prims) {
     // As DirectLight::find_contacts: coplanar within 1e-7 of the scene, facing the other way, the point inside.
     std::vector<PlacedPolygon> polys;
     const double tol = 1e-7 * h.scene_diag;
-    const size_t no = scene.objects().size();
-    for (const Primitive& pr : h.prims) {
-        if (pr.object < 0 || size_t(pr.object) >= no || !p.moved[size_t(pr.object)]) continue;
+    for (const std::vector<int>& own : prims)
+    for (int pi : own) {
+        const Primitive& pr = h.prims[size_t(pi)];
         for (int side : {pr.front, pr.back}) {
             if (side < 0) continue;
             const Node& root = h.nodes[size_t(h.surfaces[size_t(side)].root)];
@@ -539,37 +483,38 @@ std::vector<PlacedPolygon> placed_polygons(const SceneDesc& scene, const Hierarc
     return polys;
 }
 
-// The corners whose colour the per-point changes `d` alter, and their values.
-std::vector<CornerPatch> preview_patches(const SceneDesc& scene, const Hierarchy& h, const FinalGather& output,
-                                         const std::vector<Rgb>& d) {
+// The corners whose light a preview changes (by object and corner), with their values.
+std::vector<CornerPatch> preview_patches(const SceneDesc& scene, const std::vector<FinalGather::CornerChange>& changes) {
     // Only the corners whose light changed: the caller shows the last bake's colours elsewhere.
     std::vector<CornerPatch> out;
-    for (size_t o = 0; o < scene.objects().size(); ++o) {
-        const ObjectDesc& od = scene.objects()[o];
+    for (size_t k = 0; k < changes.size();) {
+        const int o = changes[k].object;
+        const ObjectDesc& od = scene.objects()[size_t(o)];
         // A textured surface reflects with each corner's own reflectance (corner_radiance).
         const bool textured = !od.corner_reflectance.empty() || !od.corner_emission.empty();
+        std::vector<int> polygon;  // per corner (a texture on one of the two)
+        if (textured && (od.corner_reflectance.empty() || od.corner_emission.empty())) {
+            polygon.resize(size_t(od.corner_count()));
+            for (size_t f = 0; f < od.polygon_count(); ++f)
+                for (int j = 0; j < od.loop_totals[f]; ++j) polygon[size_t(od.loop_starts[f]) + size_t(j)] = int(f);
+        }
         CornerPatch patch;
-        patch.object = int(o);
-        for (size_t f = 0; f < od.polygon_count(); ++f)
-            for (int j = 0; j < od.loop_totals[f]; ++j) {
-                const size_t c = size_t(od.loop_starts[f]) + size_t(j);
-                const int pi = output.corner_point(int(o), c);
-                if (pi < 0) continue;
-                const Rgb& dE = d[size_t(pi)];
-                if (dE.r == 0 && dE.g == 0 && dE.b == 0) continue;
-                Rgb v;
-                if (!output.corner_value(h, int(o), c, textured, dE, v)) continue;
-                if (textured) {
-                    const Rgb rho = od.corner_reflectance.empty() ? od.reflectance[f] : od.corner_reflectance[c];
-                    const Rgb e = od.corner_emission.empty() ? od.emission[f] : od.corner_emission[c];
-                    v = e + rho * v;
-                }
-                // Stale bounced light plus fresh direct can undershoot where a shadow is cast.
-                patch.corners.push_back(int32_t(c));
-                patch.values.push_back(std::max(0.f, float(v.r)));
-                patch.values.push_back(std::max(0.f, float(v.g)));
-                patch.values.push_back(std::max(0.f, float(v.b)));
+        patch.object = o;
+        for (; k < changes.size() && changes[k].object == o; ++k) {
+            const size_t c = size_t(changes[k].corner);
+            Rgb v = textured ? changes[k].irradiance : changes[k].radiance;
+            if (textured) {
+                const size_t f = polygon.empty() ? 0 : size_t(polygon[c]);
+                const Rgb rho = od.corner_reflectance.empty() ? od.reflectance[f] : od.corner_reflectance[c];
+                const Rgb e = od.corner_emission.empty() ? od.emission[f] : od.corner_emission[c];
+                v = e + rho * v;
             }
+            // Stale bounced light plus fresh direct can undershoot where a shadow is cast.
+            patch.corners.push_back(int32_t(c));
+            patch.values.push_back(std::max(0.f, float(v.r)));
+            patch.values.push_back(std::max(0.f, float(v.g)));
+            patch.values.push_back(std::max(0.f, float(v.b)));
+        }
         if (!patch.corners.empty()) out.push_back(std::move(patch));
     }
     return out;
@@ -584,10 +529,13 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
         throw std::logic_error("preview: needs the final gather's trace (gather_rays > 0)");
     FinalGather::Preview p;
     std::vector<std::pair<int, Rigid>> placed;
-    preview_moves(moves, p, placed);
+    std::vector<std::vector<int>> prims;
+    preview_moves(moves, p, placed, prims);
     p.work = work < 0 ? settings_.preview_work : work;
+    std::vector<int> objects;
+    for (const auto& op : placed) objects.push_back(op.first);
     // (DirectLight::contact's test, with the moved objects where they are now.)
-    const std::vector<PlacedPolygon> polys = placed_polygons(scene_, h_, p);
+    const std::vector<PlacedPolygon> polys = placed_polygons(h_, p, prims);
     const double tol = 1e-7 * h_.scene_diag;
     const double inside_tol = 1e-9 * h_.scene_diag;
     p.covered = [&](int surface, const Vec3& x, const Vec3& n) {
@@ -612,15 +560,6 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
             p.moved_nodes[size_t(a)] = 1;
     }
     auto place = [this](int object, const Rigid& q) { vis_->set_object_transform(object, q); };
-    // Each dragged object's primitives (its Embree triangles', a quad's two named once).
-    std::vector<int> objects;
-    std::vector<std::vector<int>> prims;
-    for (const auto& op : placed) {
-        objects.push_back(op.first);
-        std::vector<int>& own = prims.emplace_back();
-        for (int pi : tri_prim_[size_t(op.first)])
-            if (own.empty() || own.back() != pi) own.push_back(pi);
-    }
     // The solution's placements back however the preview ends (Embree's from the same poses:
     // the same floats; the hierarchy's from the saved copy).
     struct Restore {
@@ -652,14 +591,14 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
     if (!placed.empty()) {
         const FinalGather::Solution s{scene_, h_, *vis_, links_,
                                       [this](int surface, const Vec3& q) { return direct_light_.contact(h_, surface, q); }, &tri_prim_};
-        out = preview_patches(scene_, h_, output_, output_.preview(s, p, k));
+        out = preview_patches(scene_, output_.preview(s, p, k));
     }
     if (counts) *counts = k;
     return out;
 }
 
 void Solver::preview_moves(const std::map<int, std::array<double, 16>>& moves, FinalGather::Preview& p,
-                           std::vector<std::pair<int, Rigid>>& placed) const {
+                           std::vector<std::pair<int, Rigid>>& placed, std::vector<std::vector<int>>& prims) const {
     const size_t no = scene_.objects().size();
     p.moved.assign(no, 0);
     p.carry.assign(no, Rigid{});
@@ -671,7 +610,15 @@ void Solver::preview_moves(const std::map<int, std::array<double, 16>>& moves, F
         const Rigid& from = poses[size_t(object)];
         if (to == from) continue;  // where the solution has it
         const Rigid& c = p.carry[size_t(object)] = to.relative_to(from);
-        const Aabb was = h_.object_box(object);
+        // Its primitives (its Embree triangles', a quad's two named once) and their box.
+        std::vector<int>& own = prims.emplace_back();
+        Aabb was;
+        for (int pi : tri_prim_[size_t(object)]) {
+            if (!own.empty() && own.back() == pi) continue;
+            own.push_back(pi);
+            const Poly& poly = h_.prims[size_t(pi)].poly;
+            for (int j = 0; j < poly.n; ++j) was.grow(poly.v[size_t(j)]);
+        }
         Aabb now;
         for (int k = 0; k < 8; ++k)
             now.grow(c.point({(k & 1) ? was.hi.x : was.lo.x, (k & 2) ? was.hi.y : was.lo.y, (k & 4) ? was.hi.z : was.lo.z}));

@@ -132,13 +132,15 @@ public:
         int64_t rays = 0;
         int64_t deferred = 0;   // points the work left showing an earlier step's change
     };
-    // Per point, the change of its irradiance / pi. Remembers what it showed until the next
-    // trace, or a drag of other objects.
-    std::vector<Rgb> preview(const Solution& s, const Preview& p, PreviewCounts& counts);
-    // One corner's value as corner_radiance (or with `irradiance`, corner_irradiance) gives
-    // it, with `change` (preview's) added to what arrives there; false when the object or
-    // corner was not traced (its value is 0).
-    bool corner_value(const Hierarchy& h, int object, size_t corner, bool irradiance, const Rgb& change, Rgb& out) const;
+    // A corner whose light a preview changes, and what it shows now: irradiance / pi and the
+    // radiance it leaves with (its leaf's reflectance and emission).
+    struct CornerChange {
+        int object = -1, corner = -1;
+        Rgb irradiance, radiance;
+    };
+    // The corners whose light changed, by object and corner. Remembers what it showed until
+    // the next trace, or a drag of other objects.
+    std::vector<CornerChange> preview(const Solution& s, const Preview& p, PreviewCounts& counts);
     // The point a corner reads (-1: none; preview()'s index).
     int corner_point(int object, size_t corner) const;
     void clear();

@@ -264,9 +264,9 @@ private:
     // The enclosure deciders ask again, casting only escape rays through a changed box.
     void redecide_enclosures(const Change& ch);
     // preview.cpp: the drag's placements (carries, old and new boxes), validated as
-    // move_object validates them.
+    // move_object validates them, and each placed object's primitives.
     void preview_moves(const std::map<int, std::array<double, 16>>& moves, FinalGather::Preview& p,
-                       std::vector<std::pair<int, Rigid>>& placed) const;
+                       std::vector<std::pair<int, Rigid>>& placed, std::vector<std::vector<int>>& prims) const;
     // topology.cpp
     void check_live(int object, const char* what) const;
     void blank_object(int object);           // the scene slot of a removed object, emptied

@@ -53,6 +53,7 @@ struct Rgb {
     Rgb& operator*=(double s) { r *= s; g *= s; b *= s; return *this; }
     double max() const { return std::max(r, std::max(g, b)); }
     double mean() const { return (r + g + b) / 3.0; }
+    bool is_zero() const { return r == 0 && g == 0 && b == 0; }
 };
 inline Rgb operator*(double s, const Rgb& c) { return c * s; }
 inline Rgb cmin(const Rgb& a, const Rgb& b) { return {std::min(a.r, b.r), std::min(a.g, b.g), std::min(a.b, b.b)}; }

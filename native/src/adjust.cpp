@@ -677,12 +677,17 @@ bool Solver::update_adjust(UpdateRun& u, Control* control) {
     if (u.topology) apply_topology(ch);  // topology.cpp
     // Geometry and Embree instances of moved objects.
     ch.moved.assign(scene_.objects().size(), 0);
-    for (auto& [obj, pose] : ch.moves) {
-        ch.clips.push_back(h_.object_box(obj));
-        h_.place_object(obj, pose);
+    std::vector<std::pair<int, Rigid>> placed(ch.moves.begin(), ch.moves.end());
+    std::vector<std::vector<int>> prims;
+    std::vector<Aabb> was;
+    for (const auto& [obj, pose] : placed) was.push_back(h_.object_box(obj, &prims.emplace_back(own_prims(obj))));
+    h_.place_objects(placed, true, &prims);
+    for (size_t j = 0; j < placed.size(); ++j) {
+        const auto& [obj, pose] = placed[j];
         edits_.place(obj, pose);
         vis_->set_object_transform(obj, pose);
-        ch.clips.push_back(h_.object_box(obj));
+        ch.clips.push_back(was[j]);
+        ch.clips.push_back(h_.object_box(obj, &prims[j]));
         ch.now.push_back(ch.clips.back());
         ch.moved[obj] = 1;
     }

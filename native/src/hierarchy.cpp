@@ -1,6 +1,7 @@
 #include "radiosity/hierarchy.h"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -639,11 +640,16 @@ std::vector<int> Hierarchy::object_nodes(int object) const {
     return out;
 }
 
-Aabb Hierarchy::object_box(int object) const {
+Aabb Hierarchy::object_box(int object, const std::vector<int>* own) const {
     Aabb b;
-    for (const Primitive& p : prims)
+    auto take = [&](const Primitive& p) {
         if (p.object == object)
             for (int k = 0; k < p.poly.n; ++k) b.grow(p.poly.v[k]);
+    };
+    if (own)
+        for (int i : *own) take(prims[size_t(i)]);
+    else
+        for (const Primitive& p : prims) take(p);
     return b;
 }
 
@@ -664,46 +670,6 @@ void set_element_poly(Hierarchy& h, int id, const Poly& poly) {
     for (size_t k = 0; k < kids.size(); ++k) set_element_poly(h, kids[k], poly.child(int(k)));
 }
 }  // namespace
-
-void Hierarchy::place_object(int object, const Rigid& placement, bool whole, const std::vector<int>* own) {
-    auto place = [&](Primitive& p) {
-        for (int k = 0; k < p.poly.n; ++k) p.poly.v[k] = placement.point(p.poly0.v[k]);
-        if (p.front >= 0) set_element_poly(*this, surfaces[p.front].root, p.poly);
-        if (p.back >= 0) {
-            Poly b = p.poly;
-            std::reverse(b.v.begin(), b.v.begin() + b.n);
-            set_element_poly(*this, surfaces[p.back].root, b);
-        }
-    };
-    if (own) {
-        for (int i : *own)
-            if (prims[size_t(i)].object == object) place(prims[size_t(i)]);
-    } else {
-        for (Primitive& p : prims)
-            if (p.object == object) place(p);
-    }
-    // Clusters of the object (children have larger ids), then every cluster above it.
-    std::vector<int> cl;
-    for (int id : object_nodes(object))
-        if (nodes[id].is_cluster()) cl.push_back(id);
-    std::sort(cl.rbegin(), cl.rend());
-    for (int id : cl) refresh_cluster_geometry(id);
-    const int top = object_node[object];
-    std::vector<int> up;
-    if (top >= 0) {
-        for (int a = nodes[top].parent; a >= 0; a = nodes[a].parent) up.push_back(a);
-    } else {
-        up.push_back(root);
-    }
-    if (whole || top < 0 || !nodes[top].is_cluster()) {
-        for (int a : up) refresh_cluster_geometry(a);
-        refresh_surface_geom();
-        return;
-    }
-    for (int a : up) cluster_geometry_from_children(a);
-    cl.insert(cl.end(), up.begin(), up.end());
-    refresh_surface_geom(nodes[top].surf_begin, nodes[top].surf_end, cl);
-}
 
 }  // namespace radiosity
 
@@ -830,14 +796,71 @@ void Hierarchy::refresh_surface_geom() {
     sampler_tree(*this, sampler_children, sampler_first);  // after the clusters' geometry
 }
 
-void Hierarchy::refresh_surface_geom(int b, int e, const std::vector<int>& changed) {
-    for (int i = b; i < e; ++i) take_geometry(surface_geom[size_t(i)], nodes[surfaces[surface_order[size_t(i)]].root]);
+void Hierarchy::refresh_surface_tables(int b, const std::vector<int>& changed) {
     for (size_t i = size_t(b); i < surface_geom.size(); ++i) area_prefix[i + 1] = area_prefix[i] + surface_geom[i].area;
     for (int id : changed) {
         facing_summary[size_t(id)] = summary_of(surface_geom, nodes[size_t(id)]);
         for (int k = sampler_first[size_t(id)]; k < sampler_first[size_t(id) + 1]; ++k)
             take_facing(sampler_children[size_t(k)], nodes[size_t(sampler_children[size_t(k)].id)]);
     }
+}
+
+void Hierarchy::place_objects(const std::vector<std::pair<int, Rigid>>& placed, bool whole,
+                              const std::vector<std::vector<int>>* own) {
+    std::vector<int> changed;  // (a partial refresh) clusters whose geometry changed
+    int first = std::numeric_limits<int>::max();  // ... and the first surface-table entry
+    for (size_t j = 0; j < placed.size(); ++j) {
+        const int object = placed[j].first;
+        const Rigid& placement = placed[j].second;
+        auto place = [&](Primitive& p) {
+            for (int k = 0; k < p.poly.n; ++k) p.poly.v[k] = placement.point(p.poly0.v[k]);
+            if (p.front >= 0) set_element_poly(*this, surfaces[p.front].root, p.poly);
+            if (p.back >= 0) {
+                Poly b = p.poly;
+                std::reverse(b.v.begin(), b.v.begin() + b.n);
+                set_element_poly(*this, surfaces[p.back].root, b);
+            }
+        };
+        if (own) {
+            for (int i : (*own)[j])
+                if (prims[size_t(i)].object == object) place(prims[size_t(i)]);
+        } else {
+            for (Primitive& p : prims)
+                if (p.object == object) place(p);
+        }
+        // Clusters of the object (children have larger ids), then every cluster above it.
+        std::vector<int> cl;
+        for (int id : object_nodes(object))
+            if (nodes[id].is_cluster()) cl.push_back(id);
+        std::sort(cl.rbegin(), cl.rend());
+        for (int id : cl) refresh_cluster_geometry(id);
+        const int top = object_node[object];
+        std::vector<int> up;
+        if (top >= 0) {
+            for (int a = nodes[top].parent; a >= 0; a = nodes[a].parent) up.push_back(a);
+        } else {
+            up.push_back(root);
+        }
+        if (whole || top < 0 || !nodes[top].is_cluster()) {
+            whole = true;
+            for (int a : up) refresh_cluster_geometry(a);
+            continue;
+        }
+        for (int a : up) cluster_geometry_from_children(a);
+        const Node& t = nodes[top];
+        for (int i = t.surf_begin; i < t.surf_end; ++i)
+            take_geometry(surface_geom[size_t(i)], nodes[surfaces[surface_order[size_t(i)]].root]);
+        first = std::min(first, t.surf_begin);
+        changed.insert(changed.end(), cl.begin(), cl.end());
+        changed.insert(changed.end(), up.begin(), up.end());
+    }
+    if (whole) {
+        refresh_surface_geom();
+        return;
+    }
+    std::sort(changed.begin(), changed.end());
+    changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+    refresh_surface_tables(first, changed);
 }
 
 bool Hierarchy::surface_geom_current() const {

@@ -53,7 +53,8 @@ public:
             for (int id : h.object_nodes(o)) keep(id);
             const int top = h.object_node[size_t(o)];
             for (int a = top >= 0 ? h.nodes[size_t(top)].parent : h.root; a >= 0; a = h.nodes[size_t(a)].parent) keep(a);
-            if (top >= 0 && h.nodes[size_t(top)].is_cluster())
+            const bool clustered = top >= 0 && h.nodes[size_t(top)].is_cluster();
+            if (clustered)
                 for (int i = h.nodes[size_t(top)].surf_begin; i < h.nodes[size_t(top)].surf_end; ++i)
                     geoms_.emplace_back(i, h.surface_geom[size_t(i)]);
             else
@@ -61,6 +62,7 @@ public:
             for (int pi : prims[j]) {
                 const Primitive& pr = h.prims[size_t(pi)];
                 prims_.emplace_back(size_t(pi), pr.poly);
+                if (clustered) continue;  // (its cluster's subtree holds its surfaces)
                 for (int side : {pr.front, pr.back})
                     if (side >= 0)
                         for (int id : subtree(h, h.surfaces[size_t(side)].root)) keep(id);
@@ -580,10 +582,8 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
             }
         }
     } restore{this, placed, place, SavedGeometry(h_, objects, prims)};
-    for (size_t j = 0; j < placed.size(); ++j) {
-        place(placed[j].first, placed[j].second);
-        h_.place_object(placed[j].first, placed[j].second, false, &prims[j]);  // (put back by `restore`)
-    }
+    for (const auto& op : placed) place(op.first, op.second);
+    h_.place_objects(placed, false, &prims);  // (put back by `restore`)
     if (!placed.empty()) vis_->commit();
 
     FinalGather::PreviewCounts k;
@@ -610,15 +610,8 @@ void Solver::preview_moves(const std::map<int, std::array<double, 16>>& moves, F
         const Rigid& from = poses[size_t(object)];
         if (to == from) continue;  // where the solution has it
         const Rigid& c = p.carry[size_t(object)] = to.relative_to(from);
-        // Its primitives (its Embree triangles', a quad's two named once) and their box.
-        std::vector<int>& own = prims.emplace_back();
-        Aabb was;
-        for (int pi : tri_prim_[size_t(object)]) {
-            if (!own.empty() && own.back() == pi) continue;
-            own.push_back(pi);
-            const Poly& poly = h_.prims[size_t(pi)].poly;
-            for (int j = 0; j < poly.n; ++j) was.grow(poly.v[size_t(j)]);
-        }
+        const std::vector<int>& own = prims.emplace_back(own_prims(object));
+        const Aabb was = h_.object_box(object, &own);
         Aabb now;
         for (int k = 0; k < 8; ++k)
             now.grow(c.point({(k & 1) ? was.hi.x : was.lo.x, (k & 2) ? was.hi.y : was.lo.y, (k & 4) ? was.hi.z : was.lo.z}));

@@ -37,6 +37,14 @@ void Solver::add_object_geometry(int o, const std::vector<int>& prims) {
     vis_->add_object(o, tv);
 }
 
+std::vector<int> Solver::own_prims(int object) const {
+    // (A quad's two triangles name it twice, one after the other.)
+    std::vector<int> own;
+    for (int pi : tri_prim_[size_t(object)])
+        if (own.empty() || own.back() != pi) own.push_back(pi);
+    return own;
+}
+
 void Solver::check_cancel() const {
     if (control_ && control_->cancel.load(std::memory_order_relaxed)) throw Cancelled();
 }

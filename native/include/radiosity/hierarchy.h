@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "radiosity/chunked.h"
@@ -126,14 +127,18 @@ public:
     static constexpr uint8_t kEmitsAny = 1, kEmitsAll = 2;
     void index_emitters();
     int emit_flags(int node) const { return size_t(node) < emits_.size() ? emits_[size_t(node)] : -1; }
-    // Places an object rigidly: p = R p0 + t in the internal frame (R row-major 3x3), its
+    // Places objects rigidly: p = R p0 + t in the internal frame (R row-major 3x3), their
     // surfaces and elements re-derived from the given geometry, clusters above refreshed.
-    // `whole`: the clusters above it from their surfaces and the surface tables anew, bit for
-    // bit as a build makes them. Otherwise (a live drag's placement, put back after) the
-    // clusters above it from their children and the tables only where its surfaces are: the
-    // same up to rounding, in time that follows the object and the tree's depth, not the scene.
-    // `own`: the object's primitives, when the caller knows them (else found among all).
-    void place_object(int object, const Rigid& placement, bool whole = true, const std::vector<int>* own = nullptr);
+    // `whole`: the clusters above them from their surfaces and the surface tables anew, bit
+    // for bit as a build makes them. Otherwise (a live drag's placement, put back after) the
+    // clusters above them from their children and the tables only where their surfaces are:
+    // the same up to rounding, in time that follows the objects and the tree's depth, not the
+    // scene. `own`: per object its primitives, when the caller knows them (else found among all).
+    void place_objects(const std::vector<std::pair<int, Rigid>>& placed, bool whole = true,
+                       const std::vector<std::vector<int>>* own = nullptr);
+    void place_object(int object, const Rigid& placement, bool whole = true) {
+        place_objects({{object, placement}}, whole);
+    }
     // Nodes of an object (its cluster subtree, or its surfaces' quadtrees when unclustered).
     std::vector<int> object_nodes(int object) const;
 
@@ -151,8 +156,9 @@ public:
     int remove_object(int object);
     // Surfaces of removed objects keep their slot (ids stay stable) with a dead root.
     bool surface_dead(int s) const { return nodes[surfaces[s].root].dead; }
-    // Bounding box of an object's current placement.
-    Aabb object_box(int object) const;
+    // Bounding box of an object's current placement (`own`: its primitives, when the caller
+    // knows them; else found among all).
+    Aabb object_box(int object, const std::vector<int>* own = nullptr) const;
     static uint64_t mix(uint64_t a, uint64_t b);
     // The pockets of the surfaces below each cluster (set_pocket_sets), sorted.
     std::vector<std::vector<int>> pocket_sets;
@@ -243,9 +249,10 @@ public:
     // Remakes surface_geom, area_prefix, the facing summaries and the samplers' tree from the
     // nodes; call it after the clusters' geometry (refresh_cluster_geometry) is current.
     void refresh_surface_geom();
-    // The same for surface_order range [b, e) and the clusters `changed` alone (those whose
-    // surfaces or children's geometry changed); the tree's shape as it was.
-    void refresh_surface_geom(int b, int e, const std::vector<int>& changed);
+    // The area prefix from surface_order position b on, and the facing summaries and samplers'
+    // data of the clusters `changed` alone (those whose surfaces or children's geometry
+    // changed), surface_geom being current; the tree's shape as it was.
+    void refresh_surface_tables(int b, const std::vector<int>& changed);
     // Whether surface_geom (and the samplers' data made with it) matches the nodes (tests).
     bool surface_geom_current() const;
     std::vector<int> object_node;     // per object: its cluster node (-1 if it has no surface)

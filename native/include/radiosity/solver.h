@@ -346,6 +346,8 @@ private:
     void check_cancel() const;
     // An object's triangles (its primitives, quads as two) into Embree and tri_prim_.
     void add_object_geometry(int object, const std::vector<int>& prims);
+    // An object's primitives, from tri_prim_ (solver.cpp).
+    std::vector<int> own_prims(int object) const;
     void set_progress(double f) const;
     void compute_stats();
     // Adds the time since the previous lap to the named phase of stats_.phases.

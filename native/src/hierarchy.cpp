@@ -640,6 +640,17 @@ std::vector<int> Hierarchy::object_nodes(int object) const {
     return out;
 }
 
+std::vector<int> Hierarchy::object_clusters(int object) const {
+    std::vector<int> out;
+    const int top = object_node[size_t(object)];
+    if (top < 0 || !nodes[size_t(top)].is_cluster()) return out;
+    out.push_back(top);
+    for (size_t k = 0; k < out.size(); ++k)
+        for (int c : nodes[size_t(out[k])].children)
+            if (nodes[size_t(c)].is_cluster()) out.push_back(c);
+    return out;
+}
+
 Aabb Hierarchy::object_box(int object, const std::vector<int>* own) const {
     Aabb b;
     auto take = [&](const Primitive& p) {
@@ -829,9 +840,7 @@ void Hierarchy::place_objects(const std::vector<std::pair<int, Rigid>>& placed, 
                 if (p.object == object) place(p);
         }
         // Clusters of the object (children have larger ids), then every cluster above it.
-        std::vector<int> cl;
-        for (int id : object_nodes(object))
-            if (nodes[id].is_cluster()) cl.push_back(id);
+        std::vector<int> cl = object_clusters(object);
         std::sort(cl.rbegin(), cl.rend());
         for (int id : cl) refresh_cluster_geometry(id);
         const int top = object_node[object];

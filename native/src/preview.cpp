@@ -50,7 +50,9 @@ public:
         };
         for (size_t j = 0; j < objects.size(); ++j) {
             const int o = objects[j];
-            for (int id : h.object_nodes(o)) keep(id);
+            const std::vector<int> ids = h.object_nodes(o);
+            nodes_.reserve(nodes_.size() + ids.size() + 64);
+            for (int id : ids) keep(id);
             const int top = h.object_node[size_t(o)];
             for (int a = top >= 0 ? h.nodes[size_t(top)].parent : h.root; a >= 0; a = h.nodes[size_t(a)].parent) keep(a);
             const bool clustered = top >= 0 && h.nodes[size_t(top)].is_cluster();

@@ -141,6 +141,8 @@ public:
     }
     // Nodes of an object (its cluster subtree, or its surfaces' quadtrees when unclustered).
     std::vector<int> object_nodes(int object) const;
+    // The clusters among them, each after its parent.
+    std::vector<int> object_clusters(int object) const;
 
     // --- Objects added to or removed from a built hierarchy (dynamic environments).
     // Builds object `object` of `scene` (already appended there) into the tree where a fresh

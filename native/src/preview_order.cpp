@@ -222,7 +222,7 @@ PreviewOrder::PreviewOrder(const FinalGather::Solution& s, const std::vector<fg:
             }
         // The least key a point of the cell may have (a hair less than the points' own
         // distances, whose rounding may differ).
-        const int ring = std::min(kRings - 1, int(d * (1 - 1e-9) / step_));
+        const int ring = int(std::min(double(kRings - 1), d * (1 - 1e-9) / step_));
         const bool sharp = sharp_lamps_may_meet(s.scene, s.h, cell.box.center(), 0.5 * cell.box.diagonal(), p.clips);
         cell_key_[c] = (sharp ? 2 : 2 + kRings) + ring;
     }
@@ -237,7 +237,7 @@ PreviewOrder::PreviewOrder(const FinalGather::Solution& s, const std::vector<fg:
 
 int PreviewOrder::key_of(uint32_t i) const {
     const fg::Point& pt = points_[i];
-    const int ring = std::min(kRings - 1, int(distance_to(p_.clips, pt.x) / step_));
+    const int ring = int(std::min(double(kRings - 1), distance_to(p_.clips, pt.x) / step_));
     const bool sharp = !pt.covered && lamps_meet(s_.scene, s_.h, pt.x, pt.n, p_.clips, false);
     return (sharp ? 2 : 2 + kRings) + ring;
 }

@@ -256,3 +256,17 @@ TEST(Preview, ItsPlacementIsTheWholeOnesUpToRounding) {
     for (size_t i = 0; i < whole.nodes.size(); ++i)
         EXPECT_EQ(part.has_facing_summary(int(i)), whole.has_facing_summary(int(i))) << "node " << i;
 }
+
+// A step that drags the object far outside the scene (ten million of its sizes): the points
+// lie in the farthest distance ring from the boxes, and every value shown stays finite.
+TEST(Preview, ADragFarOutsideTheSceneStaysFinite) {
+    Solver s(scenes::point_light_box_on_floor({0.3, 0.2, 2.5}), settings());
+    s.solve();
+    const std::array<double, 16> m = translation({3e7, -2e7, 1e7});
+    for (int64_t work : {int64_t(0), int64_t(20000)}) {
+        FinalGather::PreviewCounts k;
+        const std::vector<float> shown = patched(s, s.preview({{1, m}}, &k, work));
+        for (size_t i = 0; i < shown.size(); ++i) ASSERT_TRUE(std::isfinite(shown[i])) << "value " << i;
+        EXPECT_GT(k.points, 0);
+    }
+}

@@ -807,8 +807,26 @@ void Hierarchy::refresh_surface_geom() {
     sampler_tree(*this, sampler_children, sampler_first);  // after the clusters' geometry
 }
 
-void Hierarchy::refresh_surface_tables(int b, const std::vector<int>& changed) {
-    for (size_t i = size_t(b); i < surface_geom.size(); ++i) area_prefix[i + 1] = area_prefix[i] + surface_geom[i].area;
+void Hierarchy::refresh_surface_tables(std::vector<std::pair<int, int>> ranges, const std::vector<int>& changed) {
+    // The prefix summed afresh within each range; past it, shifted by what the range's sum
+    // changed (a rigid placement changes areas by rounding alone): no read of the other
+    // surfaces' geometry.
+    std::sort(ranges.begin(), ranges.end());
+    double shift = 0;
+    size_t at = 0;
+    auto shift_to = [&](size_t end) {
+        if (shift != 0)
+            for (size_t i = at; i < end; ++i) area_prefix[i + 1] += shift;
+        at = std::max(at, end);
+    };
+    for (const auto& [b, e] : ranges) {
+        shift_to(size_t(b));
+        const double was = area_prefix[size_t(e)];
+        for (size_t i = std::max(at, size_t(b)); i < size_t(e); ++i) area_prefix[i + 1] = area_prefix[i] + surface_geom[i].area;
+        shift = area_prefix[size_t(e)] - was;
+        at = std::max(at, size_t(e));
+    }
+    shift_to(surface_geom.size());
     for (int id : changed) {
         facing_summary[size_t(id)] = summary_of(surface_geom, nodes[size_t(id)]);
         for (int k = sampler_first[size_t(id)]; k < sampler_first[size_t(id) + 1]; ++k)
@@ -819,7 +837,7 @@ void Hierarchy::refresh_surface_tables(int b, const std::vector<int>& changed) {
 void Hierarchy::place_objects(const std::vector<std::pair<int, Rigid>>& placed, bool whole,
                               const std::vector<std::vector<int>>* own) {
     std::vector<int> changed;  // (a partial refresh) clusters whose geometry changed
-    int first = std::numeric_limits<int>::max();  // ... and the first surface-table entry
+    std::vector<std::pair<int, int>> ranges;  // ... and the surface-table ranges
     for (size_t j = 0; j < placed.size(); ++j) {
         const int object = placed[j].first;
         const Rigid& placement = placed[j].second;
@@ -840,26 +858,27 @@ void Hierarchy::place_objects(const std::vector<std::pair<int, Rigid>>& placed, 
                 if (p.object == object) place(p);
         }
         // Clusters of the object (children have larger ids), then every cluster above it.
+        const int top = object_node[object];
+        whole = whole || top < 0 || !nodes[top].is_cluster();
         std::vector<int> cl = object_clusters(object);
         std::sort(cl.rbegin(), cl.rend());
-        for (int id : cl) refresh_cluster_geometry(id);
-        const int top = object_node[object];
         std::vector<int> up;
         if (top >= 0) {
             for (int a = nodes[top].parent; a >= 0; a = nodes[a].parent) up.push_back(a);
         } else {
             up.push_back(root);
         }
-        if (whole || top < 0 || !nodes[top].is_cluster()) {
-            whole = true;
+        if (whole) {
+            for (int id : cl) refresh_cluster_geometry(id);
             for (int a : up) refresh_cluster_geometry(a);
             continue;
         }
+        for (int id : cl) cluster_geometry_from_children(id);
         for (int a : up) cluster_geometry_from_children(a);
         const Node& t = nodes[top];
         for (int i = t.surf_begin; i < t.surf_end; ++i)
             take_geometry(surface_geom[size_t(i)], nodes[surfaces[surface_order[size_t(i)]].root]);
-        first = std::min(first, t.surf_begin);
+        ranges.emplace_back(t.surf_begin, t.surf_end);
         changed.insert(changed.end(), cl.begin(), cl.end());
         changed.insert(changed.end(), up.begin(), up.end());
     }
@@ -869,7 +888,7 @@ void Hierarchy::place_objects(const std::vector<std::pair<int, Rigid>>& placed, 
     }
     std::sort(changed.begin(), changed.end());
     changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
-    refresh_surface_tables(first, changed);
+    refresh_surface_tables(ranges, changed);
 }
 
 bool Hierarchy::surface_geom_current() const {

@@ -251,10 +251,11 @@ public:
     // Remakes surface_geom, area_prefix, the facing summaries and the samplers' tree from the
     // nodes; call it after the clusters' geometry (refresh_cluster_geometry) is current.
     void refresh_surface_geom();
-    // The area prefix from surface_order position b on, and the facing summaries and samplers'
-    // data of the clusters `changed` alone (those whose surfaces or children's geometry
-    // changed), surface_geom being current; the tree's shape as it was.
-    void refresh_surface_tables(int b, const std::vector<int>& changed);
+    // The area prefix where surface_geom changed (`ranges` of surface_order positions, each
+    // [begin, end)) and past it, and the facing summaries and samplers' data of the clusters
+    // `changed` alone (those whose surfaces or children's geometry changed); the tree's shape
+    // as it was. The same as a whole refresh up to rounding.
+    void refresh_surface_tables(std::vector<std::pair<int, int>> ranges, const std::vector<int>& changed);
     // Whether surface_geom (and the samplers' data made with it) matches the nodes (tests).
     bool surface_geom_current() const;
     std::vector<int> object_node;     // per object: its cluster node (-1 if it has no surface)

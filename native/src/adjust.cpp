@@ -728,14 +728,11 @@ bool Solver::update_adjust(UpdateRun& u, Control* control) {
         lap("topology");
     }
     // X: the moved objects' nodes and the clusters above them (their geometry changed).
-    for (auto& [obj, pose] : ch.moves) {
-        (void)pose;
+    for (const auto& move : ch.moves) {
+        const int obj = move.first;
         for (int id : h_.object_nodes(obj)) ch.inX[id] = 1;
         std::vector<int> chain;
-        int top = h_.object_node[obj];
-        if (top >= 0) {
-            for (int a = top; a >= 0; a = h_.nodes[a].parent) chain.push_back(a);
-        }
+        for (int a = h_.object_node[obj]; a >= 0; a = h_.nodes[a].parent) chain.push_back(a);
         for (int a : chain)
             if (a != h_.root) ch.inX[a] = 1;
         std::reverse(chain.begin(), chain.end());  // root first

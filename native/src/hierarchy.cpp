@@ -1,7 +1,6 @@
 #include "radiosity/hierarchy.h"
 
 #include <algorithm>
-#include <limits>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -738,8 +737,6 @@ Hierarchy::FacingSummary summarise(const std::vector<SurfaceGeom>& g, int b, int
 }  // namespace
 
 namespace {
-// The samplers' copy of the cluster tree (Hierarchy::sampler_children): per cluster, in
-// node order, its children in their order.
 // A sampler record's facing data from its node: area, and a cluster's bins or a surface
 // root's normal.
 void take_facing(Hierarchy::SamplerChild& sc, const Node& m) {
@@ -762,6 +759,8 @@ Hierarchy::FacingSummary summary_of(const std::vector<SurfaceGeom>& g, const Nod
     return summarise(g, n.surf_begin, n.surf_end);
 }
 
+// The samplers' copy of the cluster tree (Hierarchy::sampler_children): per cluster, in
+// node order, its children in their order.
 void sampler_tree(const Hierarchy& h, std::vector<Hierarchy::SamplerChild>& children, std::vector<int>& first) {
     children.clear();
     first.assign(h.nodes.size() + 1, 0);
@@ -836,6 +835,7 @@ void Hierarchy::refresh_surface_tables(std::vector<std::pair<int, int>> ranges, 
 
 void Hierarchy::place_objects(const std::vector<std::pair<int, Rigid>>& placed, bool whole,
                               const std::vector<std::vector<int>>* own) {
+    if (placed.empty()) return;
     std::vector<int> changed;  // (a partial refresh) clusters whose geometry changed
     std::vector<std::pair<int, int>> ranges;  // ... and the surface-table ranges
     for (size_t j = 0; j < placed.size(); ++j) {

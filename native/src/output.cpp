@@ -38,16 +38,14 @@ std::vector<float> Solver::corner_radiance(int object) const {
     if (object < 0 || object >= int(scene_.objects().size()))
         throw std::out_of_range("unknown object " + std::to_string(object));
     const ObjectDesc& o = scene_.objects()[size_t(object)];
-    if (!o.corner_reflectance.empty() || !o.corner_emission.empty()) {
+    if (o.textured()) {
         // A textured surface: each corner reflects with its own reflectance what arrives there.
         std::vector<float> v = corner_irradiance(object);
-        size_t c = 0;
         for (size_t f = 0; f < o.polygon_count(); ++f)
             for (int k = 0; k < o.loop_totals[f]; ++k) {
-                c = size_t(o.loop_starts[f]) + size_t(k);
-                const Rgb rho = o.corner_reflectance.empty() ? o.reflectance[f] : o.corner_reflectance[c];
-                const Rgb e = o.corner_emission.empty() ? o.emission[f] : o.corner_emission[c];
-                for (int ch = 0; ch < 3; ++ch) v[3 * c + ch] = float(e[ch] + rho[ch] * double(v[3 * c + ch]));
+                const size_t c = size_t(o.loop_starts[f]) + size_t(k);
+                const Rgb out = o.corner_shading(f, c, {double(v[3 * c]), double(v[3 * c + 1]), double(v[3 * c + 2])});
+                for (int ch = 0; ch < 3; ++ch) v[3 * c + size_t(ch)] = float(out[ch]);
             }
         return v;
     }
@@ -139,9 +137,7 @@ std::vector<float> Solver::corner_values(int object, const std::function<Rgb(int
     for (size_t c = 0; c < nc; ++c)
         if (wsum[c] > 0) val[c] = val[c] / wsum[c];
     // Corner -> face lookup and vertex -> corners adjacency.
-    std::vector<int> face_of(nc, -1);
-    for (size_t f = 0; f < o.polygon_count(); ++f)
-        for (int k = 0; k < o.loop_totals[f]; ++k) face_of[o.loop_starts[f] + k] = int(f);
+    const std::vector<int> face_of = o.corner_polygons();
     std::vector<int> start(o.vertices.size() + 1, 0), list(nc);
     for (size_t c = 0; c < nc; ++c) ++start[o.corner_verts[c] + 1];
     for (size_t v = 0; v < o.vertices.size(); ++v) start[v + 1] += start[v];

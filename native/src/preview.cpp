@@ -10,7 +10,6 @@
 #include <atomic>
 #include <cmath>
 #include <functional>
-#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -28,7 +27,7 @@ namespace radiosity {
 namespace {
 
 // The hierarchy's geometry that placing objects for a preview rewrites
-// (Hierarchy::place_object, not whole): their nodes, the clusters above them, their primitives
+// (Hierarchy::place_objects, not whole): their nodes, the clusters above them, their primitives
 // and the surface tables where their surfaces and those clusters are. Saved before a preview
 // places them, put back after: placing them again from the rest geometry would not give the
 // same bits (children's normals are their parents' when built, recomputed when placed).
@@ -467,23 +466,23 @@ std::vector<PlacedPolygon> placed_polygons(const Hierarchy& h, const FinalGather
     std::vector<PlacedPolygon> polys;
     const double tol = 1e-7 * h.scene_diag;
     for (const std::vector<int>& own : prims)
-    for (int pi : own) {
-        const Primitive& pr = h.prims[size_t(pi)];
-        for (int side : {pr.front, pr.back}) {
-            if (side < 0) continue;
-            const Node& root = h.nodes[size_t(h.surfaces[size_t(side)].root)];
-            if (root.dead) continue;
-            PlacedPolygon q;
-            q.poly = root.poly;
-            const Rigid& c = p.carry[size_t(pr.object)];
-            for (int j = 0; j < q.poly.n; ++j) q.poly.v[size_t(j)] = c.point(root.poly.v[size_t(j)]);
-            q.normal = c.dir(root.normal);
-            for (int j = 0; j < q.poly.n; ++j) q.box.grow(q.poly.v[size_t(j)]);
-            q.box.lo -= Vec3{tol, tol, tol};
-            q.box.hi += Vec3{tol, tol, tol};
-            polys.push_back(q);
+        for (int pi : own) {
+            const Primitive& pr = h.prims[size_t(pi)];
+            for (int side : {pr.front, pr.back}) {
+                if (side < 0) continue;
+                const Node& root = h.nodes[size_t(h.surfaces[size_t(side)].root)];
+                if (root.dead) continue;
+                PlacedPolygon q;
+                q.poly = root.poly;
+                const Rigid& c = p.carry[size_t(pr.object)];
+                for (int j = 0; j < q.poly.n; ++j) q.poly.v[size_t(j)] = c.point(root.poly.v[size_t(j)]);
+                q.normal = c.dir(root.normal);
+                for (int j = 0; j < q.poly.n; ++j) q.box.grow(q.poly.v[size_t(j)]);
+                q.box.lo -= Vec3{tol, tol, tol};
+                q.box.hi += Vec3{tol, tol, tol};
+                polys.push_back(q);
+            }
         }
-    }
     return polys;
 }
 
@@ -495,24 +494,17 @@ std::vector<CornerPatch> preview_patches(const SceneDesc& scene, const std::vect
         const int o = changes[k].object;
         const ObjectDesc& od = scene.objects()[size_t(o)];
         // A textured surface reflects with each corner's own reflectance (corner_radiance).
-        const bool textured = !od.corner_reflectance.empty() || !od.corner_emission.empty();
-        std::vector<int> polygon;  // per corner (a texture on one of the two)
-        if (textured && (od.corner_reflectance.empty() || od.corner_emission.empty())) {
-            polygon.resize(size_t(od.corner_count()));
-            for (size_t f = 0; f < od.polygon_count(); ++f)
-                for (int j = 0; j < od.loop_totals[f]; ++j) polygon[size_t(od.loop_starts[f]) + size_t(j)] = int(f);
-        }
+        const bool textured = od.textured();
+        // (Per corner, its polygon: where one of the two is per polygon.)
+        const std::vector<int> polygon = textured && (od.corner_reflectance.empty() || od.corner_emission.empty())
+                                             ? od.corner_polygons()
+                                             : std::vector<int>{};
         CornerPatch patch;
         patch.object = o;
         for (; k < changes.size() && changes[k].object == o; ++k) {
             const size_t c = size_t(changes[k].corner);
-            Rgb v = textured ? changes[k].irradiance : changes[k].radiance;
-            if (textured) {
-                const size_t f = polygon.empty() ? 0 : size_t(polygon[c]);
-                const Rgb rho = od.corner_reflectance.empty() ? od.reflectance[f] : od.corner_reflectance[c];
-                const Rgb e = od.corner_emission.empty() ? od.emission[f] : od.corner_emission[c];
-                v = e + rho * v;
-            }
+            const size_t f = polygon.empty() ? 0 : size_t(polygon[c]);
+            const Rgb v = textured ? od.corner_shading(f, c, changes[k].irradiance) : changes[k].radiance;
             // Stale bounced light plus fresh direct can undershoot where a shadow is cast.
             patch.corners.push_back(int32_t(c));
             patch.values.push_back(std::max(0.f, float(v.r)));

@@ -194,10 +194,6 @@ PreviewOrder::PreviewOrder(const FinalGather::Solution& s, const std::vector<fg:
                            const std::vector<uint32_t>& unlit_points, size_t turn)
     : s_(s), points_(points), index_(index), p_(p), unlit_(unlit), step_(s.h.scene_diag / kRings), bins_(kKeys) {
     const size_t no = p.moved.size();
-    auto counted = [&](uint32_t i) {  // a point of an object the scene has, not dragged
-        const int o = points_[i].object;
-        return o >= 0 && size_t(o) < no && !p.moved[size_t(o)];
-    };
     size_t valid = 0;
     for (size_t o = 0; o < no; ++o) {
         const auto [first, last] = index.object_points(o);
@@ -207,7 +203,7 @@ PreviewOrder::PreviewOrder(const FinalGather::Solution& s, const std::vector<fg:
     std::sort(dragged_.begin(), dragged_.end());
     if (!dragged_.empty())
         std::rotate(dragged_.begin(), dragged_.begin() + long(turn % dragged_.size()), dragged_.end());
-    // Inside a box: in the cells the boxes meet.
+    // The first run: those shown unlit, then those inside a box (in the cells the boxes meet).
     for (uint32_t i : unlit_points)
         if (unlit[i] && counted(i)) inside_.push_back(i);
     const auto& cells = index.cells();
@@ -235,6 +231,11 @@ PreviewOrder::PreviewOrder(const FinalGather::Solution& s, const std::vector<fg:
                      [&](uint32_t a, uint32_t b) { return cell_key_[a] < cell_key_[b]; });
 }
 
+bool PreviewOrder::counted(uint32_t i) const {
+    const int o = points_[i].object;
+    return o >= 0 && size_t(o) < p_.moved.size() && !p_.moved[size_t(o)];
+}
+
 int PreviewOrder::key_of(uint32_t i) const {
     const fg::Point& pt = points_[i];
     const int ring = int(std::min(double(kRings - 1), distance_to(p_.clips, pt.x) / step_));
@@ -244,14 +245,11 @@ int PreviewOrder::key_of(uint32_t i) const {
 
 void PreviewOrder::open(int key) {
     const auto& cells = index_.cells();
-    const size_t no = p_.moved.size();
     for (; cells_binned_ < cells_by_key_.size() && cell_key_[cells_by_key_[cells_binned_]] <= key; ++cells_binned_) {
         const PointIndex::Cell& cell = cells[cells_by_key_[cells_binned_]];
         for (uint32_t k = cell.begin; k < cell.end; ++k) {
             const uint32_t i = index_.points()[k];
-            const int o = points_[i].object;
-            if (o < 0 || size_t(o) >= no || p_.moved[size_t(o)] || unlit_[i]) continue;
-            if (distance_to(p_.clips, points_[i].x) == 0) continue;  // inside
+            if (!counted(i) || unlit_[i] || distance_to(p_.clips, points_[i].x) == 0) continue;  // (inside())
             bins_[size_t(key_of(i))].push_back(i);
         }
     }

@@ -68,6 +68,7 @@ public:
 private:
     static constexpr int kRings = 64;
     static constexpr int kKeys = 2 * kRings + 2;  // 0 inside, 1 dragged, then sharp and soft rings
+    bool counted(uint32_t i) const;  // a point of an object the scene has, not dragged
     int key_of(uint32_t i) const;
     void open(int key);  // bins every cell that may hold a point of `key`, sorts the key's points
     const FinalGather::Solution& s_;

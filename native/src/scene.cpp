@@ -20,6 +20,13 @@ namespace {
 std::string poly_str(size_t f) { return "polygon " + std::to_string(f); }
 }  // namespace
 
+std::vector<int> ObjectDesc::corner_polygons() const {
+    std::vector<int> out(corner_count(), -1);
+    for (size_t f = 0; f < polygon_count(); ++f)
+        for (int k = 0; k < loop_totals[f]; ++k) out[size_t(loop_starts[f]) + size_t(k)] = int(f);
+    return out;
+}
+
 void check_corner_materials(const ObjectDesc& o, const std::vector<Rgb>& rho, const std::vector<Rgb>& emission) {
     const size_t nc = o.corner_count();
     if (!rho.empty() && rho.size() != nc) fail(o, "corner reflectance needs one RGB per corner (or none)");

@@ -117,12 +117,15 @@ void Solver::build_scene() {
     // Placements from earlier moves survive a full re-solve.
     edits_.fit_poses(scene_.objects().size());
     const std::vector<Rigid>& poses = edits_.poses();
-    for (size_t o = 0; o < poses.size(); ++o) {
-        const Rigid& p = poses[o];
-        if (p.identity()) continue;
-        h_.place_object(int(o), p);
-        vis_->set_object_transform(int(o), p);
-    }
+    std::vector<std::pair<int, Rigid>> placed;
+    std::vector<std::vector<int>> own;
+    for (size_t o = 0; o < poses.size(); ++o)
+        if (!poses[o].identity()) {
+            placed.emplace_back(int(o), poses[o]);
+            own.push_back(prims_of[o]);
+        }
+    h_.place_objects(placed, true, &own);
+    for (const auto& [o, p] : placed) vis_->set_object_transform(o, p);
     vis_->commit();
     pockets_.compute(h_, pocket_sight());
     compute_reference();

@@ -61,6 +61,16 @@ struct ObjectDesc {
     bool output = true;
     size_t polygon_count() const { return loop_starts.size(); }
     size_t corner_count() const { return corner_verts.size(); }
+    bool textured() const { return !corner_reflectance.empty() || !corner_emission.empty(); }
+    // Per corner, its polygon.
+    std::vector<int> corner_polygons() const;
+    // What corner c of polygon f leaves when `irradiance` (/ pi) arrives there: its own
+    // reflectance and emission where the object is textured, else its polygon's.
+    Rgb corner_shading(size_t f, size_t c, const Rgb& irradiance) const {
+        const Rgb rho = corner_reflectance.empty() ? reflectance[f] : corner_reflectance[c];
+        const Rgb e = corner_emission.empty() ? emission[f] : corner_emission[c];
+        return e + rho * irradiance;
+    }
 };
 
 // Throws InputError unless each array is empty or holds one valid value per corner of `o`.

@@ -594,6 +594,7 @@ void Solver::update(Control* control) {
         solve(control);
         return;
     }
+    preview_saved_.reset();  // (a drag's memory, made again at the next drag)
     UpdateRun u;
     u.topology = edits_.topology();
     u.materials_changed = edits_.materials();
@@ -681,7 +682,7 @@ bool Solver::update_adjust(UpdateRun& u, Control* control) {
     std::vector<std::vector<int>> prims;
     std::vector<Aabb> was;
     for (const auto& [obj, pose] : placed) was.push_back(h_.object_box(obj, &prims.emplace_back(own_prims(obj))));
-    h_.place_objects(placed, true, &prims);
+    h_.place_objects(placed, true, &prims, settings_.threads);
     for (size_t j = 0; j < placed.size(); ++j) {
         const auto& [obj, pose] = placed[j];
         edits_.place(obj, pose);

@@ -229,6 +229,10 @@ struct FinalGather::Impl {
     // A gathered point's irradiance / pi without what emitted_part gives: what it lends
     // (shared_gather.cpp).
     Rgb bounced_part(const Hierarchy& h, const fg::Point& p) const;
+    // A preview's corners (preview.cpp): those of the points `changed` whose change d[i] is
+    // not zero, with what each shows now, by object and corner.
+    std::vector<CornerChange> corner_changes(const Hierarchy& h, const std::vector<uint32_t>& changed,
+                                             const std::vector<Rgb>& d);
 };
 
 }  // namespace radiosity

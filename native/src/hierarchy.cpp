@@ -6,6 +6,8 @@
 #include <map>
 #include <string>
 
+#include "radiosity/parallel.h"
+
 namespace radiosity {
 
 int Hierarchy::new_node(NodeKind kind, int parent) {
@@ -676,8 +678,8 @@ void set_element_poly(Hierarchy& h, int id, const Poly& poly) {
         e.box.grow(poly.v[k]);
         e.radius = std::max(e.radius, length(poly.v[k] - e.center));
     }
-    const std::vector<int> kids = e.children;
-    for (size_t k = 0; k < kids.size(); ++k) set_element_poly(h, kids[k], poly.child(int(k)));
+    // (By index: the children's own calls leave this node's list as it is.)
+    for (size_t k = 0; k < h.nodes[id].children.size(); ++k) set_element_poly(h, h.nodes[id].children[k], poly.child(int(k)));
 }
 }  // namespace
 
@@ -834,7 +836,7 @@ void Hierarchy::refresh_surface_tables(std::vector<std::pair<int, int>> ranges, 
 }
 
 void Hierarchy::place_objects(const std::vector<std::pair<int, Rigid>>& placed, bool whole,
-                              const std::vector<std::vector<int>>* own) {
+                              const std::vector<std::vector<int>>* own, int threads) {
     if (placed.empty()) return;
     std::vector<int> changed;  // (a partial refresh) clusters whose geometry changed
     std::vector<std::pair<int, int>> ranges;  // ... and the surface-table ranges
@@ -851,8 +853,10 @@ void Hierarchy::place_objects(const std::vector<std::pair<int, Rigid>>& placed, 
             }
         };
         if (own) {
-            for (int i : (*own)[j])
-                if (prims[size_t(i)].object == object) place(prims[size_t(i)]);
+            const std::vector<int>& mine = (*own)[j];
+            parallel_for(mine.size(), threads, [&](size_t k) {
+                if (prims[size_t(mine[k])].object == object) place(prims[size_t(mine[k])]);
+            }, 256);
         } else {
             for (Primitive& p : prims)
                 if (p.object == object) place(p);
@@ -873,7 +877,19 @@ void Hierarchy::place_objects(const std::vector<std::pair<int, Rigid>>& placed, 
             for (int a : up) refresh_cluster_geometry(a);
             continue;
         }
-        for (int id : cl) cluster_geometry_from_children(id);
+        // The object's clusters level by level from the deepest, each level in parallel (a
+        // cluster's geometry is its children's, made before it), then those above it.
+        std::vector<std::vector<int>> levels{{top}};
+        for (;;) {
+            std::vector<int> next;
+            for (int id : levels.back())
+                for (int c : nodes[size_t(id)].children)
+                    if (nodes[size_t(c)].is_cluster()) next.push_back(c);
+            if (next.empty()) break;
+            levels.push_back(std::move(next));
+        }
+        for (auto level = levels.rbegin(); level != levels.rend(); ++level)
+            parallel_for(level->size(), threads, [&](size_t k) { cluster_geometry_from_children((*level)[k]); }, 16);
         for (int a : up) cluster_geometry_from_children(a);
         const Node& t = nodes[top];
         for (int i = t.surf_begin; i < t.surf_end; ++i)

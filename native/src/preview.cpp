@@ -24,36 +24,36 @@
 
 namespace radiosity {
 
-namespace {
-
 // The hierarchy's geometry that placing objects for a preview rewrites
 // (Hierarchy::place_objects, not whole): their nodes, the clusters above them, their primitives
 // and the surface tables where their surfaces and those clusters are. Saved before a preview
 // places them, put back after: placing them again from the rest geometry would not give the
-// same bits (children's normals are their parents' when built, recomputed when placed).
+// same bits (children's normals are their parents' when built, recomputed when placed). The
+// solver keeps one from step to step, so that a drag's steps reuse its memory.
 class SavedGeometry {
 public:
     // `prims`: per object of `objects`, its primitives.
-    SavedGeometry(const Hierarchy& h, const std::vector<int>& objects, const std::vector<std::vector<int>>& prims) {
-        std::vector<char> seen(h.nodes.size(), 0);
-        auto keep = [&](int id) {
-            if (id < 0 || seen[size_t(id)]) return;
-            seen[size_t(id)] = 1;
-            const Node& n = h.nodes[size_t(id)];
-            nodes_.push_back({id, n.poly, n.normal, n.center, n.box, n.radius, n.area, n.rho_max, n.W});
-            if (n.is_cluster()) {
-                summaries_.emplace_back(id, h.facing_summary[size_t(id)]);
-                for (int k = h.sampler_first[size_t(id)]; k < h.sampler_first[size_t(id) + 1]; ++k)
-                    samplers_.emplace_back(k, h.sampler_children[size_t(k)]);
-            }
-        };
+    void save(const Hierarchy& h, const std::vector<int>& objects, const std::vector<std::vector<int>>& prims,
+              int threads) {
+        ids_.clear();
+        // (A stamp per node for this save: objects in one collection share the clusters above
+        // them, and an unclustered object's primitives' subtrees are its nodes.)
+        if (stamp_.size() < h.nodes.size()) stamp_.resize(h.nodes.size(), 0);
+        if (++generation_ == 0) {
+            std::fill(stamp_.begin(), stamp_.end(), 0);
+            generation_ = 1;
+        }
+        prims_.clear();
+        geoms_.clear();
+        summaries_.clear();
+        samplers_.clear();
+        whole_ = false;
         for (size_t j = 0; j < objects.size(); ++j) {
             const int o = objects[j];
-            const std::vector<int> ids = h.object_nodes(o);
-            nodes_.reserve(nodes_.size() + ids.size() + 64);
-            for (int id : ids) keep(id);
+            for (int id : h.object_nodes(o)) keep(id);
             const int top = h.object_node[size_t(o)];
-            for (int a = top >= 0 ? h.nodes[size_t(top)].parent : h.root; a >= 0; a = h.nodes[size_t(a)].parent) keep(a);
+            for (int a = top >= 0 ? h.nodes[size_t(top)].parent : h.root; a >= 0; a = h.nodes[size_t(a)].parent)
+                keep(a);
             const bool clustered = top >= 0 && h.nodes[size_t(top)].is_cluster();
             if (clustered)
                 for (int i = h.nodes[size_t(top)].surf_begin; i < h.nodes[size_t(top)].surf_end; ++i)
@@ -65,20 +65,32 @@ public:
                 prims_.emplace_back(size_t(pi), pr.poly);
                 if (clustered) continue;  // (its cluster's subtree holds its surfaces)
                 for (int side : {pr.front, pr.back})
-                    if (side >= 0)
-                        for (int id : subtree(h, h.surfaces[size_t(side)].root)) keep(id);
+                    if (side >= 0) add_subtree(h, h.surfaces[size_t(side)].root);
             }
         }
-        area_prefix_ = h.area_prefix;
+        nodes_.resize(ids_.size());
+        parallel_for(ids_.size(), threads, [&](size_t k) {
+            const Node& n = h.nodes[size_t(ids_[k])];
+            nodes_[k] = {n.poly, n.normal, n.center, n.box, n.radius, n.area, n.rho_max, n.W, n.is_cluster()};
+        }, 512);
+        for (size_t k = 0; k < ids_.size(); ++k) {
+            if (!nodes_[k].cluster) continue;
+            const int id = ids_[k];
+            summaries_.emplace_back(id, h.facing_summary[size_t(id)]);
+            for (int c = h.sampler_first[size_t(id)]; c < h.sampler_first[size_t(id) + 1]; ++c)
+                samplers_.emplace_back(c, h.sampler_children[size_t(c)]);
+        }
+        area_prefix_.assign(h.area_prefix.begin(), h.area_prefix.end());
         if (whole_) {  // (an unclustered object: placed whole)
             surface_geom_ = h.surface_geom;
             facing_summary_ = h.facing_summary;
             sampler_children_ = h.sampler_children;
         }
     }
-    void restore(Hierarchy& h) {
-        for (const Saved& v : nodes_) {
-            Node& n = h.nodes[size_t(v.id)];
+    void restore(Hierarchy& h, int threads) {
+        parallel_for(ids_.size(), threads, [&](size_t k) {
+            const Saved& v = nodes_[k];
+            Node& n = h.nodes[size_t(ids_[k])];
             n.poly = v.poly;
             n.normal = v.normal;
             n.center = v.center;
@@ -87,7 +99,7 @@ public:
             n.area = v.area;
             n.rho_max = v.rho_max;
             n.W = v.W;
-        }
+        }, 512);
         for (const auto& [i, poly] : prims_) h.prims[i].poly = poly;
         h.area_prefix.swap(area_prefix_);
         if (whole_) {
@@ -102,21 +114,32 @@ public:
     }
 
 private:
-    static std::vector<int> subtree(const Hierarchy& h, int root) {
-        std::vector<int> out{root};
-        for (size_t k = 0; k < out.size(); ++k)
-            for (int c : h.nodes[size_t(out[k])].children) out.push_back(c);
-        return out;
+    void keep(int id) {
+        if (id < 0 || stamp_[size_t(id)] == generation_) return;
+        stamp_[size_t(id)] = generation_;
+        ids_.push_back(id);
+    }
+    void add_subtree(const Hierarchy& h, int root) {
+        std::vector<int> stack{root};
+        while (!stack.empty()) {
+            const int id = stack.back();
+            stack.pop_back();
+            keep(id);
+            for (int c : h.nodes[size_t(id)].children) stack.push_back(c);
+        }
     }
     struct Saved {
-        int id;
         Poly poly;
         Vec3 normal, center;
         Aabb box;
         double radius, area, rho_max;
         decltype(Node::W) W;
+        bool cluster;
     };
-    std::vector<Saved> nodes_;
+    std::vector<int> ids_;      // the nodes saved
+    std::vector<Saved> nodes_;  // ... and what was saved of each
+    std::vector<uint32_t> stamp_;  // per node: the save that took it
+    uint32_t generation_ = 0;
     std::vector<std::pair<size_t, Poly>> prims_;
     std::vector<std::pair<int, SurfaceGeom>> geoms_;
     std::vector<std::pair<int, Hierarchy::FacingSummary>> summaries_;
@@ -127,6 +150,8 @@ private:
     std::vector<Hierarchy::FacingSummary> facing_summary_;
     std::vector<Hierarchy::SamplerChild> sampler_children_;
 };
+
+namespace {
 
 // The lists one thread reuses from point to point in a preview.
 struct PreviewScratch {
@@ -192,7 +217,7 @@ int64_t add_emitter_changes(const FinalGather::Solution& s, const FinalGather::P
         // (The hierarchy has the moved objects at their new places: a sender in one, or a
         // cluster holding one, draws other rays now; none replays a recorded outcome.)
         const bool src_moved = (src.object >= 0 && size_t(src.object) < p.moved.size() && p.moved[size_t(src.object)]) ||
-                               (size_t(r.src) < p.moved_nodes.size() && p.moved_nodes[size_t(r.src)]);
+                               std::binary_search(p.moved_nodes.begin(), p.moved_nodes.end(), r.src);
         if (!moved && !src_moved && !hull_meets(x, src.box, p.clips)) continue;
         const Rgb was = fg::record_light(h, pt, r);
         // trace_point's seed for this transfer (a shadow edge's retrace: +1, a deep
@@ -405,7 +430,7 @@ std::vector<FinalGather::CornerChange> FinalGather::preview(const Solution& s, c
     } else {
         // The points not relit show what an earlier step of the drag showed.
         PreviewStep step(s, p, t.config, points, shown.emits, bake_value, shown.shown, shown.unlit);
-        PreviewOrder order(s, points, index, p, shown.unlit, shown.unlit_points, shown.turn);
+        PreviewOrder order(s, points, index, p, shown.unlit, shown.unlit_points, shown.turn, t.config.threads);
         std::vector<uint32_t> relit;
         size_t deferred = 0;
         shown.turn += relight_in_order(step, order, points.size(), p.work, t.config.threads, relit, deferred);
@@ -425,24 +450,37 @@ std::vector<FinalGather::CornerChange> FinalGather::preview(const Solution& s, c
             }
         changed = shown.touched;
     }
+    return t.corner_changes(s.h, changed, *d);
+}
+
+std::vector<FinalGather::CornerChange> FinalGather::Impl::corner_changes(const Hierarchy& h,
+                                                                         const std::vector<uint32_t>& changed,
+                                                                         const std::vector<Rgb>& d) {
+    PreviewState& shown = preview_state;
     // What the bake has arriving at a point, made when first asked for.
     if (shown.arriving.size() != points.size()) {
         shown.arriving.assign(points.size(), Rgb{});
         shown.has_arriving.assign(points.size(), 0);
     }
-    std::vector<CornerChange> out;
-    for (uint32_t i : changed) {
-        const Rgb& change = (*d)[i];
-        if (change.is_zero()) continue;
+    // Each changed point's values (in parallel: a point's own slots), then its corners in order.
+    std::vector<std::pair<Rgb, Rgb>> values(changed.size());
+    parallel_for(changed.size(), config.threads, [&](size_t j) {
+        const uint32_t i = changed[j];
+        if (d[i].is_zero()) return;
         const fg::Point& pt = points[i];
         if (!shown.has_arriving[i]) {
-            shown.arriving[i] = t.arriving(s.h, pt);
+            shown.arriving[i] = arriving(h, pt);
             shown.has_arriving[i] = 1;
         }
-        const Rgb e = shown.arriving[i] + change;
-        const Rgb irradiance = Impl::shown_value(s.h, pt, e, true), radiance = Impl::shown_value(s.h, pt, e, false);
-        const auto [first, last] = index.corners(i);
-        for (auto c = first; c != last; ++c) out.push_back({c->first, c->second, irradiance, radiance});
+        const Rgb e = shown.arriving[i] + d[i];
+        values[j] = {shown_value(h, pt, e, true), shown_value(h, pt, e, false)};
+    }, 256);
+    std::vector<CornerChange> out;
+    for (size_t j = 0; j < changed.size(); ++j) {
+        const uint32_t i = changed[j];
+        if (d[i].is_zero()) continue;
+        const auto [first, last] = shown.index->corners(i);
+        for (auto c = first; c != last; ++c) out.push_back({c->first, c->second, values[j].first, values[j].second});
     }
     std::sort(out.begin(), out.end(), [](const CornerChange& a, const CornerChange& b) {
         return a.object != b.object ? a.object < b.object : a.corner < b.corner;
@@ -461,28 +499,36 @@ struct PlacedPolygon {
 
 // The dragged objects' polygons where the preview places them (`prims`: their primitives).
 std::vector<PlacedPolygon> placed_polygons(const Hierarchy& h, const FinalGather::Preview& p,
-                                           const std::vector<std::vector<int>>& prims) {
+                                           const std::vector<std::vector<int>>& prims, int threads) {
     // As DirectLight::find_contacts: coplanar within 1e-7 of the scene, facing the other way, the point inside.
-    std::vector<PlacedPolygon> polys;
     const double tol = 1e-7 * h.scene_diag;
-    for (const std::vector<int>& own : prims)
-        for (int pi : own) {
-            const Primitive& pr = h.prims[size_t(pi)];
-            for (int side : {pr.front, pr.back}) {
-                if (side < 0) continue;
-                const Node& root = h.nodes[size_t(h.surfaces[size_t(side)].root)];
-                if (root.dead) continue;
-                PlacedPolygon q;
-                q.poly = root.poly;
-                const Rigid& c = p.carry[size_t(pr.object)];
-                for (int j = 0; j < q.poly.n; ++j) q.poly.v[size_t(j)] = c.point(root.poly.v[size_t(j)]);
-                q.normal = c.dir(root.normal);
-                for (int j = 0; j < q.poly.n; ++j) q.box.grow(q.poly.v[size_t(j)]);
-                q.box.lo -= Vec3{tol, tol, tol};
-                q.box.hi += Vec3{tol, tol, tol};
-                polys.push_back(q);
-            }
+    std::vector<int> all;
+    for (const std::vector<int>& own : prims) all.insert(all.end(), own.begin(), own.end());
+    // Two slots per primitive (front, back), filled in parallel, then the empty ones dropped.
+    std::vector<PlacedPolygon> slots(2 * all.size());
+    std::vector<char> used(2 * all.size(), 0);
+    parallel_for(all.size(), threads, [&](size_t k) {
+        const Primitive& pr = h.prims[size_t(all[k])];
+        for (int b = 0; b < 2; ++b) {
+            const int side = b == 0 ? pr.front : pr.back;
+            if (side < 0) continue;
+            const Node& root = h.nodes[size_t(h.surfaces[size_t(side)].root)];
+            if (root.dead) continue;
+            PlacedPolygon& q = slots[2 * k + size_t(b)];
+            q.poly = root.poly;
+            const Rigid& c = p.carry[size_t(pr.object)];
+            for (int j = 0; j < q.poly.n; ++j) q.poly.v[size_t(j)] = c.point(root.poly.v[size_t(j)]);
+            q.normal = c.dir(root.normal);
+            for (int j = 0; j < q.poly.n; ++j) q.box.grow(q.poly.v[size_t(j)]);
+            q.box.lo -= Vec3{tol, tol, tol};
+            q.box.hi += Vec3{tol, tol, tol};
+            used[2 * k + size_t(b)] = 1;
         }
+    }, 256);
+    std::vector<PlacedPolygon> polys;
+    polys.reserve(slots.size());
+    for (size_t k = 0; k < slots.size(); ++k)
+        if (used[k]) polys.push_back(slots[k]);
     return polys;
 }
 
@@ -531,7 +577,7 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
     std::vector<int> objects;
     for (const auto& op : placed) objects.push_back(op.first);
     // (DirectLight::contact's test, with the moved objects where they are now.)
-    const std::vector<PlacedPolygon> polys = placed_polygons(h_, p, prims);
+    const std::vector<PlacedPolygon> polys = placed_polygons(h_, p, prims, settings_.threads);
     const double tol = 1e-7 * h_.scene_diag;
     const double inside_tol = 1e-9 * h_.scene_diag;
     p.covered = [&](int surface, const Vec3& x, const Vec3& n) {
@@ -549,23 +595,25 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
         return false;
     };
     // Clusters holding a dragged object (their sampling of surfaces changes with it).
-    p.moved_nodes.assign(h_.nodes.size(), 0);
     for (const auto& op : placed) {
         const int top = h_.object_node[size_t(op.first)];
         for (int a = top >= 0 ? h_.nodes[size_t(top)].parent : h_.root; a >= 0; a = h_.nodes[size_t(a)].parent)
-            p.moved_nodes[size_t(a)] = 1;
+            p.moved_nodes.push_back(a);
     }
+    std::sort(p.moved_nodes.begin(), p.moved_nodes.end());
+    p.moved_nodes.erase(std::unique(p.moved_nodes.begin(), p.moved_nodes.end()), p.moved_nodes.end());
     auto place = [this](int object, const Rigid& q) { vis_->set_object_transform(object, q); };
     // The solution's placements back however the preview ends (Embree's from the same poses:
     // the same floats; the hierarchy's from the saved copy).
+    if (!preview_saved_) preview_saved_ = std::make_shared<SavedGeometry>();
+    if (!placed.empty()) preview_saved_->save(h_, objects, prims, settings_.threads);
     struct Restore {
         Solver* s;
         const std::vector<std::pair<int, Rigid>>& placed;
         const decltype(place)& put;
-        SavedGeometry saved;
         ~Restore() {
             if (placed.empty()) return;
-            saved.restore(s->h_);
+            s->preview_saved_->restore(s->h_, s->settings_.threads);
             try {
                 for (const auto& op : placed) put(op.first, s->edits_.poses()[size_t(op.first)]);
                 s->vis_->commit();
@@ -575,9 +623,9 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
                 s->solved_ = false;
             }
         }
-    } restore{this, placed, place, SavedGeometry(h_, objects, prims)};
+    } restore{this, placed, place};
     for (const auto& op : placed) place(op.first, op.second);
-    h_.place_objects(placed, false, &prims);  // (put back by `restore`)
+    h_.place_objects(placed, false, &prims, settings_.threads);  // (put back by `restore`)
     if (!placed.empty()) vis_->commit();
 
     FinalGather::PreviewCounts k;

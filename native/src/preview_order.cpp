@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "radiosity/parallel.h"
 #include "radiosity/transfer.h"
 
 namespace radiosity {
@@ -191,8 +192,9 @@ std::pair<const std::pair<int, int>*, const std::pair<int, int>*> PointIndex::co
 
 PreviewOrder::PreviewOrder(const FinalGather::Solution& s, const std::vector<fg::Point>& points,
                            const PointIndex& index, const FinalGather::Preview& p, const std::vector<char>& unlit,
-                           const std::vector<uint32_t>& unlit_points, size_t turn)
-    : s_(s), points_(points), index_(index), p_(p), unlit_(unlit), step_(s.h.scene_diag / kRings), bins_(kKeys) {
+                           const std::vector<uint32_t>& unlit_points, size_t turn, int threads)
+    : s_(s), points_(points), index_(index), p_(p), unlit_(unlit), threads_(threads), step_(s.h.scene_diag / kRings),
+      bins_(kKeys) {
     const size_t no = p.moved.size();
     size_t valid = 0;
     for (size_t o = 0; o < no; ++o) {
@@ -208,27 +210,33 @@ PreviewOrder::PreviewOrder(const FinalGather::Solution& s, const std::vector<fg:
         if (unlit[i] && counted(i)) inside_.push_back(i);
     const auto& cells = index.cells();
     cell_key_.resize(cells.size());
-    for (size_t c = 0; c < cells.size(); ++c) {
+    std::vector<char> meets(cells.size(), 0);
+    parallel_for(cells.size(), threads, [&](size_t c) {
         const PointIndex::Cell& cell = cells[c];
         const double d = distance_to(p.clips, cell.box);
-        if (d == 0)
-            for (uint32_t k = cell.begin; k < cell.end; ++k) {
-                const uint32_t i = index.points()[k];
-                if (counted(i) && !unlit[i] && distance_to(p.clips, points[i].x) == 0) inside_.push_back(i);
-            }
+        meets[c] = d == 0;
         // The least key a point of the cell may have (a hair less than the points' own
         // distances, whose rounding may differ).
         const int ring = int(std::min(double(kRings - 1), d * (1 - 1e-9) / step_));
         const bool sharp = sharp_lamps_may_meet(s.scene, s.h, cell.box.center(), 0.5 * cell.box.diagonal(), p.clips);
         cell_key_[c] = (sharp ? 2 : 2 + kRings) + ring;
+    }, 256);
+    for (size_t c = 0; c < cells.size(); ++c) {
+        if (!meets[c]) continue;
+        for (uint32_t k = cells[c].begin; k < cells[c].end; ++k) {
+            const uint32_t i = index.points()[k];
+            if (counted(i) && !unlit[i] && distance_to(p.clips, points[i].x) == 0) inside_.push_back(i);
+        }
     }
     std::sort(inside_.begin(), inside_.end());
     inside_.erase(std::unique(inside_.begin(), inside_.end()), inside_.end());
     others_ = valid - dragged_.size() - inside_.size();
+    // The cells by key, in index order within a key (a counting sort: keys are few).
+    std::vector<uint32_t> first(kKeys + 1, 0);
+    for (int k : cell_key_) ++first[size_t(k) + 1];
+    for (int k = 0; k < kKeys; ++k) first[size_t(k) + 1] += first[size_t(k)];
     cells_by_key_.resize(cells.size());
-    for (size_t c = 0; c < cells.size(); ++c) cells_by_key_[c] = uint32_t(c);
-    std::stable_sort(cells_by_key_.begin(), cells_by_key_.end(),
-                     [&](uint32_t a, uint32_t b) { return cell_key_[a] < cell_key_[b]; });
+    for (size_t c = 0; c < cells.size(); ++c) cells_by_key_[first[size_t(cell_key_[c])]++] = uint32_t(c);
 }
 
 bool PreviewOrder::counted(uint32_t i) const {
@@ -244,15 +252,20 @@ int PreviewOrder::key_of(uint32_t i) const {
 }
 
 void PreviewOrder::open(int key) {
+    // The points of the cells opened now, their keys found in parallel, binned in that order.
     const auto& cells = index_.cells();
+    std::vector<uint32_t> pending;
     for (; cells_binned_ < cells_by_key_.size() && cell_key_[cells_by_key_[cells_binned_]] <= key; ++cells_binned_) {
         const PointIndex::Cell& cell = cells[cells_by_key_[cells_binned_]];
-        for (uint32_t k = cell.begin; k < cell.end; ++k) {
-            const uint32_t i = index_.points()[k];
-            if (!counted(i) || unlit_[i] || distance_to(p_.clips, points_[i].x) == 0) continue;  // (inside())
-            bins_[size_t(key_of(i))].push_back(i);
-        }
+        pending.insert(pending.end(), index_.points() + cell.begin, index_.points() + cell.end);
     }
+    std::vector<int> keys(pending.size());
+    parallel_for(pending.size(), threads_, [&](size_t j) {
+        const uint32_t i = pending[j];
+        keys[j] = !counted(i) || unlit_[i] || distance_to(p_.clips, points_[i].x) == 0 ? -1 : key_of(i);  // (inside())
+    }, 64);
+    for (size_t j = 0; j < pending.size(); ++j)
+        if (keys[j] >= 0) bins_[size_t(keys[j])].push_back(pending[j]);
     std::sort(bins_[size_t(key)].begin(), bins_[size_t(key)].end());
 }
 

@@ -54,10 +54,10 @@ private:
 class PreviewOrder {
 public:
     // `unlit`: per point, an earlier step showed it unlit; `unlit_points`: those points (and
-    // perhaps some no longer unlit).
+    // perhaps some no longer unlit). `threads`: parallel_for's, for the cells' and points' keys.
     PreviewOrder(const FinalGather::Solution& s, const std::vector<fg::Point>& points, const PointIndex& index,
                  const FinalGather::Preview& p, const std::vector<char>& unlit,
-                 const std::vector<uint32_t>& unlit_points, size_t turn);
+                 const std::vector<uint32_t>& unlit_points, size_t turn, int threads);
     const std::vector<uint32_t>& inside() const { return inside_; }
     const std::vector<uint32_t>& dragged() const { return dragged_; }
     // Appends up to n more of the others, nearest first, to `out`; false when none are left.
@@ -76,6 +76,7 @@ private:
     const PointIndex& index_;
     const FinalGather::Preview& p_;
     const std::vector<char>& unlit_;
+    int threads_;
     double step_;
     std::vector<uint32_t> inside_, dragged_;
     std::vector<uint32_t> cells_by_key_;  // cells, by the least key a point of theirs may have

@@ -58,6 +58,7 @@ void Solver::solve(Control* control) {
     solved_ = false;
     light_known_ = false;
     update_run_ = nullptr;  // a full solve in place of an update replays nothing
+    preview_saved_.reset();  // (a drag's memory, made again at the next drag)
     const auto t0 = Clock::now();
     stats_ = Stats{};
     lap_t_ = t0;
@@ -124,7 +125,7 @@ void Solver::build_scene() {
             placed.emplace_back(int(o), poses[o]);
             own.push_back(prims_of[o]);
         }
-    h_.place_objects(placed, true, &own);
+    h_.place_objects(placed, true, &own, settings_.threads);
     for (const auto& [o, p] : placed) vis_->set_object_transform(o, p);
     vis_->commit();
     pockets_.compute(h_, pocket_sight());

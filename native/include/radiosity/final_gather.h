@@ -115,7 +115,7 @@ public:
         std::vector<Rigid> carry;                   // per object: the solved placement -> the new one
         std::vector<Aabb> clips;                    // old and new boxes of the moved objects
         std::vector<Aabb> now;                      // new boxes alone
-        std::vector<char> moved_nodes;              // per node: a cluster holding a moved object
+        std::vector<int> moved_nodes;               // the clusters holding a moved object, ascending
         // Whether a point (on `surface`, normal n) lies under another polygon at the new
         // placements (a floor point under the dragged box): covered, unlit as in Cycles.
         std::function<bool(int surface, const Vec3& x, const Vec3& n)> covered;

@@ -134,8 +134,9 @@ public:
     // clusters above them from their children and the tables only where their surfaces are:
     // the same up to rounding, in time that follows the objects and the tree's depth, not the
     // scene. `own`: per object its primitives, when the caller knows them (else found among all).
+    // `threads` (parallel_for's): the primitives are placed in parallel, each its own subtrees.
     void place_objects(const std::vector<std::pair<int, Rigid>>& placed, bool whole = true,
-                       const std::vector<std::vector<int>>* own = nullptr);
+                       const std::vector<std::vector<int>>* own = nullptr, int threads = 1);
     void place_object(int object, const Rigid& placement, bool whole = true) {
         place_objects({{object, placement}}, whole);
     }

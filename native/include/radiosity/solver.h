@@ -31,6 +31,8 @@
 
 namespace radiosity {
 
+class SavedGeometry;  // preview.cpp
+
 struct Cancelled : std::runtime_error {
     Cancelled() : std::runtime_error("cancelled") {}
 };
@@ -387,6 +389,9 @@ private:
     int64_t lap_rays_ = 0;  // rays cast when lap_t_ was taken
     Pockets pockets_;  // closed pockets and the escape rays that found them
     std::vector<std::vector<int>> tri_prim_;  // per object: Embree triangle -> primitive
+    // What a preview step's placement rewrites, saved to be put back (preview.cpp); kept from
+    // step to step for its memory.
+    std::shared_ptr<SavedGeometry> preview_saved_;
 };
 
 }  // namespace radiosity

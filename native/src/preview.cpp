@@ -48,9 +48,12 @@ public:
         summaries_.clear();
         samplers_.clear();
         whole_ = false;
+        // (Each object's nodes listed in parallel: a walk of its subtree, a cache miss a node.)
+        std::vector<std::vector<int>> own(objects.size());
+        parallel_for(objects.size(), threads, [&](size_t j) { own[j] = h.object_nodes(objects[j]); }, 1);
         for (size_t j = 0; j < objects.size(); ++j) {
             const int o = objects[j];
-            for (int id : h.object_nodes(o)) keep(id);
+            for (int id : own[j]) keep(id);
             const int top = h.object_node[size_t(o)];
             for (int a = top >= 0 ? h.nodes[size_t(top)].parent : h.root; a >= 0; a = h.nodes[size_t(a)].parent)
                 keep(a);

@@ -641,15 +641,26 @@ std::vector<int> Hierarchy::object_nodes(int object) const {
     return out;
 }
 
-std::vector<int> Hierarchy::object_clusters(int object) const {
-    std::vector<int> out;
+std::vector<std::vector<int>> Hierarchy::object_cluster_levels(int object) const {
+    std::vector<std::vector<int>> levels;
     const int top = object_node[size_t(object)];
-    if (top < 0 || !nodes[size_t(top)].is_cluster()) return out;
-    out.push_back(top);
-    for (size_t k = 0; k < out.size(); ++k)
-        for (int c : nodes[size_t(out[k])].children)
-            if (nodes[size_t(c)].is_cluster()) out.push_back(c);
-    return out;
+    if (top < 0 || !nodes[size_t(top)].is_cluster()) return levels;
+    levels.push_back({top});
+    for (;;) {
+        std::vector<int> next;
+        for (int id : levels.back())
+            for (int c : nodes[size_t(id)].children)
+                if (nodes[size_t(c)].is_cluster()) next.push_back(c);
+        if (next.empty()) return levels;
+        levels.push_back(std::move(next));
+    }
+}
+
+std::vector<int> Hierarchy::clusters_above(int object) const {
+    std::vector<int> up;
+    const int top = object_node[size_t(object)];
+    for (int a = top >= 0 ? nodes[size_t(top)].parent : root; a >= 0; a = nodes[size_t(a)].parent) up.push_back(a);
+    return up;
 }
 
 Aabb Hierarchy::object_box(int object, const std::vector<int>* own) const {
@@ -861,33 +872,19 @@ void Hierarchy::place_objects(const std::vector<std::pair<int, Rigid>>& placed, 
             for (Primitive& p : prims)
                 if (p.object == object) place(p);
         }
-        // Clusters of the object (children have larger ids), then every cluster above it.
+        // Clusters of the object, then every cluster above it.
         const int top = object_node[object];
         whole = whole || top < 0 || !nodes[top].is_cluster();
-        std::vector<int> cl = object_clusters(object);
-        std::sort(cl.rbegin(), cl.rend());
-        std::vector<int> up;
-        if (top >= 0) {
-            for (int a = nodes[top].parent; a >= 0; a = nodes[a].parent) up.push_back(a);
-        } else {
-            up.push_back(root);
-        }
+        const std::vector<std::vector<int>> levels = object_cluster_levels(object);
+        const std::vector<int> up = clusters_above(object);
         if (whole) {
-            for (int id : cl) refresh_cluster_geometry(id);
+            for (const std::vector<int>& level : levels)
+                for (int id : level) refresh_cluster_geometry(id);
             for (int a : up) refresh_cluster_geometry(a);
             continue;
         }
-        // The object's clusters level by level from the deepest, each level in parallel (a
-        // cluster's geometry is its children's, made before it), then those above it.
-        std::vector<std::vector<int>> levels{{top}};
-        for (;;) {
-            std::vector<int> next;
-            for (int id : levels.back())
-                for (int c : nodes[size_t(id)].children)
-                    if (nodes[size_t(c)].is_cluster()) next.push_back(c);
-            if (next.empty()) break;
-            levels.push_back(std::move(next));
-        }
+        // From the deepest level up, each level in parallel: a cluster's geometry is its
+        // children's, made before it.
         for (auto level = levels.rbegin(); level != levels.rend(); ++level)
             parallel_for(level->size(), threads, [&](size_t k) { cluster_geometry_from_children((*level)[k]); }, 16);
         for (int a : up) cluster_geometry_from_children(a);
@@ -895,7 +892,7 @@ void Hierarchy::place_objects(const std::vector<std::pair<int, Rigid>>& placed, 
         for (int i = t.surf_begin; i < t.surf_end; ++i)
             take_geometry(surface_geom[size_t(i)], nodes[surfaces[surface_order[size_t(i)]].root]);
         ranges.emplace_back(t.surf_begin, t.surf_end);
-        changed.insert(changed.end(), cl.begin(), cl.end());
+        for (const std::vector<int>& level : levels) changed.insert(changed.end(), level.begin(), level.end());
         changed.insert(changed.end(), up.begin(), up.end());
     }
     if (whole) {

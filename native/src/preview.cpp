@@ -54,9 +54,8 @@ public:
         for (size_t j = 0; j < objects.size(); ++j) {
             const int o = objects[j];
             for (int id : own[j]) keep(id);
+            for (int a : h.clusters_above(o)) keep(a);
             const int top = h.object_node[size_t(o)];
-            for (int a = top >= 0 ? h.nodes[size_t(top)].parent : h.root; a >= 0; a = h.nodes[size_t(a)].parent)
-                keep(a);
             const bool clustered = top >= 0 && h.nodes[size_t(top)].is_cluster();
             if (clustered)
                 for (int i = h.nodes[size_t(top)].surf_begin; i < h.nodes[size_t(top)].surf_end; ++i)
@@ -599,9 +598,8 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
     };
     // Clusters holding a dragged object (their sampling of surfaces changes with it).
     for (const auto& op : placed) {
-        const int top = h_.object_node[size_t(op.first)];
-        for (int a = top >= 0 ? h_.nodes[size_t(top)].parent : h_.root; a >= 0; a = h_.nodes[size_t(a)].parent)
-            p.moved_nodes.push_back(a);
+        const std::vector<int> up = h_.clusters_above(op.first);
+        p.moved_nodes.insert(p.moved_nodes.end(), up.begin(), up.end());
     }
     std::sort(p.moved_nodes.begin(), p.moved_nodes.end());
     p.moved_nodes.erase(std::unique(p.moved_nodes.begin(), p.moved_nodes.end()), p.moved_nodes.end());

@@ -142,8 +142,12 @@ public:
     }
     // Nodes of an object (its cluster subtree, or its surfaces' quadtrees when unclustered).
     std::vector<int> object_nodes(int object) const;
-    // The clusters among them, each after its parent.
-    std::vector<int> object_clusters(int object) const;
+    // The clusters among them, level by level: the object's own cluster, then each level below
+    // it (none when the object is not a cluster).
+    std::vector<std::vector<int>> object_cluster_levels(int object) const;
+    // The clusters above an object's own node, from its parent up to the root (the root alone
+    // for an object that has no node).
+    std::vector<int> clusters_above(int object) const;
 
     // --- Objects added to or removed from a built hierarchy (dynamic environments).
     // Builds object `object` of `scene` (already appended there) into the tree where a fresh

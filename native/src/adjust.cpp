@@ -58,6 +58,7 @@ void Solver::at_first_bounce_where_buried(const std::vector<Aabb>& now, const st
 }
 
 void Solver::move_object(int object, const double m[16]) {
+    settle_preview();
     if (!solved_) throw std::logic_error("move_object: solve the scene first");
     check_live(object, "move_object");  // topology.cpp
     edits_.record_move(object, pose_of(object, m));
@@ -95,6 +96,7 @@ Rigid Solver::pose_of(int object, const double m[16]) const {
 }
 
 void Solver::set_material(int object, const std::vector<Rgb>& values, bool emission) {
+    settle_preview();
     check_live(object, emission ? "set_emission" : "set_reflectance");  // topology.cpp
     ObjectDesc& o = scene_.objects_mut()[object];
     if (values.size() != o.polygon_count() && values.size() != 1)
@@ -118,6 +120,7 @@ void Solver::set_material(int object, const std::vector<Rgb>& values, bool emiss
 
 void Solver::set_emission(int object, const std::vector<Rgb>& v) { set_material(object, v, true); }
 void Solver::set_corner_materials(int object, std::vector<Rgb> reflectance, std::vector<Rgb> emission) {
+    settle_preview();
     check_live(object, "set_corner_materials");  // topology.cpp
     ObjectDesc& o = scene_.objects_mut()[object];
     check_corner_materials(o, reflectance, emission);
@@ -126,6 +129,7 @@ void Solver::set_corner_materials(int object, std::vector<Rgb> reflectance, std:
 }
 void Solver::set_reflectance(int object, const std::vector<Rgb>& v) { set_material(object, v, false); }
 void Solver::set_texture_pieces(int object, std::vector<TexturePiece> pieces, bool emit) {
+    settle_preview();
     check_live(object, "set_texture_pieces");  // topology.cpp
     ObjectDesc& o = scene_.objects_mut()[object];
     if (pieces.empty() && o.pieces.empty()) return;
@@ -594,6 +598,7 @@ void Solver::update(Control* control) {
         solve(control);
         return;
     }
+    settle_preview();
     preview_saved_.reset();  // (a drag's memory, made again at the next drag)
     UpdateRun u;
     u.topology = edits_.topology();

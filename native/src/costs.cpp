@@ -5,6 +5,7 @@
 namespace radiosity {
 
 std::vector<Solver::ObjectCost> Solver::object_costs() const {
+    settle_preview();
     std::vector<ObjectCost> c(scene_.objects().size());
     const std::vector<int64_t>& pr = output_.counts().object_rays;
     for (size_t o = 0; o < c.size() && o < pr.size(); ++o) c[o].point_rays = pr[o];

@@ -19,6 +19,7 @@ VKey key_of(const Vec3& p) { return {p.x, p.y, p.z}; }
 }  // namespace
 
 LeafMesh Solver::leaf_mesh(int object, bool lighting_only) const {
+    settle_preview();
     if (object < 0 || object >= int(scene_.objects().size()))
         throw std::out_of_range("unknown object " + std::to_string(object));
     // Leaves in input-face order, each quadtree depth first in child order (deterministic).

@@ -35,6 +35,7 @@ std::vector<float> Solver::all_corner_radiance() const {
 }
 
 std::vector<float> Solver::corner_radiance(int object) const {
+    settle_preview();
     if (object < 0 || object >= int(scene_.objects().size()))
         throw std::out_of_range("unknown object " + std::to_string(object));
     const ObjectDesc& o = scene_.objects()[size_t(object)];
@@ -169,6 +170,7 @@ std::vector<float> Solver::corner_values(int object, const std::function<Rgb(int
 }
 
 Rgb Solver::radiance_at(int object, int face, const Vec3& world_point) const {
+    settle_preview();
     if (!finite(world_point)) throw InputError("radiance_at: the point has a NaN or inf coordinate");
     const Vec3 x = h_.to_internal(world_point);
     // The piece of the polygon (n-gons are fanned) that contains x.

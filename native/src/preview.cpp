@@ -26,19 +26,27 @@ namespace radiosity {
 
 // The hierarchy's geometry that placing objects for a preview rewrites
 // (Hierarchy::place_objects, not whole): their nodes, the clusters above them, their primitives
-// and the surface tables where their surfaces and those clusters are. Saved before a preview
-// places them, put back after: placing them again from the rest geometry would not give the
-// same bits (children's normals are their parents' when built, recomputed when placed). The
-// solver keeps one from step to step, so that a drag's steps reuse its memory.
+// and the surface tables where their surfaces and those clusters are. Saved before a drag's
+// first step places them, put back when anything but the next step of the same drag comes
+// (Solver::settle_preview): placing them again from the rest geometry would not give the same
+// bits (children's normals are their parents' when built, recomputed when placed). Between
+// two steps the hierarchy holds the last step's placement, and this copy is the solution's.
 class SavedGeometry {
 public:
     // `prims`: per object of `objects`, its primitives.
-    void save(const Hierarchy& h, const std::vector<int>& objects, const std::vector<std::vector<int>>& prims,
-              int threads) {
+    void save(const Hierarchy& h, const std::vector<int>& objects, std::vector<std::vector<int>> prims, int threads) {
+        objects_ = objects;
+        object_prims_ = std::move(prims);
+        const std::vector<std::vector<int>>& prims_of = object_prims_;
+        boxes_.clear();
+        for (size_t j = 0; j < objects.size(); ++j) boxes_.push_back(h.object_box(objects[j], &prims_of[j]));
         ids_.clear();
         // (A stamp per node for this save: objects in one collection share the clusters above
         // them, and an unclustered object's primitives' subtrees are its nodes.)
-        if (stamp_.size() < h.nodes.size()) stamp_.resize(h.nodes.size(), 0);
+        if (stamp_.size() < h.nodes.size()) {
+            stamp_.resize(h.nodes.size(), 0);
+            slot_.resize(h.nodes.size(), -1);
+        }
         if (++generation_ == 0) {
             std::fill(stamp_.begin(), stamp_.end(), 0);
             generation_ = 1;
@@ -62,7 +70,7 @@ public:
                     geoms_.emplace_back(i, h.surface_geom[size_t(i)]);
             else
                 whole_ = true;
-            for (int pi : prims[j]) {
+            for (int pi : prims_of[j]) {
                 const Primitive& pr = h.prims[size_t(pi)];
                 prims_.emplace_back(size_t(pi), pr.poly);
                 if (clustered) continue;  // (its cluster's subtree holds its surfaces)
@@ -90,6 +98,7 @@ public:
         }
     }
     void restore(Hierarchy& h, int threads) {
+        holds_drag_ = false;
         parallel_for(ids_.size(), threads, [&](size_t k) {
             const Saved& v = nodes_[k];
             Node& n = h.nodes[size_t(ids_[k])];
@@ -115,10 +124,22 @@ public:
         for (const auto& [k, sc] : samplers_) h.sampler_children[size_t(k)] = sc;
     }
 
+    // The hierarchy holds a drag's placement of objects() (set by the step that places them).
+    bool holds_drag() const { return holds_drag_; }
+    void set_holds_drag() { holds_drag_ = true; }
+    // The objects saved, in the order given, with their primitives and their boxes as solved.
+    const std::vector<int>& objects() const { return objects_; }
+    const std::vector<std::vector<int>>& prims() const { return object_prims_; }
+    const Aabb& box(size_t j) const { return boxes_[j]; }
+    // A saved node's polygon and normal as solved.
+    const Poly& poly(int node) const { return nodes_[size_t(slot_[size_t(node)])].poly; }
+    const Vec3& normal(int node) const { return nodes_[size_t(slot_[size_t(node)])].normal; }
+
 private:
     void keep(int id) {
         if (id < 0 || stamp_[size_t(id)] == generation_) return;
         stamp_[size_t(id)] = generation_;
+        slot_[size_t(id)] = int(ids_.size());
         ids_.push_back(id);
     }
     void add_subtree(const Hierarchy& h, int root) {
@@ -141,7 +162,12 @@ private:
     std::vector<int> ids_;      // the nodes saved
     std::vector<Saved> nodes_;  // ... and what was saved of each
     std::vector<uint32_t> stamp_;  // per node: the save that took it
+    std::vector<int> slot_;        // ... and its place in ids_
     uint32_t generation_ = 0;
+    bool holds_drag_ = false;
+    std::vector<int> objects_;
+    std::vector<std::vector<int>> object_prims_;
+    std::vector<Aabb> boxes_;
     std::vector<std::pair<size_t, Poly>> prims_;
     std::vector<std::pair<int, SurfaceGeom>> geoms_;
     std::vector<std::pair<int, Hierarchy::FacingSummary>> summaries_;
@@ -499,13 +525,14 @@ struct PlacedPolygon {
     Aabb box;
 };
 
-// The dragged objects' polygons where the preview places them (`prims`: their primitives).
-std::vector<PlacedPolygon> placed_polygons(const Hierarchy& h, const FinalGather::Preview& p,
-                                           const std::vector<std::vector<int>>& prims, int threads) {
+// The dragged objects' polygons where the preview places them, carried from where the solution
+// has them (`saved`: their geometry as solved, and their primitives).
+std::vector<PlacedPolygon> placed_polygons(const Hierarchy& h, const FinalGather::Preview& p, const SavedGeometry& saved,
+                                           int threads) {
     // As DirectLight::find_contacts: coplanar within 1e-7 of the scene, facing the other way, the point inside.
     const double tol = 1e-7 * h.scene_diag;
     std::vector<int> all;
-    for (const std::vector<int>& own : prims) all.insert(all.end(), own.begin(), own.end());
+    for (const std::vector<int>& own : saved.prims()) all.insert(all.end(), own.begin(), own.end());
     // Two slots per primitive (front, back), filled in parallel, then the empty ones dropped.
     std::vector<PlacedPolygon> slots(2 * all.size());
     std::vector<char> used(2 * all.size(), 0);
@@ -514,13 +541,14 @@ std::vector<PlacedPolygon> placed_polygons(const Hierarchy& h, const FinalGather
         for (int b = 0; b < 2; ++b) {
             const int side = b == 0 ? pr.front : pr.back;
             if (side < 0) continue;
-            const Node& root = h.nodes[size_t(h.surfaces[size_t(side)].root)];
-            if (root.dead) continue;
+            const int root = h.surfaces[size_t(side)].root;
+            if (h.nodes[size_t(root)].dead) continue;
             PlacedPolygon& q = slots[2 * k + size_t(b)];
-            q.poly = root.poly;
+            const Poly& was = saved.poly(root);
+            q.poly = was;
             const Rigid& c = p.carry[size_t(pr.object)];
-            for (int j = 0; j < q.poly.n; ++j) q.poly.v[size_t(j)] = c.point(root.poly.v[size_t(j)]);
-            q.normal = c.dir(root.normal);
+            for (int j = 0; j < q.poly.n; ++j) q.poly.v[size_t(j)] = c.point(was.v[size_t(j)]);
+            q.normal = c.dir(saved.normal(root));
             for (int j = 0; j < q.poly.n; ++j) q.box.grow(q.poly.v[size_t(j)]);
             q.box.lo -= Vec3{tol, tol, tol};
             q.box.hi += Vec3{tol, tol, tol};
@@ -571,15 +599,26 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
     if (!solved_) throw std::logic_error("preview: solve the scene first");
     if (settings_.gather_rays <= 0 || !output_.traced())
         throw std::logic_error("preview: needs the final gather's trace (gather_rays > 0)");
-    FinalGather::Preview p;
-    std::vector<std::pair<int, Rigid>> placed;
-    std::vector<std::vector<int>> prims;
-    preview_moves(moves, p, placed, prims);
-    p.work = work < 0 ? settings_.preview_work : work;
+    const std::vector<std::pair<int, Rigid>> placed = preview_placements(moves);
     std::vector<int> objects;
     for (const auto& op : placed) objects.push_back(op.first);
+    if (!preview_saved_) preview_saved_ = std::make_shared<SavedGeometry>();
+    SavedGeometry& saved = *preview_saved_;
+    // A step that places the objects the last step placed goes on from there; any other puts
+    // them back first.
+    if (saved.holds_drag() && saved.objects() != objects) settle_preview();
+    if (counts) *counts = FinalGather::PreviewCounts{};
+    if (placed.empty()) return {};
+    if (!saved.holds_drag()) {
+        std::vector<std::vector<int>> prims;
+        for (int o : objects) prims.push_back(own_prims(o));
+        saved.save(h_, objects, std::move(prims), settings_.threads);
+    }
+    FinalGather::Preview p;
+    preview_moves(placed, saved, p);
+    p.work = work < 0 ? settings_.preview_work : work;
     // (DirectLight::contact's test, with the moved objects where they are now.)
-    const std::vector<PlacedPolygon> polys = placed_polygons(h_, p, prims, settings_.threads);
+    const std::vector<PlacedPolygon> polys = placed_polygons(h_, p, saved, settings_.threads);
     const double tol = 1e-7 * h_.scene_diag;
     const double inside_tol = 1e-9 * h_.scene_diag;
     p.covered = [&](int surface, const Vec3& x, const Vec3& n) {
@@ -597,71 +636,78 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
         return false;
     };
     // Clusters holding a dragged object (their sampling of surfaces changes with it).
-    for (const auto& op : placed) {
-        const std::vector<int> up = h_.clusters_above(op.first);
+    for (int o : objects) {
+        const std::vector<int> up = h_.clusters_above(o);
         p.moved_nodes.insert(p.moved_nodes.end(), up.begin(), up.end());
     }
     std::sort(p.moved_nodes.begin(), p.moved_nodes.end());
     p.moved_nodes.erase(std::unique(p.moved_nodes.begin(), p.moved_nodes.end()), p.moved_nodes.end());
-    auto place = [this](int object, const Rigid& q) { vis_->set_object_transform(object, q); };
-    // The solution's placements back however the preview ends (Embree's from the same poses:
-    // the same floats; the hierarchy's from the saved copy).
-    if (!preview_saved_) preview_saved_ = std::make_shared<SavedGeometry>();
-    if (!placed.empty()) preview_saved_->save(h_, objects, prims, settings_.threads);
-    struct Restore {
-        Solver* s;
-        const std::vector<std::pair<int, Rigid>>& placed;
-        const decltype(place)& put;
-        ~Restore() {
-            if (placed.empty()) return;
-            s->preview_saved_->restore(s->h_, s->settings_.threads);
-            try {
-                for (const auto& op : placed) put(op.first, s->edits_.poses()[size_t(op.first)]);
-                s->vis_->commit();
-            } catch (...) {
-                // An Embree error here leaves rays as the preview placed them: the solution
-                // must not be trusted. (Never seen: the same calls succeeded a moment ago.)
-                s->solved_ = false;
-            }
-        }
-    } restore{this, placed, place};
-    for (const auto& op : placed) place(op.first, op.second);
-    h_.place_objects(placed, false, &prims, settings_.threads);  // (put back by `restore`)
-    if (!placed.empty()) vis_->commit();
-
+    // The objects stay placed after the step (Embree's and the hierarchy's placements) until
+    // settle_preview; a failure on the way puts them back at once.
+    saved.set_holds_drag();
     FinalGather::PreviewCounts k;
     std::vector<CornerPatch> out;
-    if (!placed.empty()) {
+    try {
+        for (const auto& op : placed) vis_->set_object_transform(op.first, op.second);
+        h_.place_objects(placed, false, &saved.prims(), settings_.threads);
+        vis_->commit();
         const FinalGather::Solution s{scene_, h_, *vis_, links_,
                                       [this](int surface, const Vec3& q) { return direct_light_.contact(h_, surface, q); }, &tri_prim_};
         out = preview_patches(scene_, output_.preview(s, p, k));
+    } catch (...) {
+        settle_preview();
+        throw;
     }
     if (counts) *counts = k;
     return out;
 }
 
-void Solver::preview_moves(const std::map<int, std::array<double, 16>>& moves, FinalGather::Preview& p,
-                           std::vector<std::pair<int, Rigid>>& placed, std::vector<std::vector<int>>& prims) const {
-    const size_t no = scene_.objects().size();
-    p.moved.assign(no, 0);
-    p.carry.assign(no, Rigid{});
+void Solver::settle_preview() const {
+    if (!preview_saved_ || !preview_saved_->holds_drag()) return;
+    // (The placement a drag keeps is not the solution's state, which this puts back as it
+    // was, bit for bit: const for the readers that call it. No Solver is made const.)
+    Solver& self = const_cast<Solver&>(*this);
+    SavedGeometry& saved = *self.preview_saved_;
+    saved.restore(self.h_, settings_.threads);
+    try {
+        // (Embree's from the same poses: the same floats.)
+        for (int o : saved.objects()) self.vis_->set_object_transform(o, edits_.poses()[size_t(o)]);
+        self.vis_->commit();
+    } catch (...) {
+        // An Embree error here leaves rays as the preview placed them: the solution must not
+        // be trusted. (Never seen: the same calls succeeded a moment ago.)
+        self.solved_ = false;
+    }
+}
+
+std::vector<std::pair<int, Rigid>> Solver::preview_placements(const std::map<int, std::array<double, 16>>& moves) const {
+    std::vector<std::pair<int, Rigid>> placed;
     for (const auto& [object, m] : moves) {
         check_live(object, "preview");  // topology.cpp
         const std::vector<Rigid>& poses = edits_.poses();  // an object added since has none yet
         if (size_t(object) >= poses.size() || h_.object_node[size_t(object)] < 0) continue;
         const Rigid to = pose_of(object, m.data());
-        const Rigid& from = poses[size_t(object)];
-        if (to == from) continue;  // where the solution has it
-        const Rigid& c = p.carry[size_t(object)] = to.relative_to(from);
-        const std::vector<int>& own = prims.emplace_back(own_prims(object));
-        const Aabb was = h_.object_box(object, &own);
+        if (to == poses[size_t(object)]) continue;  // where the solution has it
+        placed.emplace_back(object, to);
+    }
+    return placed;
+}
+
+void Solver::preview_moves(const std::vector<std::pair<int, Rigid>>& placed, const SavedGeometry& saved,
+                           FinalGather::Preview& p) const {
+    const size_t no = scene_.objects().size();
+    p.moved.assign(no, 0);
+    p.carry.assign(no, Rigid{});
+    for (size_t j = 0; j < placed.size(); ++j) {
+        const auto& [object, to] = placed[j];
+        const Rigid& c = p.carry[size_t(object)] = to.relative_to(edits_.poses()[size_t(object)]);
+        const Aabb& was = saved.box(j);
         Aabb now;
         for (int k = 0; k < 8; ++k)
             now.grow(c.point({(k & 1) ? was.hi.x : was.lo.x, (k & 2) ? was.hi.y : was.lo.y, (k & 4) ? was.hi.z : was.lo.z}));
         p.clips.push_back(was);
         p.clips.push_back(now);
         p.moved[size_t(object)] = 1;
-        placed.emplace_back(object, to);
     }
     for (Aabb& c : p.clips) {  // ray ends are lifted off surfaces: a hair of margin (as update())
         c.lo -= Vec3{1e-5, 1e-5, 1e-5};

@@ -17,6 +17,7 @@ uint64_t Solver::link_seed(int src, int rcv) const {
 }
 
 Link Solver::evaluate(int src, int rcv) const {
+    settle_preview();
     const uint64_t seed = link_seed(src, rcv);
     const Link l = evaluate_link(h_, *vis_, src, rcv, settings_.rays_per_link, seed);
     // At the resolution limit a link the point model cannot evaluate stays as it is: its
@@ -28,6 +29,7 @@ Link Solver::evaluate(int src, int rcv) const {
 }
 
 Link Solver::reevaluate(const Link& l) const {
+    settle_preview();
     if (!update_run_ || !update_run_->replaying || l.must_refine) return evaluate(l.src, l.rcv);
     return reevaluate_link(h_, *vis_, l, settings_.rays_per_link, link_seed(l.src, l.rcv), update_run_->replay_clips);
 }

@@ -58,6 +58,7 @@ void Solver::solve(Control* control) {
     solved_ = false;
     light_known_ = false;
     update_run_ = nullptr;  // a full solve in place of an update replays nothing
+    settle_preview();
     preview_saved_.reset();  // (a drag's memory, made again at the next drag)
     const auto t0 = Clock::now();
     stats_ = Stats{};

@@ -11,6 +11,7 @@
 namespace radiosity {
 
 void Solver::set_light(int index, const LightDesc& l) {
+    settle_preview();
     if (index < 0 || index >= int(scene_.lights().size()))
         throw InputError("set_light: unknown light " + std::to_string(index));
     l.validate();
@@ -148,6 +149,7 @@ void Solver::at_first_bounce(const std::function<void()>& judge_links, const std
 }
 
 Rgb Solver::leaf_irradiance(int id) const {
+    settle_preview();
     // What push_down gathers for this leaf (gather.cpp), without the reflectance: light
     // arriving through element links on the leaf and its ancestors, and through cluster links
     // above its surface times its own cosine; closure-corrected; plus the direct term.
@@ -166,6 +168,7 @@ Rgb Solver::leaf_irradiance(int id) const {
 }
 
 std::vector<float> Solver::corner_irradiance(int object) const {
+    settle_preview();
     if (object < 0 || object >= int(scene_.objects().size()))
         throw std::out_of_range("unknown object " + std::to_string(object));
     if (settings_.gather_rays > 0) {  // output.cpp: the final gather's points

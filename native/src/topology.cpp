@@ -20,9 +20,13 @@ void Solver::check_live(int object, const char* what) const {
                          std::to_string(object) + ") was removed");
 }
 
-int Solver::add_cluster(const std::string& name, int parent) { return scene_.add_cluster(name, parent); }
+int Solver::add_cluster(const std::string& name, int parent) {
+    settle_preview();
+    return scene_.add_cluster(name, parent);
+}
 
 int Solver::add_object(ObjectDesc object) {
+    settle_preview();
     const int id = scene_.add_object(std::move(object));  // validates: InputError names the problem
     // Before a first solve (or after a cancelled one) the next solve builds it with the rest.
     if (solved_) edits_.record_add(id);
@@ -30,6 +34,7 @@ int Solver::add_object(ObjectDesc object) {
 }
 
 void Solver::remove_object(int object) {
+    settle_preview();
     check_live(object, "remove_object");
     // Not built into a solution (added and removed before an update, or not solved yet): its
     // slot is emptied now; otherwise the next update takes it out.

@@ -110,6 +110,64 @@ TEST(Preview, ChangesNothingOfTheSolution) {
     EXPECT_TRUE(a.preview({{2, m}}).empty());
 }
 
+// Between two steps of one drag the dragged object stays where the last step put it (no save
+// and put back a step); every other call puts it back first. A drag run so shows what it shows
+// with the placement put back between its steps, and leaves the solution as a solver that
+// never previewed has it, bit for bit.
+TEST(Preview, ADragGoesOnFromWhereItsLastStepLeftTheObject) {
+    const SceneDesc scene = scenes::box_room(4);
+    Solver a(scene, settings()), b(scene, settings()), c(scene, settings());
+    for (Solver* x : {&a, &b, &c}) x->solve();
+    auto pose = [](int k) {
+        const double ca = std::cos(0.15 * k), sa = std::sin(0.15 * k);
+        return std::array<double, 16>{ca, -sa, 0, 9.0 * k, sa, ca, 0, 15.0 * k, 0, 0, 1, 0, 0, 0, 0, 1};
+    };
+    // Box 2 dragged, then box 3 (another drag), then box 2 again, then both together.
+    std::vector<std::map<int, std::array<double, 16>>> steps;
+    for (int k = 1; k <= 4; ++k) steps.push_back({{2, pose(k)}});
+    steps.push_back({{3, translation({-20, -30, 0})}});
+    steps.push_back({{2, pose(5)}});
+    steps.push_back({{2, pose(6)}, {3, translation({-25, -30, 0})}});
+    steps.push_back({{2, pose(7)}, {3, translation({-30, -30, 0})}});
+    for (size_t j = 0; j < steps.size(); ++j) {
+        FinalGather::PreviewCounts ka, kb;
+        const std::vector<CornerPatch> pa = a.preview(steps[j], &ka);
+        (void)b.hierarchy();  // puts b's placement back between its steps
+        const std::vector<CornerPatch> pb = b.preview(steps[j], &kb);
+        (void)b.hierarchy();
+        ASSERT_FALSE(pa.empty()) << "step " << j;
+        ASSERT_EQ(pa.size(), pb.size()) << "step " << j;
+        for (size_t i = 0; i < pa.size(); ++i) {
+            EXPECT_EQ(pa[i].object, pb[i].object);
+            EXPECT_EQ(pa[i].corners, pb[i].corners) << "step " << j;
+            EXPECT_EQ(pa[i].values, pb[i].values) << "step " << j;
+        }
+        EXPECT_EQ(ka.points, kb.points);
+        EXPECT_EQ(ka.rays, kb.rays);
+    }
+    // After the drag: the solution as never previewed (hierarchy, Embree's placement, output).
+    EXPECT_TRUE(a.hierarchy().surface_geom_current());
+    ASSERT_EQ(a.hierarchy().nodes.size(), c.hierarchy().nodes.size());
+    for (size_t i = 0; i < c.hierarchy().nodes.size(); ++i) {
+        const Node &u = a.hierarchy().nodes[i], &v = c.hierarchy().nodes[i];
+        bool same = u.normal.x == v.normal.x && u.normal.y == v.normal.y && u.normal.z == v.normal.z &&
+                    u.center.x == v.center.x && u.center.y == v.center.y && u.radius == v.radius && u.area == v.area &&
+                    u.poly.n == v.poly.n;
+        for (int k = 0; same && k < u.poly.n; ++k)
+            same = u.poly.v[size_t(k)].x == v.poly.v[size_t(k)].x && u.poly.v[size_t(k)].y == v.poly.v[size_t(k)].y;
+        ASSERT_TRUE(same) << "node " << i;
+    }
+    EXPECT_EQ(a.hierarchy().area_prefix, c.hierarchy().area_prefix);
+    EXPECT_EQ(a.all_corner_radiance(), c.all_corner_radiance());
+    // A drag left placed, then an update of another move: the update as without the drag.
+    a.preview({{2, pose(8)}});
+    for (Solver* x : {&a, &c}) {
+        x->move_object(2, pose(3).data());
+        x->update();
+    }
+    EXPECT_EQ(a.all_corner_radiance(), c.all_corner_radiance());
+}
+
 TEST(Preview, RejectsWhatMoveObjectRejects) {
     Solver s(scenes::box_room(4), settings());
     EXPECT_THROW(s.preview({}), std::logic_error);  // not solved

@@ -96,9 +96,10 @@ public:
     // Live drag (preview.cpp): the corners whose colour changes, and their values, with the
     // objects in `moves` placed there (move_object's matrices, validated alike): the direct
     // light re-traced at the new places, the rest as solved (FinalGather::preview); every
-    // other corner keeps corner_radiance's value. The solution, pending moves and the dragged
-    // objects' placements (Embree's and the hierarchy's, which the call uses for a moment) stay
-    // as they were, bit for bit. Without a final gather (gather_rays 0) or a solution: logic_error.
+    // other corner keeps corner_radiance's value. The solution and pending moves stay as they
+    // were, bit for bit; so do the dragged objects' placements (Embree's and the hierarchy's)
+    // as every other call reads them: the next step of the same drag finds them where this one
+    // left them, anything else puts them back first. Without a final gather (gather_rays 0) or a solution: logic_error.
     // A step does about `work` (Settings::preview_work when negative; 0: all there is), the
     // points nearest the dragged objects first; the others keep what earlier steps showed.
     std::vector<CornerPatch> preview(const std::map<int, std::array<double, 16>>& moves,
@@ -133,11 +134,18 @@ public:
     using PocketRay = Pockets::Ray;
     void pocket_rays(int s, int rays, uint64_t stream, std::vector<PocketRay>& hits,
                      const std::vector<Aabb>* changed = nullptr, const std::vector<PocketRay>* old = nullptr) const {
+        settle_preview();
         pockets_.rays(h_, pocket_sight(), s, rays, stream, hits, changed, old);
     }
     const std::vector<std::vector<PocketRay>>& pocket_records() const { return pockets_.records(); }
-    const Hierarchy& hierarchy() const { return h_; }
-    const Visibility& visibility() const { return *vis_; }
+    const Hierarchy& hierarchy() const {
+        settle_preview();
+        return h_;
+    }
+    const Visibility& visibility() const {
+        settle_preview();
+        return *vis_;
+    }
     const LinkStore& links() const { return links_; }
     const Settings& settings() const { return settings_; }
     const SceneDesc& scene() const { return scene_; }
@@ -265,10 +273,15 @@ private:
     void link_changed(const Change& ch);
     // The enclosure deciders ask again, casting only escape rays through a changed box.
     void redecide_enclosures(const Change& ch);
-    // preview.cpp: the drag's placements (carries, old and new boxes), validated as
-    // move_object validates them, and each placed object's primitives.
-    void preview_moves(const std::map<int, std::array<double, 16>>& moves, FinalGather::Preview& p,
-                       std::vector<std::pair<int, Rigid>>& placed, std::vector<std::vector<int>>& prims) const;
+    // preview.cpp: the objects of a drag's step placed away from where the solution has them,
+    // with their placements, validated as move_object validates them.
+    std::vector<std::pair<int, Rigid>> preview_placements(const std::map<int, std::array<double, 16>>& moves) const;
+    // What the step knows of them (carries, old and new boxes; `saved`: their geometry as solved).
+    void preview_moves(const std::vector<std::pair<int, Rigid>>& placed, const SavedGeometry& saved,
+                       FinalGather::Preview& p) const;
+    // Puts back the placement the last drag step kept (Embree's and the hierarchy's), if any:
+    // whatever is not the next step of that drag reads or changes the solution's placement.
+    void settle_preview() const;
     // topology.cpp
     void check_live(int object, const char* what) const;
     void blank_object(int object);           // the scene slot of a removed object, emptied
@@ -389,8 +402,9 @@ private:
     int64_t lap_rays_ = 0;  // rays cast when lap_t_ was taken
     Pockets pockets_;  // closed pockets and the escape rays that found them
     std::vector<std::vector<int>> tri_prim_;  // per object: Embree triangle -> primitive
-    // What a preview step's placement rewrites, saved to be put back (preview.cpp); kept from
-    // step to step for its memory.
+    // What a drag's placement rewrites, saved to be put back (preview.cpp): between the steps
+    // of one drag the hierarchy and Embree hold the last step's placement, put back by
+    // settle_preview. Kept from drag to drag for its memory.
     std::shared_ptr<SavedGeometry> preview_saved_;
 };
 

@@ -309,12 +309,18 @@ public:
         }
         if (h.has_facing_summary(node)) {
             // A large cluster of few normals in one pocket: the projected area is a sum over
-            // its normals, and surfaces are drawn by area and kept with probability cos
-            // (rejection), unless so little of it faces d that rejection would spin.
+            // its normals, and surfaces are drawn by area and kept with probability cos over
+            // the largest cos of its normals (rejection: a floor seen edge-on keeps each draw
+            // that faces d, not one in ten), unless so little of it faces d that rejection
+            // would spin.
             const Hierarchy::FacingSummary& f = h.facing_summary[size_t(node)];
             double facing = 0;
             for (const auto& grp : f.groups)
-                if (take(grp.pocket)) facing += grp.area * weight(dot(grp.normal, d));
+                if (take(grp.pocket)) {
+                    const double c = weight(dot(grp.normal, d));
+                    facing += grp.area * c;
+                    c_max_ = std::max(c_max_, c);
+                }
             const double area = h.area_prefix[size_t(n.surf_end)] - h.area_prefix[size_t(n.surf_begin)];
             if (facing <= 0 || facing >= area / 64) {
                 summary_ = true;
@@ -349,7 +355,7 @@ public:
                 const double c = weight(dot(g.normal, d_));
                 if (c <= 0 || !h_.holds_pocket(other_, g.pocket)) continue;
                 pick = &g;  // after 4096 tries: the last taking part
-                if (rng.next() < c) break;
+                if (c >= c_max_ || rng.next() * c_max_ < c) break;
             }
             if (!pick) pick = &h_.surface_geom[size_t(begin_)];
         } else {
@@ -377,6 +383,7 @@ private:
     double total_ = 0;
     double min_cos_ = 0;
     bool summary_ = false;  // sampling by rejection over [begin_, end_)
+    double c_max_ = 0;      // ... keeping a draw with probability weight / c_max_
     int begin_ = 0, end_ = 0, other_ = -1;
     Vec3 d_;
 };
@@ -390,8 +397,27 @@ private:
 // cluster's; surfaces facing away keep the floor (wasted draws, no bias).
 class TreeSampler {
 public:
-    TreeSampler(const Hierarchy& h, int node, const Vec3& d, double min_cos)
-        : h_(h), node_(node), d_(d), min_cos_(min_cos) {}
+    // Each cluster's children's weights toward d, made at the first draw that reaches it and
+    // read by the transfer's later draws (they share d: every ray of a transfer passes the top
+    // levels). The thread's own buffers, reused from transfer to transfer.
+    struct Memo {
+        std::vector<int> node;           // open addressing by node id (-1: empty)
+        std::vector<uint32_t> at;        // ... where its weights start in `weights`
+        std::vector<double> total;       // ... and their sum
+        std::vector<int> used;           // slots filled by this transfer (cleared at the next)
+        std::vector<double> weights;
+    };
+    TreeSampler(const Hierarchy& h, int node, const Vec3& d, double min_cos, Memo& memo)
+        : h_(h), node_(node), d_(d), min_cos_(min_cos), memo_(memo) {
+        if (memo_.node.empty()) {
+            memo_.node.assign(kSlots, -1);
+            memo_.at.assign(kSlots, 0);
+            memo_.total.assign(kSlots, 0.0);
+        }
+        for (int k : memo_.used) memo_.node[size_t(k)] = -1;
+        memo_.used.clear();
+        memo_.weights.clear();
+    }
 
     // A child's weight toward d, from the samplers' copy of the cluster tree.
     double weight(const Hierarchy::SamplerChild& n) const {
@@ -413,13 +439,8 @@ public:
         for (bool cluster = h_.nodes[size_t(id)].is_cluster(); cluster;) {
             const Hierarchy::SamplerChild* ch = h_.sampler_children.data() + h_.sampler_first[size_t(id)];
             const int m = h_.sampler_first[size_t(id) + 1] - h_.sampler_first[size_t(id)];
-            thread_local std::vector<double> ws;  // the children's weights, each read once
-            ws.clear();
             double total = 0;
-            for (int i = 0; i < m; ++i) {
-                ws.push_back(weight(ch[i]));
-                total += ws.back();
-            }
+            const double* ws = weights_of(id, ch, m, total);
             if (!(total > 0)) return nullptr;
             double x = u * total, acc = 0;
             int pick = -1;
@@ -442,10 +463,35 @@ public:
     }
 
 private:
+    static constexpr size_t kSlots = 1024;  // a power of two; filled to half at most
+    // Cluster id's children's weights (m of them from ch) and their sum, from the memo or
+    // made now (and kept while the memo has room).
+    const double* weights_of(int id, const Hierarchy::SamplerChild* ch, int m, double& total) const {
+        size_t k = (uint32_t(id) * 2654435761u) & (kSlots - 1);
+        while (memo_.node[k] >= 0 && memo_.node[k] != id) k = (k + 1) & (kSlots - 1);
+        if (memo_.node[k] == id) {
+            total = memo_.total[k];
+            return memo_.weights.data() + memo_.at[k];
+        }
+        const size_t at = memo_.weights.size();
+        total = 0;
+        for (int i = 0; i < m; ++i) {
+            memo_.weights.push_back(weight(ch[i]));
+            total += memo_.weights.back();
+        }
+        if (memo_.used.size() < kSlots / 2) {
+            memo_.node[k] = id;
+            memo_.at[k] = uint32_t(at);
+            memo_.total[k] = total;
+            memo_.used.push_back(int(k));
+        }
+        return memo_.weights.data() + at;
+    }
     const Hierarchy& h_;
     int node_;
     Vec3 d_;
     double min_cos_;
+    Memo& memo_;
 };
 
 // Whether every surface below P and Q lies in one plane (either side of it), to within its
@@ -781,7 +827,8 @@ void draw_far_cluster(PointRays& pr, int src, int rcv_leaf, int pocket) {
     if (P.surf_end - P.surf_begin > kTreeSampleSurfaces && !h.has_facing_summary(src)) {
         // A large cluster of many normals (a bevelled, subdivided sofa): drawn down its
         // tree, the density the surface's probability over its area.
-        const TreeSampler tree(h, src, d, kGatherMinCos);
+        thread_local TreeSampler::Memo memo;
+        const TreeSampler tree(h, src, d, kGatherMinCos, memo);
         for (int k = 0; k < pr.rays; ++k) {
             const double* u = strata.at(k);
             double prob = 0;

@@ -2,6 +2,7 @@
 // closed forms (the point-to-polygon irradiance of a lamp), the furnace, and contacts.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -381,6 +382,31 @@ Estimates coupling_estimates(const Solver& s, int src, const Vec3& x, const Vec3
     return e;
 }
 
+// A gridded floor plate (normal +z) and a gridded wall behind it (normal +x), grid x grid
+// faces each, in one collection, and a small probe quad (its corners, facing -x) to receive.
+struct PlateAndWall {
+    SceneDesc scene;
+    int plate = -1, wall = -1, probe = -1;
+};
+PlateAndWall plate_and_wall(int grid, const std::array<Vec3, 4>& probe) {
+    PlateAndWall p;
+    const int cl = p.scene.add_cluster("corner");
+    p.plate = scenes::add_grid(p.scene, "plate", cl, {Vec3{-0.5, -0.5, 0}, Vec3{0.5, -0.5, 0}, Vec3{0.5, 0.5, 0}, Vec3{-0.5, 0.5, 0}},
+                               grid, grid, Rgb::all(0.5), Rgb{}, false);
+    p.wall = scenes::add_grid(p.scene, "wall", cl, {Vec3{-0.5, -0.5, 0}, Vec3{-0.5, 0.5, 0}, Vec3{-0.5, 0.5, 1}, Vec3{-0.5, -0.5, 1}},
+                              grid, grid, Rgb::all(0.5), Rgb{}, false);
+    p.probe = scenes::add_grid(p.scene, "probe", -1, {probe[0], probe[1], probe[2], probe[3]}, 1, 1, Rgb::all(0.5), Rgb{}, false);
+    return p;
+}
+
+// The live cluster holding exactly `surfaces` surfaces (-1: none).
+int cluster_of(const Hierarchy& h, int surfaces) {
+    for (size_t i = 0; i < h.nodes.size(); ++i)
+        if (h.nodes[i].is_cluster() && !h.nodes[i].dead && h.nodes[i].surf_end - h.nodes[i].surf_begin == surfaces)
+            return int(i);
+    return -1;
+}
+
 }  // namespace
 
 TEST(FinalGather, ClusterSenderWeightsStayBoundedForAFaceEdgeOnToTheCentre) {
@@ -391,20 +417,12 @@ TEST(FinalGather, ClusterSenderWeightsStayBoundedForAFaceEdgeOnToTheCentre) {
     // on the wall, and an 8-ray estimate that drew one read 3x the whole coupling (the full
     // room's cabinet vertex, transfer.cpp FacingSampler). Every 8-ray estimate must stay
     // within 1.6x the exact coupling, and their mean within 2 % of it.
-    SceneDesc sc;
-    const int cl = sc.add_cluster("corner");
-    const int plate = scenes::add_grid(sc, "plate", cl, {Vec3{-0.5, -0.5, 0}, Vec3{0.5, -0.5, 0}, Vec3{0.5, 0.5, 0}, Vec3{-0.5, 0.5, 0}},
-                                       4, 4, Rgb::all(0.5), Rgb{}, false);
-    const int wall = scenes::add_grid(sc, "wall", cl, {Vec3{-0.5, -0.5, 0}, Vec3{-0.5, 0.5, 0}, Vec3{-0.5, 0.5, 1}, Vec3{-0.5, -0.5, 1}},
-                                      4, 4, Rgb::all(0.5), Rgb{}, false);
-    const int probe = scenes::add_grid(sc, "probe", -1, {Vec3{6, 0.1, 0.3}, Vec3{6, -0.1, 0.3}, Vec3{6, -0.1, 0.6}, Vec3{6, 0.1, 0.6}},
-                                       1, 1, Rgb::all(0.5), Rgb{}, false);
-    Solver s(sc, Settings::preset("DRAFT"));
+    const PlateAndWall pw = plate_and_wall(4, {Vec3{6, 0.1, 0.3}, Vec3{6, -0.1, 0.3}, Vec3{6, -0.1, 0.6}, Vec3{6, 0.1, 0.6}});
+    const int plate = pw.plate, wall = pw.wall, probe = pw.probe;
+    Solver s(pw.scene, Settings::preset("DRAFT"));
     s.solve();
     const Hierarchy& h = s.hierarchy();
-    int src = -1;
-    for (size_t i = 0; i < h.nodes.size(); ++i)
-        if (h.nodes[i].is_cluster() && !h.nodes[i].dead && h.nodes[i].surf_end - h.nodes[i].surf_begin == 32) src = int(i);
+    const int src = cluster_of(h, 32);
     ASSERT_GE(src, 0) << "no cluster of the plate's and the wall's 32 faces";
     const Node& P = h.nodes[size_t(src)];
     const std::vector<int> probe_leaves = front_leaf_ids(s, probe);
@@ -530,21 +548,12 @@ TEST(FinalGather, LargeClustersOfFewNormalsAreDrawnByRejectionUnbiased) {
     // the largest cos of its normals. Seen from a point far off to the side and a little above,
     // the plate is almost edge-on (its draws kept one in five), the wall at 60 degrees. The mean
     // of 8-ray estimates must match the exact coupling, and no estimate may run away.
-    SceneDesc sc;
-    const int cl = sc.add_cluster("corner");
-    const int plate = scenes::add_grid(sc, "plate", cl, {Vec3{-0.5, -0.5, 0}, Vec3{0.5, -0.5, 0}, Vec3{0.5, 0.5, 0}, Vec3{-0.5, 0.5, 0}},
-                                       17, 17, Rgb::all(0.5), Rgb{}, false);
-    const int wall = scenes::add_grid(sc, "wall", cl, {Vec3{-0.5, -0.5, 0}, Vec3{-0.5, 0.5, 0}, Vec3{-0.5, 0.5, 1}, Vec3{-0.5, -0.5, 1}},
-                                      17, 17, Rgb::all(0.5), Rgb{}, false);
-    const int probe = scenes::add_grid(sc, "probe", -1, {Vec3{3, 5.3, 0.1}, Vec3{3, 5.1, 0.1}, Vec3{3, 5.1, 0.3}, Vec3{3, 5.3, 0.3}},
-                                       1, 1, Rgb::all(0.5), Rgb{}, false);
-    Solver s(sc, Settings::preset("DRAFT"));
+    const PlateAndWall pw = plate_and_wall(17, {Vec3{3, 5.3, 0.1}, Vec3{3, 5.1, 0.1}, Vec3{3, 5.1, 0.3}, Vec3{3, 5.3, 0.3}});
+    const int plate = pw.plate, wall = pw.wall, probe = pw.probe;
+    Solver s(pw.scene, Settings::preset("DRAFT"));
     s.solve();
     const Hierarchy& h = s.hierarchy();
-    int src = -1;
-    for (size_t i = 0; i < h.nodes.size(); ++i)
-        if (h.nodes[i].is_cluster() && !h.nodes[i].dead && h.nodes[i].surf_end - h.nodes[i].surf_begin == 2 * 17 * 17)
-            src = int(i);
+    const int src = cluster_of(h, 2 * 17 * 17);
     ASSERT_GE(src, 0) << "no cluster of the plate's and the wall's faces";
     ASSERT_TRUE(h.has_facing_summary(src));
     const Node& P = h.nodes[size_t(src)];

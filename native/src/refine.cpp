@@ -29,7 +29,7 @@ Link Solver::evaluate(int src, int rcv) const {
 }
 
 Link Solver::reevaluate(const Link& l) const {
-    settle_preview();
+    // (evaluate puts a drag's placement back; a replay runs only inside update, which did.)
     if (!update_run_ || !update_run_->replaying || l.must_refine) return evaluate(l.src, l.rcv);
     return reevaluate_link(h_, *vis_, l, settings_.rays_per_link, link_seed(l.src, l.rcv), update_run_->replay_clips);
 }

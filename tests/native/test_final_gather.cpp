@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <string>
 
 #include "radiosity/compare.h"
@@ -399,6 +400,15 @@ PlateAndWall plate_and_wall(int grid, const std::array<Vec3, 4>& probe) {
     return p;
 }
 
+// The exact coupling of the point x (normal n) to the front faces of `objects`: the sum of
+// their leaves' point-to-polygon form factors, what a cluster's sampled estimates must match.
+double exact_coupling(const Solver& s, std::initializer_list<int> objects, const Vec3& x, const Vec3& n) {
+    double exact = 0;
+    for (const int o : objects)
+        for (const Node* leaf : front_leaves(s, o)) exact += point_polygon_form_factor(x, n, leaf->poly, leaf->normal);
+    return exact;
+}
+
 // The live cluster holding exactly `surfaces` surfaces (-1: none).
 int cluster_of(const Hierarchy& h, int surfaces) {
     for (size_t i = 0; i < h.nodes.size(); ++i)
@@ -433,9 +443,7 @@ TEST(FinalGather, ClusterSenderWeightsStayBoundedForAFaceEdgeOnToTheCentre) {
     const Vec3 x = h.to_internal(Vec3{6.0, c.y, c.z + 0.02});
     ASSERT_GT(length(x - P.center), 2.0 * P.radius);
     const Vec3 n{-1, 0, 0};
-    double exact = 0;
-    for (const int o : {plate, wall})
-        for (const Node* leaf : front_leaves(s, o)) exact += point_polygon_form_factor(x, n, leaf->poly, leaf->normal);
+    const double exact = exact_coupling(s, {plate, wall}, x, n);
     const Estimates e = coupling_estimates(s, src, x, n, rcv, exact, 400, 1000);
     std::printf("[ figure ] 8-ray estimates of the cluster's coupling: worst %.3f x exact, mean %.4f x exact\n", e.worst,
                 e.mean);
@@ -532,8 +540,7 @@ TEST(FinalGather, LargeClustersOfManyNormalsAreDrawnDownTheirTreeUnbiased) {
     const Vec3 x = h.to_internal(Vec3{4, 0.3, 0.2});
     ASSERT_GT(length(x - P.center), 2.0 * P.radius);
     const Vec3 n = normalize(Vec3{-1, -0.1, -0.05});
-    double exact = 0;
-    for (const Node* leaf : front_leaves(s, 0)) exact += point_polygon_form_factor(x, n, leaf->poly, leaf->normal);
+    const double exact = exact_coupling(s, {0}, x, n);
     ASSERT_GT(exact, 0.0);
     const Estimates e = coupling_estimates(s, src, x, n, rcv, exact, 2000, 7000);
     std::printf("[ figure ] 8-ray estimates of a sphere cluster's coupling: worst %.3f x exact, mean %.4f x exact\n",
@@ -566,9 +573,7 @@ TEST(FinalGather, LargeClustersOfFewNormalsAreDrawnByRejectionUnbiased) {
     const Vec3 d = normalize(x - P.center);
     ASSERT_LT(dot(d, Vec3{0, 0, 1}), 0.05);
     const Vec3 n = normalize(P.center - x);
-    double exact = 0;
-    for (const int o : {plate, wall})
-        for (const Node* leaf : front_leaves(s, o)) exact += point_polygon_form_factor(x, n, leaf->poly, leaf->normal);
+    const double exact = exact_coupling(s, {plate, wall}, x, n);
     ASSERT_GT(exact, 0.0);
     const Estimates e = coupling_estimates(s, src, x, n, rcv, exact, 2000, 9000);
     std::printf("[ figure ] 8-ray estimates of a two-normal cluster's coupling: worst %.3f x exact, mean %.4f x exact\n",

@@ -87,6 +87,14 @@ def scene_input(z):
     return si, written
 
 
+def apply_settings(st, assignments):
+    """NAME=VALUE strings into the Settings st, each value as the field's type."""
+    for kv in assignments:
+        k, v = kv.split("=", 1)
+        t = type(getattr(st, k))
+        setattr(st, k, v.lower() in ("1", "true", "yes", "on") if t is bool else t(v))
+
+
 def git_commit():
     """HEAD, and the commit of the solver and add-on measured (bench/tradeoff/bt_run.py)."""
     import bt_run
@@ -138,10 +146,7 @@ def main():
             st = rn.Settings.preset(preset)
             if seed is not None:
                 st.seed = int(seed)
-            for kv in a.set:
-                k, v = kv.split("=", 1)
-                t = type(getattr(st, k))
-                setattr(st, k, v.lower() in ("1", "true", "yes", "on") if t is bool else t(v))
+            apply_settings(st, a.set)
             scene, _, oids = scene_data.build_native_scene(rn, si)
             s = rn.Solver(scene, st)
             c0 = time.process_time()

@@ -21,11 +21,12 @@ Settings Settings::preset(const std::string& name) {
     } else if (name == "MEDIUM") {
         // A threshold that follows the receiver's light (threshold_floor) refines what a
         // viewer sees as wrong -- a dim gap behind a cabinet, a corner in shadow -- and leaves
-        // bright, smooth walls coarse. Leaves stop at DRAFT's area floor except where a narrow
+        // bright, smooth walls coarse, down to 5 % of the scene's light (where the accuracy
+        // metric's own floor lies). Leaves stop at DRAFT's area floor except where a narrow
         // gap, an emitter's outline or a lamp's shadow edge needs them finer (oracle.cpp,
         // lights.cpp): half the links of the old floor (1e-5) at the same accuracy.
         s.error_threshold = 0.1;
-        s.threshold_floor = 0.1;
+        s.threshold_floor = 0.05;
         s.min_area_fraction = 1e-4;
         s.rays_per_link = 16;
         s.tolerance = 1e-4;
@@ -39,7 +40,7 @@ Settings Settings::preset(const std::string& name) {
         // Half MEDIUM's threshold, with the visibility and the gather that a cube's foot on a
         // checker floor needs (tests/blender/test_textures_world.py holds it to 2 %).
         s.error_threshold = 0.05;
-        s.threshold_floor = 0.1;
+        s.threshold_floor = 0.05;
         s.min_area_fraction = 1e-5;
         // Its floor is fine enough: leaves below it cost links for no better error.
         s.below_floor_levels = 0;

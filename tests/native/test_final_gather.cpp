@@ -362,25 +362,51 @@ TEST(FinalGather, MovingABottomlessBlockSealsTheFloorItComesToCover) {
 
 namespace {
 
+// The exact coupling of the point x (normal n) to the front faces of `objects`: the sum of
+// their leaves' point-to-polygon form factors, what a cluster's sampled estimates must match.
+double exact_coupling(const Solver& s, std::initializer_list<int> objects, const Vec3& x, const Vec3& n) {
+    double exact = 0;
+    for (const int o : objects)
+        for (const Node* leaf : front_leaves(s, o)) exact += point_polygon_form_factor(x, n, leaf->poly, leaf->normal);
+    return exact;
+}
+
 // Over `trials` 8-ray estimates (seeds seed0, seed0 + 1, ...) of the coupling from cluster src
-// to the point x (normal n, receiving leaf rcv): the worst and the mean estimate over `exact`.
+// to the point x (normal n, receiving leaf rcv): the worst and the mean estimate over the exact
+// coupling to the front faces of `objects` (the cluster's surfaces).
 struct Estimates {
-    double worst = 0, mean = 0;
+    double exact = 0, worst = 0, mean = 0;
 };
-Estimates coupling_estimates(const Solver& s, int src, const Vec3& x, const Vec3& n, int rcv, double exact, int trials,
-                             uint64_t seed0) {
+Estimates coupling_estimates(const Solver& s, int src, std::initializer_list<int> objects, const Vec3& x, const Vec3& n,
+                             int rcv, int trials, uint64_t seed0) {
     Estimates e;
+    e.exact = exact_coupling(s, objects, x, n);
     double sum = 0;
     std::vector<std::pair<int, float>> samples;
     for (int k = 0; k < trials; ++k) {
         PointRayStream rays(s.visibility());
         samples.clear();
         const PointTransfer t = point_transfer(s.hierarchy(), rays, src, x, n, rcv, 8, seed0 + uint64_t(k), samples);
-        e.worst = std::max(e.worst, t.F_unoccluded / exact);
+        e.worst = std::max(e.worst, t.F_unoccluded / e.exact);
         sum += t.F_unoccluded;
     }
-    e.mean = sum / trials / exact;
+    e.mean = sum / trials / e.exact;
     return e;
+}
+
+// The estimates of `what` unbiased (mean within 2 % of exact) and bounded (none over `worst`
+// times exact), with the figures printed.
+void expect_unbiased(const Estimates& e, const char* what, double worst) {
+    ASSERT_GT(e.exact, 0.0);
+    std::printf("[ figure ] 8-ray estimates of %s: worst %.3f x exact, mean %.4f x exact\n", what, e.worst, e.mean);
+    EXPECT_NEAR(e.mean, 1.0, 0.02);
+    EXPECT_LE(e.worst, worst);
+}
+
+// The first front leaf of the probe object (the receiving leaf of the point transfers), or -1.
+int probe_leaf(const Solver& s, int probe) {
+    const std::vector<int> leaves = front_leaf_ids(s, probe);
+    return leaves.empty() ? -1 : leaves[0];
 }
 
 // A gridded floor plate (normal +z) and a gridded wall behind it (normal +x), grid x grid
@@ -398,15 +424,6 @@ PlateAndWall plate_and_wall(int grid, const std::array<Vec3, 4>& probe) {
                               grid, grid, Rgb::all(0.5), Rgb{}, false);
     p.probe = scenes::add_grid(p.scene, "probe", -1, {probe[0], probe[1], probe[2], probe[3]}, 1, 1, Rgb::all(0.5), Rgb{}, false);
     return p;
-}
-
-// The exact coupling of the point x (normal n) to the front faces of `objects`: the sum of
-// their leaves' point-to-polygon form factors, what a cluster's sampled estimates must match.
-double exact_coupling(const Solver& s, std::initializer_list<int> objects, const Vec3& x, const Vec3& n) {
-    double exact = 0;
-    for (const int o : objects)
-        for (const Node* leaf : front_leaves(s, o)) exact += point_polygon_form_factor(x, n, leaf->poly, leaf->normal);
-    return exact;
 }
 
 // The live cluster holding exactly `surfaces` surfaces (-1: none).
@@ -435,20 +452,14 @@ TEST(FinalGather, ClusterSenderWeightsStayBoundedForAFaceEdgeOnToTheCentre) {
     const int src = cluster_of(h, 32);
     ASSERT_GE(src, 0) << "no cluster of the plate's and the wall's 32 faces";
     const Node& P = h.nodes[size_t(src)];
-    const std::vector<int> probe_leaves = front_leaf_ids(s, probe);
-    ASSERT_FALSE(probe_leaves.empty());
-    const int rcv = probe_leaves[0];
+    const int rcv = probe_leaf(s, probe);
+    ASSERT_GE(rcv, 0);
     // The point (internal frame), 2 cm (world) above the cluster's centre, facing the cluster.
     const Vec3 c = P.center * h.unit + h.origin;  // world
     const Vec3 x = h.to_internal(Vec3{6.0, c.y, c.z + 0.02});
     ASSERT_GT(length(x - P.center), 2.0 * P.radius);
     const Vec3 n{-1, 0, 0};
-    const double exact = exact_coupling(s, {plate, wall}, x, n);
-    const Estimates e = coupling_estimates(s, src, x, n, rcv, exact, 400, 1000);
-    std::printf("[ figure ] 8-ray estimates of the cluster's coupling: worst %.3f x exact, mean %.4f x exact\n", e.worst,
-                e.mean);
-    EXPECT_LE(e.worst, 1.6);
-    EXPECT_NEAR(e.mean, 1.0, 0.02);
+    expect_unbiased(coupling_estimates(s, src, {plate, wall}, x, n, rcv, 400, 1000), "the cluster's coupling", 1.6);
 }
 
 TEST(FinalGather, AnExcessAtAPointIsTakenFromItsSampledCouplings) {
@@ -534,19 +545,12 @@ TEST(FinalGather, LargeClustersOfManyNormalsAreDrawnDownTheirTreeUnbiased) {
     const Node& P = h.nodes[size_t(src)];
     ASSERT_GT(P.surf_end - P.surf_begin, 256) << "the sphere's cluster must be large enough to be drawn down its tree";
     ASSERT_FALSE(h.has_facing_summary(src));
-    const std::vector<int> probe_leaves = front_leaf_ids(s, probe);
-    ASSERT_FALSE(probe_leaves.empty());
-    const int rcv = probe_leaves[0];
+    const int rcv = probe_leaf(s, probe);
+    ASSERT_GE(rcv, 0);
     const Vec3 x = h.to_internal(Vec3{4, 0.3, 0.2});
     ASSERT_GT(length(x - P.center), 2.0 * P.radius);
     const Vec3 n = normalize(Vec3{-1, -0.1, -0.05});
-    const double exact = exact_coupling(s, {0}, x, n);
-    ASSERT_GT(exact, 0.0);
-    const Estimates e = coupling_estimates(s, src, x, n, rcv, exact, 2000, 7000);
-    std::printf("[ figure ] 8-ray estimates of a sphere cluster's coupling: worst %.3f x exact, mean %.4f x exact\n",
-                e.worst, e.mean);
-    EXPECT_NEAR(e.mean, 1.0, 0.02);
-    EXPECT_LE(e.worst, 2.0);
+    expect_unbiased(coupling_estimates(s, src, {0}, x, n, rcv, 2000, 7000), "a sphere cluster's coupling", 2.0);
 }
 
 TEST(FinalGather, LargeClustersOfFewNormalsAreDrawnByRejectionUnbiased) {
@@ -564,20 +568,14 @@ TEST(FinalGather, LargeClustersOfFewNormalsAreDrawnByRejectionUnbiased) {
     ASSERT_GE(src, 0) << "no cluster of the plate's and the wall's faces";
     ASSERT_TRUE(h.has_facing_summary(src));
     const Node& P = h.nodes[size_t(src)];
-    const std::vector<int> probe_leaves = front_leaf_ids(s, probe);
-    ASSERT_FALSE(probe_leaves.empty());
-    const int rcv = probe_leaves[0];
+    const int rcv = probe_leaf(s, probe);
+    ASSERT_GE(rcv, 0);
     // From the cluster's centre: half along +x (the wall's normal), most along +y, 2 % up.
     const Vec3 c = P.center * h.unit + h.origin;  // world
     const Vec3 x = h.to_internal(c + normalize(Vec3{0.5, 0.866, 0.02}) * 6.0);
     const Vec3 d = normalize(x - P.center);
     ASSERT_LT(dot(d, Vec3{0, 0, 1}), 0.05);
     const Vec3 n = normalize(P.center - x);
-    const double exact = exact_coupling(s, {plate, wall}, x, n);
-    ASSERT_GT(exact, 0.0);
-    const Estimates e = coupling_estimates(s, src, x, n, rcv, exact, 2000, 9000);
-    std::printf("[ figure ] 8-ray estimates of a two-normal cluster's coupling: worst %.3f x exact, mean %.4f x exact\n",
-                e.worst, e.mean);
-    EXPECT_NEAR(e.mean, 1.0, 0.02);
-    EXPECT_LE(e.worst, 2.0);
+    expect_unbiased(coupling_estimates(s, src, {plate, wall}, x, n, rcv, 2000, 9000), "a two-normal cluster's coupling",
+                    2.0);
 }

@@ -44,18 +44,6 @@ int clip_to_box(const Poly& p, const Aabb& b, Vec3* out) {
     return n >= 3 ? n : 0;
 }
 
-// The closure of a nested gather at an enclosed leaf, whose couplings sum to 1. The solver's
-// closure leaves sums under a quarter or over 4 alone (something is missing or wrong there),
-// but here such a sum is the roulette's and the few rays' chance: what they found short of 1
-// sees the leaf's own radiance, and an excess is scaled away, however large.
-ClosureFactors nested_closure(const PointCouplings& couplings) {
-    const double f = couplings.own + couplings.inherited;
-    ClosureFactors cf = couplings.closure();
-    if (f < 1.0) cf.fill = 1.0 - f;
-    else if (f >= 4.0) cf.c_own = cf.c_inherited = 1.0 / f;
-    return cf;
-}
-
 }  // namespace
 
 Rgb radiance_at(const Run& run, int m_id, const Vec3& sp, uint64_t seed, Counts& counts, NearScratch& scratch,
@@ -129,7 +117,7 @@ Rgb radiance_at(const Run& run, int m_id, const Vec3& sp, uint64_t seed, Counts&
                       h.nodes[size_t(l.src)].is_cluster());
     }
     ClosureFactors cf;
-    if (m.enclosed == 1) cf = nested_closure(couplings);
+    if (m.enclosed == 1) cf = couplings.closure();
     g += closure_gathered(own, all, cf.c_own, cf.c_inherited, cf.fill, m.L);
     if (wall) wall->couple(h, sp, m.normal);
     return m.emission + h.rho_at(m_id, sp) * g;  // a texture's value at sp, not the leaf's mean

@@ -9,7 +9,9 @@ radiosity.pump()``).
 
 While a drag goes on, each step is shown at once as a preview (core.preview: the kept solver
 re-traces the direct light at the new placement, tens of milliseconds): the colours follow the
-mouse, and the real update runs when the drag pauses. `preview_now()` shows a pending step
+mouse, and the real update runs when the drag pauses: no move for a moment while the viewport
+was free to take one (a draw handler tells when it draws), and, where Blender lists a window's
+modal operators (4.2+), not while a Move, Rotate or Scale runs. `preview_now()` shows a pending step
 synchronously (what the timer does; ``radiosity.preview_now()`` in scripts).
 
 Undo and redo keep the kept solution: it is native state, valid whatever Blender re-reads, and
@@ -34,6 +36,7 @@ from .core import preview as core_preview
 from .core import stats as core_stats
 
 TIMER_STEP = 0.1
+_draw_handle = []   # the 3D viewport's draw handler, while registered
 # Messages of failed live re-bakes, newest last, for scripts (no operator reports them; the panel
 # shows a scene's last one until a live update succeeds). Bounded: the latest are kept.
 last_errors = deque(maxlen=64)
@@ -352,12 +355,27 @@ def _step(synchronous):
             if st.pending:
                 busy = True     # moved again while solving: go once more
             continue
-        if st.pending and (synchronous or st.due()):
+        if st.pending and (synchronous or (st.due() and not _transforming())):
             _start_live(key, st, synchronous)
             busy = busy or st.job is not None or st.pending
         elif st.pending:
             busy = True
     return busy
+
+
+def _transforming():
+    """Whether a Move, Rotate or Scale operator is running in a window (Blender before 4.2
+    lists no modal operators: False there, and the pause alone decides)."""
+    for win in _windows():
+        for op in getattr(win, "modal_operators", ()):
+            if op.bl_idname.startswith("TRANSFORM_OT_"):
+                return True
+    return False
+
+
+def _viewport_drawn():
+    for st in _live_states().values():
+        st.drawn()
 
 
 def _live_timer():
@@ -483,12 +501,16 @@ def register():
     for hook, fn in _HOOKS:
         if fn not in hook:
             hook.append(fn)
+    if not _draw_handle:
+        _draw_handle.append(bpy.types.SpaceView3D.draw_handler_add(_viewport_drawn, (), "WINDOW", "POST_PIXEL"))
 
 
 def unregister():
     for hook, fn in _HOOKS:
         while fn in hook:
             hook.remove(fn)
+    while _draw_handle:
+        bpy.types.SpaceView3D.draw_handler_remove(_draw_handle.pop(), "WINDOW")
     for timer in (_live_timer, _settle_all, _preview_timer):
         if bpy.app.timers.is_registered(timer):
             bpy.app.timers.unregister(timer)

@@ -121,3 +121,23 @@ def test_transform_cache_and_debounce():
     st.request(now=10.0)
     assert st.pending and not st.due(now=10.1) and st.due(now=10.5)
     assert st.take() and not st.pending and not st.take()
+
+
+def test_a_slow_viewport_s_frames_postpone_the_pause():
+    """A frame drawn after a move postpones the update (the viewport could not take the drag's
+    next move meanwhile); only the first PAUSE_FRAMES frames do; without a move nothing is
+    pending and frames change nothing."""
+    from radiosity.core.live import DEBOUNCE_SECONDS as D, PAUSE_FRAMES
+    st = LiveState()
+    st.drawn(now=1.0)
+    assert not st.pending
+    st.request(now=10.0)
+    st.drawn(now=11.0)                      # a one-second frame after the move
+    assert not st.due(now=10.0 + D + 0.01) and st.due(now=11.0 + D)
+    st.request(now=11.2)                    # the drag's next step: the count starts again
+    t = 11.2
+    for _ in range(PAUSE_FRAMES + 3):       # a viewport that never stops drawing
+        t += 0.5
+        st.drawn(now=t)
+    last = 11.2 + 0.5 * PAUSE_FRAMES
+    assert not st.due(now=last + D - 0.01) and st.due(now=last + D)

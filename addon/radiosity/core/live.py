@@ -6,7 +6,12 @@ import numpy as np
 
 from . import baked
 
+# A drag pauses when no move came for this long while the viewport was free to take one: a
+# viewport that draws slowly handles the next step of a drag only once it has drawn this one
+# (the move, its preview), seconds later, and that must not read as a pause. Only the first
+# PAUSE_FRAMES frames after a move postpone the update (a viewport may never stop drawing).
 DEBOUNCE_SECONDS = 0.3
+PAUSE_FRAMES = 4
 
 
 class TransformCache:
@@ -61,6 +66,7 @@ class LiveState:
         self.previewed = set()
         self.last_preview = None
         self.preview_skipped = None  # why the last step was not previewed (None: it was)
+        self.frames_since_request = 0
         # "load" or "undo" until the bake shown has been judged again: world matrices are
         # right only once the depsgraph has been evaluated after either (Blender 4+ does not
         # store them: load_post and undo_post see identity matrices for re-read objects).
@@ -100,6 +106,15 @@ class LiveState:
 
     def request(self, now=None):
         self.pending_since = time.monotonic() if now is None else now
+        self.frames_since_request = 0
+
+    def drawn(self, now=None):
+        """The viewport has drawn a frame: it could not take a move meanwhile, so the pause
+        before the update counts from here (for the first PAUSE_FRAMES frames after a move)."""
+        if self.pending_since is None or self.frames_since_request >= PAUSE_FRAMES:
+            return
+        self.frames_since_request += 1
+        self.pending_since = max(self.pending_since, time.monotonic() if now is None else now)
 
     @property
     def pending(self):

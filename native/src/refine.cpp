@@ -180,7 +180,7 @@ bool Solver::closure_refine(const std::vector<double>& fsum) {
     std::vector<char> queued(links_.size(), 0);
     std::vector<int> ids;
     const Oracle o = oracle();
-    for (int leaf : leaves_) {
+    for (int leaf : gathering_.leaves()) {
         const Node& n = h_.nodes[leaf];
         if (n.enclosed != 1 || std::fabs(fsum[leaf] - 1.0) <= tol) continue;
         // During an update, a leaf away from the moved boxes has only the new links split.

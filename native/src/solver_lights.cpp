@@ -30,7 +30,7 @@ void Solver::light_initial() {
     collect_receivers();
     light_refine();
     collect_receivers();
-    sweep(false, nullptr);
+    gathering_.sweep(gather_context());
 }
 
 void Solver::light_update() {
@@ -52,7 +52,7 @@ void Solver::light_update() {
 bool Solver::light_refine() {
     if (scene_.lights().empty()) return false;
     if (direct_light_.take_recheck()) light_coarsen();
-    return direct_light_.refine(h_, light_sight(), threshold_, leaves_, [this](int id) {
+    return direct_light_.refine(h_, light_sight(), threshold_, gathering_.leaves(), [this](int id) {
         // A shadow's edge splits below the area floor too (may_split_below_floor): a floor
         // leaf across it sends its half-lit average under the object that casts it.
         const Oracle o = oracle();  // made here: the element count grows with each split
@@ -144,13 +144,13 @@ void Solver::at_first_bounce(const std::function<void()>& judge_links, const std
         n.Lmin = mn;
         n.Lmax = mx;
     }
-    pull_up_clusters();
+    Gathering::pull_up_clusters(h_);
     judge_links();
 }
 
 Rgb Solver::leaf_irradiance(int id) const {
     settle_preview();
-    // What push_down gathers for this leaf (gather.cpp), without the reflectance: light
+    // What push_pull gathers for this leaf (gather_plan.cpp), without the reflectance: light
     // arriving through element links on the leaf and its ancestors, and through cluster links
     // above its surface times its own cosine; closure-corrected; plus the direct term.
     const Node& n = h_.nodes[id];

@@ -1074,7 +1074,7 @@ TEST(Extremes, RadianceAtFarOrNonFinitePoints) {
 // emitter. Its couplings sum above 1 where the closure correction does not apply, so the
 // gathering diverges: the first solve ends at 5e22 (finite, wrong), the update after a rigid
 // move overflows to inf. A fresh solve of the moved scene converges (max 1e6). Fixed by the
-// guard in compute_closure (gather.cpp): no leaf's couplings sum above 1.
+// guard in set_closure (gathering.cpp): no leaf's couplings sum above 1.
 TEST(Extremes, SelfOverlappingPolygonNearOneDoesNotDiverge) {
     SceneDesc s;
     ObjectDesc a;

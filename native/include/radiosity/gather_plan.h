@@ -35,7 +35,7 @@ struct CouplingSums {
     void reset(size_t nodes) { total.assign(nodes, 0.0), own.assign(nodes, 0.0); }
 };
 
-// What a leaf gathers after the closure correction (gather.cpp compute_closure): `own`
+// What a leaf gathers after the closure correction (gathering.cpp set_closure): `own`
 // through links at the leaf itself, the rest of `all` through links at its ancestors and
 // clusters, each part with its factor, plus the shortfall `fill` taken to see the leaf's own
 // radiance L. One formula for the sweeps and for the lighting-only output.
@@ -45,7 +45,7 @@ inline Rgb closure_gathered(const Rgb& own, const Rgb& all, double c_own, double
 
 // The closure factors of an enclosed receiver (a leaf, or an output point of one) whose
 // couplings sum to `own` through its own links and `inherited` through the rest: the reasons
-// are at gather.cpp compute_closure. Sums far off 1 (a missing link, not a small error) are
+// are at gathering.cpp set_closure. Sums far off 1 (a missing link, not a small error) are
 // left alone.
 struct ClosureFactors {
     double c_own = 1, c_inherited = 1, fill = 0;

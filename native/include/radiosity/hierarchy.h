@@ -51,11 +51,11 @@ struct Node {
     Rgb Lmin, Lmax;  // range of leaf radiance below (sender-side error term of the oracle)
     std::array<Rgb, kBins> S{};      // clusters: sum over surfaces of L * A * max(0, +-n_axis)
     std::array<double, kBins> W{};   // clusters: sum over surfaces of A * max(0, +-n_axis)
-    // Leaves: form-factor closure correction (see gather.cpp), as factors on the couplings
+    // Leaves: form-factor closure correction (see gathering.cpp), as factors on the couplings
     // through links at ancestors and clusters (closure) and through the leaf's own links.
     double closure = 1.0, closure_own = 1.0;
     // Enclosed leaves whose couplings sum short of 1: the missing part, taken to see the
-    // leaf's own radiance (gather.cpp).
+    // leaf's own radiance (gathering.cpp).
     double closure_fill = 0.0;
     int8_t enclosed = -1;            // leaves: no escape ray found open space (1), did (0), unknown (-1)
     // The node whose escape rays decided `enclosed` (itself, or the ancestor it inherited the
@@ -269,7 +269,7 @@ public:
     // Per object: 0 when it casts no shadow (an area light, lights.h): it hides nothing behind
     // it, so its coupling comes on top of the rest of what a receiver sees.
     std::vector<char> object_occludes;
-    // Whether a sender's coupling counts toward a receiver's closure (gather.cpp): everything
+    // Whether a sender's coupling counts toward a receiver's closure (gather_plan.cpp): everything
     // but an object that hides nothing, and clusters above objects (most of what they hold does).
     bool closes(int node) const {
         const int o = nodes[size_t(node)].object;

@@ -15,7 +15,7 @@
 
 #include "radiosity/direct_light.h"
 #include "radiosity/final_gather.h"
-#include "radiosity/gather_plan.h"
+#include "radiosity/gathering.h"
 #include "radiosity/hierarchy.h"
 #include "radiosity/lights.h"
 #include "radiosity/link.h"
@@ -198,22 +198,23 @@ private:
     uint64_t link_seed(int src, int rcv) const;
     bool refine_round();
     bool refine_links(const std::vector<int>& ids);  // one round over these links only
-    // gather.cpp. A sweep runs on plan_ (gather_plan.h), a snapshot of links, trees,
-    // materials, closure factors and direct light taken at the first sweep after
-    // collect_receivers(): whatever changes those must call collect_receivers() before the
-    // next sweep. sweep(false) copies radiances back to the nodes at once; iterate_to after
-    // its last sweep; a unit sweep only fills fsum (nodes' G and links' value are left as the
-    // last radiometric sweep made them).
-    double sweep(bool unit, CouplingSums* sums);
-    int iterate_to(double tolerance, int max_iterations, double progress_from, double progress_to);
-    void ensure_plan(bool radiometry);
+    // solver_gather.cpp: the gathering (gathering_) on the solver's hierarchy, links, direct
+    // light and stats, as the oracle is made (oracle()). collect_receivers lists the leaves
+    // anew and lights those lacking their direct term: whatever changes links, nodes or
+    // materials must call it before the next sweep (iterate_to and compute_closure do).
+    Gathering::Context gather_context() { return {h_, links_, direct_light_, settings_, stats_}; }
+    void collect_receivers();
+    // Sweeps to `tolerance` (Gathering::iterate_to), progress from progress_from to progress_to.
+    void iterate_to(double tolerance, int max_iterations, double progress_from, double progress_to);
+    // Closure factors set, then closure-driven splits, pass after pass until none splits.
     void compute_closure();
-    void pull_up_clusters();  // over the nodes, outside sweeps
-    // Splits links above enclosed leaves whose form factors do not sum to ~1; true if any.
-    bool closure_refine(const std::vector<double>& fsum);
+    // Whether a node's escape rays find open space (Node::enclosed); with `moved_boxes`, only
+    // the rays through them are cast again.
     void escape_rays(const Node& n, std::vector<std::pair<Vec3, Vec3>>& rays) const;
     void decide_enclosed(int id, const std::vector<Aabb>* moved_boxes);
-    void collect_receivers();
+    // refine.cpp: splits links above enclosed leaves whose form factors do not sum to ~1; true
+    // if any.
+    bool closure_refine(const std::vector<double>& fsum);
     // adjust.cpp
     // move_object's matrix as a placement in the internal frame (InputError when not rigid).
     Rigid pose_of(int object, const double m[16]) const;
@@ -373,9 +374,7 @@ private:
     Hierarchy h_;
     std::unique_ptr<Visibility> vis_;
     LinkStore links_;              // every link, with its history (link_store.h)
-    std::vector<int> receivers_;   // nodes with active incoming links
-    std::vector<int> leaves_;      // leaf elements (rebuilt with receivers_)
-    GatherPlan plan_;              // invalidated by collect_receivers, built by ensure_plan
+    Gathering gathering_;          // the sweeps and their plan (gathering.h)
     Stats stats_;
     Control* control_ = nullptr;
     double L_ref_ = 0, threshold_ = 0, min_area_ = 0;

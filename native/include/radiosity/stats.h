@@ -45,7 +45,7 @@ struct Stats {
     int64_t avoided_by_progressive = 0;  // refinements the 3.5 criterion avoided
     int64_t refined_by_closure = 0;      // links split because a leaf's form factors missed 1
     int iterations = 0;
-    // Gathering cost (gather.cpp): links gathered summed over the sweeps of iterate_to (a
+    // Gathering cost (gathering.cpp): links gathered summed over the sweeps of iterate_to (a
     // sweep over n links adds n) and the time of those sweeps; gather plans built and the
     // time building them. Both times are part of the "closure" and "gather" phases.
     int64_t link_sweeps = 0;

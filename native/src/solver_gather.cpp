@@ -1,0 +1,87 @@
+// The solver's side of gathering (Gathering, gathering.h): the leaf elements listed and lit
+// before the sweeps, the sweeps run with the solve's progress and cancellation, the closure
+// passes that alternate closure factors with closure-driven splits (refine.cpp), and the escape
+// rays that decide whether a leaf is enclosed.
+#include <utility>
+
+#include "radiosity/solver.h"
+
+namespace radiosity {
+
+void Solver::collect_receivers() {
+    gathering_.collect(h_);
+    // The direct light of the leaves lacking it: new ones, and every one after a light changed
+    // or objects moved.
+    direct_light_.prepare(h_, light_sight(), gathering_.leaves(), edits_.poses(), light_replay());
+}
+
+void Solver::iterate_to(double tolerance, int max_iterations, double p0, double p1) {
+    collect_receivers();
+    gathering_.iterate_to(gather_context(), tolerance, max_iterations, L_ref_, [this] { check_cancel(); },
+                          [&](double f) { set_progress(p0 + (p1 - p0) * f); });
+}
+
+// The closure correction (Gathering::set_closure) on the links as they stand, then the links
+// that an enclosed leaf's sums say are too coarse split (closure_refine), pass after pass until
+// none is. A leaf decides with its own escape rays the first time it is a leaf in a closure
+// pass; its children inherit the answer (and the decider) when it splits.
+void Solver::compute_closure() {
+    for (int pass = 0;; ++pass) {
+        collect_receivers();
+        const CouplingSums sums = gathering_.sum_couplings(gather_context());
+        lap("closure sums");
+        gathering_.set_closure(gather_context(), sums, [this](int leaf) { decide_enclosed(leaf, nullptr); });
+        lap("closure decide");
+        const bool split = settings_.closure_rays > 0 && pass < settings_.closure_refine_passes && closure_refine(sums.total);
+        lap("closure split");
+        if (!split) break;
+    }
+}
+
+// The escape rays of a node: cosine-distributed from random points of its polygon, lifted
+// off it, reaching beyond the scene. Deterministic per node key.
+void Solver::escape_rays(const Node& n, std::vector<std::pair<Vec3, Vec3>>& rays) const {
+    const double far = 4.0 * h_.scene_diag;
+    const double lift = 1e-5 * h_.scene_diag;  // off its own surface; tnear 0 sees neighbours
+    Rng rng(Hierarchy::mix(settings_.seed, n.key));
+    Vec3 u, v;
+    frame(n.normal, u, v);
+    rays.clear();
+    for (int r = 0; r < settings_.closure_rays; ++r) {
+        double r1 = rng.next(), r2 = rng.next();
+        Vec3 d = cosine_direction(u, v, n.normal, r1, r2);
+        Vec3 o = n.poly.sample(rng.next(), rng.next()) + n.normal * lift;
+        rays.emplace_back(o, o + d * far);
+    }
+}
+
+// Decides (or, after a move, re-decides) whether a node's escape rays find open space. With
+// `moved_boxes`, the node was decided before and did not move itself: only rays through a
+// moved object's old or new box can have changed outcome.
+void Solver::decide_enclosed(int id, const std::vector<Aabb>* moved_boxes) {
+    Node& n = h_.nodes[id];
+    std::vector<std::pair<Vec3, Vec3>> rays;
+    escape_rays(n, rays);
+    auto meets = [&](int r) { return meets_any(*moved_boxes, rays[r].first, rays[r].second); };
+    if (moved_boxes && n.enclosed == 1) {
+        for (int r = 0; r < int(rays.size()); ++r)
+            if (meets(r) && !vis_->occluded(rays[r].first, rays[r].second, 0.0)) {
+                n.enclosed = 0;
+                n.escape_ray = int8_t(r);
+                return;
+            }
+        return;  // every ray still blocked
+    }
+    if (moved_boxes && n.enclosed == 0 && n.escape_ray >= 0 && !meets(n.escape_ray)) return;  // witness still clear
+    n.decider = id;
+    for (int r = 0; r < int(rays.size()); ++r)
+        if (!vis_->occluded(rays[r].first, rays[r].second, 0.0)) {
+            n.enclosed = 0;
+            n.escape_ray = int8_t(r);
+            return;
+        }
+    n.enclosed = 1;
+    n.escape_ray = -1;
+}
+
+}  // namespace radiosity

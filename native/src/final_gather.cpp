@@ -82,13 +82,6 @@ int corner_covered(const Solution& s, const Primitive& p, const Vec3& inside) {
     return s.h.leaf_at(s.h.surfaces[size_t(other)].root, inside);
 }
 
-// Whether a sender emits or holds a surface that does (a node not indexed yet counts as
-// emitting).
-bool sender_emits(const Hierarchy& h, int src) {
-    const int f = h.emit_flags(src);
-    return f < 0 || (f & Hierarchy::kEmitsAny) != 0;
-}
-
 }  // namespace
 }  // namespace fg
 
@@ -350,7 +343,7 @@ PointCouplings trace_transfers(const Run& run, Point& pt, const Point* old, Coun
         if (!(u.weight > 0) && !enclosed && !unknown) continue;
         // A shared point traces these alone, with the budget of a full trace, so that the
         // two draw the same rays.
-        const bool emits = sender_emits(h, l.src);
+        const bool emits = h.emits(l.src, Hierarchy::Unknown::Emits);  // a sender made since counts as emitting
         if (emitters_only && !emits) continue;
         Record rec = trace_transfer(run, pt, old, counts, l.src, u.weight, total, use.size());
         rec.own = u.own;

@@ -426,6 +426,18 @@ void Hierarchy::index_emitters() {
     }
 }
 
+bool Hierarchy::emits(int node, Unknown unknown, bool all) const {
+    if (size_t(node) < emits_.size()) return (emits_[size_t(node)] & (all ? kEmitsAll : kEmitsAny)) != 0;
+    if (unknown != Unknown::Look) return unknown == Unknown::Emits;
+    const Node& n = nodes[size_t(node)];
+    if (!n.is_cluster()) return n.emission.max() > 0;
+    for (int k = n.surf_begin; k < n.surf_end; ++k) {
+        const bool e = nodes[size_t(surfaces[size_t(surface_order[size_t(k)])].root)].emission.max() > 0;
+        if (e != all) return e;
+    }
+    return all;
+}
+
 void Hierarchy::finish_cluster(int id) {
     nodes[id].surf_end = int(surface_order.size());
     refresh_cluster_geometry(id);

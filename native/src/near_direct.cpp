@@ -144,28 +144,16 @@ DirectVariation::DirectVariation(const Solution& s, const Config& c, const Point
     // box cast 1.7 M rays more, 0.3 M so).
     for (const Record& r : pt.records) {
         const Node& src = h.nodes[size_t(r.src)];
-        if (!(src.is_cluster() ? cluster_emits(r.src) : src.emission.max() > 0)) continue;
+        if (!(src.is_cluster() ? h.emits(r.src, Hierarchy::Unknown::Look) : src.emission.max() > 0)) continue;
         int id = r.src;
         if (!src.is_cluster()) {
             id = h.surfaces[size_t(src.surface)].root;
             const std::vector<int>& above = h.ancestors_of_surface(src.surface);
-            if (!above.empty() && cluster_emits(above.back(), true)) id = above.back();
+            if (!above.empty() && h.emits(above.back(), Hierarchy::Unknown::Look, true)) id = above.back();
         }
         if (std::find(emitting_.begin(), emitting_.end(), id) == emitting_.end()) emitting_.push_back(id);
         shadow_at_x_ = shadow_at_x_ || r.refined;
     }
-}
-
-bool DirectVariation::cluster_emits(int id, bool all) const {
-    const Hierarchy& h = s_.h;
-    const Node& cl = h.nodes[size_t(id)];
-    const int f = h.emit_flags(id);
-    if (f >= 0) return (f & (all ? Hierarchy::kEmitsAll : Hierarchy::kEmitsAny)) != 0;
-    for (int k = cl.surf_begin; k < cl.surf_end; ++k) {
-        const bool e = h.nodes[size_t(h.surfaces[size_t(h.surface_order[size_t(k)])].root)].emission.max() > 0;
-        if (e != all) return e;
-    }
-    return all;
 }
 
 bool DirectVariation::applies(const std::vector<int>& coplanar, double R) const {

@@ -61,7 +61,6 @@ public:
 private:
     struct Star { Vec3 p; Rgb rho; double R; };
     struct Coarse { bool valid = false, edge = false; Rgb rho, dD; };
-    bool cluster_emits(int id, bool all = false) const;  // any (or all) of its surfaces
     Rgb direct_at(int leaf, const Vec3& q, uint64_t seed);
     bool eval(const Node& sender, const NearPlane& wall, const Vec3& q, uint64_t seed, Coarse& out);
     static bool in_region(const Node& sender, const NearPlane& wall, const Vec3& q);

@@ -158,7 +158,7 @@ bool Oracle::can_split(int id) const {
     // one (fan pieces across an n-gon) and an emitting one still split.
     if (n.is_cluster())
         return !n.children.empty() && (n.area >= 4.0 * t_.min_area || kPi * n.radius * n.radius >= 4.0 * t_.min_area ||
-                                       (h_.emit_flags(id) & Hierarchy::kEmitsAny) != 0);
+                                       h_.emits(id, Hierarchy::Unknown::Emits));
     if (!n.children.empty()) return true;
     if (elements_ + 4 > settings_.max_elements) return false;
     return n.area * 0.25 >= t_.min_area;

@@ -735,8 +735,7 @@ Link cluster_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
     // Visibility of the transfer, estimated with pairs of points drawn by projected area
     // toward each other and weighted by the true point-to-point kernel over that density.
     PairSight ray = cluster_pair_sight(h, vis, P, Q, ps, qs, rays, rng, l);
-    const int emits = h.emit_flags(src);
-    if (ray.clear == 0 && ray.cast > 0 && (P.emission.max() > 0 || (emits > 0 && (emits & Hierarchy::kEmitsAny)))) {
+    if (ray.clear == 0 && ray.cast > 0 && (P.emission.max() > 0 || h.emits(src, Hierarchy::Unknown::Dark))) {
         // Every ray from an emitter blocked: a second batch before the link is taken as
         // hidden. A part seen by a tenth of the pairs (a wall's strip above a cabinet beside
         // it) escapes one batch of 16 rays one time in five, and the oracle, which may keep a

@@ -123,10 +123,15 @@ public:
     void cluster_geometry_from_children(int node);
     // Per node, whether some (kEmitsAny) and every (kEmitsAll) surface below it emits (an
     // element, the surface roots and their quadtrees: itself), from the emission now. Set before a final gather,
-    // which asks it per point; nodes made since count as unknown (emit_flags returns -1).
+    // which asks it per point; nodes made since are unknown to it.
     static constexpr uint8_t kEmitsAny = 1, kEmitsAll = 2;
     void index_emitters();
-    int emit_flags(int node) const { return size_t(node) < emits_.size() ? emits_[size_t(node)] : -1; }
+    // What emits() says of a node index_emitters has not seen: that it emits, that it does not,
+    // or what the emission says now (an element's own, a cluster's surface roots').
+    enum class Unknown { Emits, Dark, Look };
+    // Whether a node emits or holds a surface that does (`all`: whether every surface below it
+    // emits), as index_emitters found; of a node made since, as `unknown` says.
+    bool emits(int node, Unknown unknown, bool all = false) const;
     // Places objects rigidly: p = R p0 + t in the internal frame (R row-major 3x3), their
     // surfaces and elements re-derived from the given geometry, clusters above refreshed.
     // `whole`: the clusters above them from their surfaces and the surface tables anew, bit

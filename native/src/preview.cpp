@@ -192,10 +192,10 @@ struct PreviewScratch {
 // Irradiance / pi at a point gathered afresh from the active links reaching its leaf and the
 // lamps, without retraces, closure or near field (a footprint uncovered).
 Rgb fresh_irradiance(const FinalGather::Solution& s, const FinalGather::Config& config, const fg::Point& pt,
-                     PreviewScratch& scratch, int64_t& rays) {
-    // The links reaching the point's leaf (links_reaching), each from the point as trace_point
-    // does, without its shadow-edge retraces, closure and near field (a preview's
-    // approximation), budgets shared by the light they bring.
+                     const Vec3& x, const Vec3& n, PreviewScratch& scratch, int64_t& rays) {
+    // The links reaching the point's leaf (links_reaching), each from the point (at x, facing
+    // n: where the drag has it) as trace_point does, without its shadow-edge retraces, closure
+    // and near field (a preview's approximation), budgets shared by the light they bring.
     const Hierarchy& h = s.h;
     const int leaf = h.live_element(pt.leaf);
     std::vector<std::pair<int, bool>>& reaching = scratch.reaching;
@@ -211,7 +211,7 @@ Rgb fresh_irradiance(const FinalGather::Solution& s, const FinalGather::Config& 
         use.emplace_back(link_own.first, w);
         total += w;
     }
-    const PointLight lamp = direct_light_at(s.scene, h, s.vis, pt.x, pt.n, false, config.light_samples, pt.seed);
+    const PointLight lamp = direct_light_at(s.scene, h, s.vis, x, n, false, config.light_samples, pt.seed);
     rays += lamp.rays;
     Rgb E = lamp.E;
     // A quarter of the trace's budget, one ray for the faint: a preview of a footprint, seen
@@ -222,12 +222,51 @@ Rgb fresh_irradiance(const FinalGather::Solution& s, const FinalGather::Config& 
         const Link& l = s.links[size_t(li)];
         samples.clear();
         PointRayStream rs(s.vis);
-        point_transfer(h, rs, l.src, pt.x, pt.n, leaf, fg::ray_share(budget, w, total, 1, budget),
+        point_transfer(h, rs, l.src, x, n, leaf, fg::ray_share(budget, w, total, 1, budget),
                        fg::transfer_seed(h, pt.seed, l.src), samples);
         for (const auto& [node, sw] : samples) E += h.nodes[size_t(h.live_element(node))].L * double(sw);
         rays += rs.cast;
     }
     return E;
+}
+
+// Irradiance / pi at x (facing n) of a dragged object's face that the bake found covered and
+// that is lifted off now: it has no links of its own to gather (nothing faced it), so it reads
+// the solution's leaves where cosine-distributed rays from it land, and its lamps.
+Rgb hemisphere_irradiance(const FinalGather::Solution& s, const FinalGather::Config& config, const fg::Point& pt,
+                          const Vec3& x, const Vec3& n, int64_t& rays) {
+    constexpr int kSide = 6;  // kSide^2 stratified directions
+    const Hierarchy& h = s.h;
+    const PointLight lamp = direct_light_at(s.scene, h, s.vis, x, n, false, config.light_samples, pt.seed);
+    rays += lamp.rays;
+    Rgb E = lamp.E;
+    if (!s.tri_prim) return E;
+    const double far = 4.0 * h.scene_diag, lift = 1e-5 * h.scene_diag;
+    Rng rng(Hierarchy::mix(pt.seed, 0x11f7edu));
+    Vec3 u, v;
+    frame(n, u, v);
+    const Vec3 o = x + n * lift;
+    Rgb sum;
+    for (int i = 0; i < kSide * kSide; ++i) {
+        const double r1 = (i % kSide + rng.next()) / kSide, r2 = (i / kSide + rng.next()) / kSide;
+        const Vec3 d = cosine_direction(u, v, n, r1, r2);
+        ++rays;
+        Vec3 at;
+        int tri = -1;
+        const int obj = s.vis.hit_object(o, o + d * far, 0.0, &at, &tri);
+        if (obj < 0 || size_t(obj) >= s.tri_prim->size() || tri < 0) continue;
+        const std::vector<int>& tp = (*s.tri_prim)[size_t(obj)];
+        if (size_t(tri) >= tp.size()) continue;
+        const Primitive& pr = h.prims[size_t(tp[size_t(tri)])];
+        const int front_root = pr.front >= 0 ? h.surfaces[size_t(pr.front)].root : -1;
+        const Vec3 fn = front_root >= 0 ? h.nodes[size_t(front_root)].normal : pr.poly.normal();
+        const int side = dot(d, fn) < 0 ? pr.front : pr.back;  // the side the ray meets
+        if (side < 0) continue;
+        const int root = h.surfaces[size_t(side)].root;
+        if (h.nodes[size_t(root)].dead) continue;
+        sum += h.nodes[size_t(h.leaf_at(root, at))].L;
+    }
+    return E + sum / double(kSide * kSide);
 }
 
 // Adds to dE the change of what the point's emitting senders (`emits`, per node) bring it at
@@ -304,6 +343,7 @@ public:
 
 private:
     bool footprint(size_t i, const Vec3& x, const Vec3& n, PreviewScratch& sc);
+    bool lifted_off(size_t i, const Vec3& x, const Vec3& n);
     const FinalGather::Solution& s_;
     const FinalGather::Preview& p_;
     const FinalGather::Config& config_;
@@ -329,7 +369,7 @@ bool PreviewStep::footprint(size_t i, const Vec3& x, const Vec3& n, PreviewScrat
     const int surface = h.nodes[size_t(h.live_element(pt.leaf))].surface;
     if (pt.covered && inside_any(p_.clips, x) && !p_.covered(surface, x, n)) {
         int64_t rays = 0;
-        d[i] = fresh_irradiance(s_, config_, pt, sc, rays) - bake_value_(pt);
+        d[i] = fresh_irradiance(s_, config_, pt, x, n, sc, rays) - bake_value_(pt);
         n_rays_ += rays;
         work_ += 5 * rays;
         ++n_uncovered_;
@@ -346,6 +386,21 @@ bool PreviewStep::footprint(size_t i, const Vec3& x, const Vec3& n, PreviewScrat
     return false;
 }
 
+// A dragged object's face lifted off what it stood on (a box's bottom, the corners on its rim
+// included): what the bake has there is the contact's dark, so it gathers afresh.
+bool PreviewStep::lifted_off(size_t i, const Vec3& x, const Vec3& n) {
+    const fg::Point& pt = points_[i];
+    const Hierarchy& h = s_.h;
+    if (pt.sealed || !p_.lifted(h.nodes[size_t(h.live_element(pt.leaf))].surface, x)) return false;
+    int64_t rays = 0;
+    d[i] = hemisphere_irradiance(s_, config_, pt, x, n, rays) - bake_value_(pt);
+    n_rays_ += rays;
+    work_ += 5 * rays;
+    ++n_uncovered_;
+    ++n_points_;
+    return true;
+}
+
 void PreviewStep::relight(size_t i) {
     const fg::Point& pt = points_[i];
     PreviewScratch& sc = scratch_.local();
@@ -356,6 +411,7 @@ void PreviewStep::relight(size_t i) {
     const Vec3 x = moved ? p_.carry[size_t(pt.object)].point(pt.x) : pt.x;
     const Vec3 n = moved ? p_.carry[size_t(pt.object)].dir(pt.n) : pt.n;
     if (!moved && p_.covered && footprint(i, x, n, sc)) return;
+    if (moved && p_.lifted && lifted_off(i, x, n)) return;
     // (A covered point is sealed too under a closed solid: the footprint's rule comes first.)
     if (pt.covered || pt.sealed) return;
     Rgb dE;
@@ -634,6 +690,20 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
             if (within_edges(q.poly, q.normal, x, inside_tol)) return true;
         }
         return false;
+    };
+    // (Slid along what it stood on, a face stays in that plane: still covered there, as in the
+    // bake. The polygons under its new place are not its contacts; finding them would be a
+    // search a step.)
+    p.lifted = [&](int surface, const Vec3& x) {
+        if (surface < 0 || size_t(surface) >= direct_light_.contacts().size()) return false;
+        bool touched = false;
+        for (int t : direct_light_.contacts()[size_t(surface)]) {
+            const Node& m = h_.nodes[size_t(h_.surfaces[size_t(t)].root)];
+            if (m.object >= 0 && p.moved[size_t(m.object)]) continue;  // moves with it
+            if (std::fabs(dot(x - m.poly.v[0], m.normal)) <= tol) return false;
+            touched = true;
+        }
+        return touched;
     };
     // Clusters holding a dragged object (their sampling of surfaces changes with it).
     for (int o : objects) {

@@ -217,6 +217,31 @@ TEST(Preview, FootprintAndShadowOfABoxOnAFloorFollow) {
     }
 }
 
+// The box lifted off the floor while dragged: its bottom, covered and unlit in the bake, sees
+// the lit floor now; the preview gathers it afresh instead of showing it black until the update.
+TEST(Preview, ABoxLiftedOffTheFloorShowsItsBottomLit) {
+    const SceneDesc scene = scenes::point_light_box_on_floor({0.3, 0.2, 2.5});
+    const Drag d = drag(scene, 1, translation({-1.2, 0, 0.4}));
+    const ObjectDesc& box = scene.objects()[1];
+    const size_t first = 3 * scene.objects()[0].corner_count();
+    double bottom_min = 1e300;
+    for (const Vec3& v : box.vertices) bottom_min = std::min(bottom_min, v.z);
+    std::printf("[ figure ] box lifted while dragged: old colours %.4f, preview %.4f NRMSE from the update; uncovered %lld\n",
+                d.stale(), d.preview(), (long long)d.k.uncovered);
+    int bottom = 0;
+    for (size_t c = 0; c < box.corner_count(); ++c) {
+        const Vec3& v = box.vertices[size_t(box.corner_verts[c])];
+        if (v.z > bottom_min + 1e-9) continue;
+        const size_t i = first + 3 * c;
+        if (d.before[i] > 0.f) continue;  // on the rim: its face beside it is lit
+        ++bottom;
+        EXPECT_GT(d.truth[i], 0.f) << "bottom corner " << c << " sees the floor now";
+        EXPECT_GT(d.shown[i], 0.3f * d.truth[i]) << "bottom corner " << c << " is not shown black";
+    }
+    EXPECT_GT(bottom, 0);
+    EXPECT_GT(d.k.uncovered, 0);
+}
+
 // The ceiling panel itself dragged (an emitting mesh: its nodes go with it for the preview):
 // the light follows.
 TEST(Preview, FollowsADraggedEmitter) {

@@ -119,6 +119,9 @@ public:
         // Whether a point (on `surface`, normal n) lies under another polygon at the new
         // placements (a floor point under the dragged box): covered, unlit as in Cycles.
         std::function<bool(int surface, const Vec3& x, const Vec3& n)> covered;
+        // Whether a dragged object's surface that lay on another (a box's bottom on the floor)
+        // is off it at x: out of the plane of every polygon it touched in the bake.
+        std::function<bool(int surface, const Vec3& x)> lifted;
         // Work a step may do (Settings::preview_work; 0: every point): the points nearest the
         // boxes first, the rest showing what an earlier step of the same drag found.
         int64_t work = 0;

@@ -141,6 +141,12 @@ def release():
     out["moved_by"] = float(np.linalg.norm(np.array(box().location) - np.array(S["P0"])))
 
 
+def last_preview():
+    """The colours the drag's last preview left (the update writes only when it ends)."""
+    S["last_preview"] = ui.colours()
+    out["updates_written_before_last_preview"] = ui.live_runs() - S["runs0"]
+
+
 def settled(seconds=1.5):
     t = {"since": None}
 
@@ -160,6 +166,23 @@ def after_drag():
     S["runs1"] = ui.live_runs()
     out["live_runs_for_drag"] = S["runs1"] - S["runs0"]
     out["drag_vs_C0"] = rt.colours_nrmse(S["C1"], S["C0"])
+    # The last preview against the update at the same place: how close, and whether it showed
+    # black (under a fifth of the update's value) where the update has light.
+    out["preview_vs_update"] = rt.colours_nrmse(S["last_preview"], S["C1"])
+    black = lit = 0
+    for name, c in S["C1"].items():
+        p = S["last_preview"].get(name)
+        if p is None or p.shape != c.shape:
+            continue
+        v, w = c.mean(1), p.mean(1)
+        light = v > 0.05 * max(v.mean(), 1e-12)
+        lit += int(light.sum())
+        dark = light & (w < 0.2 * v)
+        black += int(dark.sum())
+        if dark.any():
+            out.setdefault("preview_black_by_object", {})[name] = [int(dark.sum()), float(v[dark].mean()),
+                                                                 float(w[dark].mean()), float(v.mean())]
+    out["preview_black"], out["preview_lit"] = black, lit
     ui.screenshot("1_after_drag")
 
 
@@ -198,5 +221,6 @@ def later():
 if __name__ == "__main__":
     ui.run(setup, prepare, ui.open_sidebar, bake_button, ui.Waiter(bake_done, 300, "the bake"),
            settled(1.0), first_bake, slow_drawing, ui.pause(2.0), grab, drag, release,
+           ui.Waiter(lambda: not ui.live_state().preview_pending, 10, "the last preview"), last_preview,
            settled(2.0), after_drag, ctrl_z, one_redraw, ui.pause(3.0), settled(1.0), later,
            ui.finish, first=1.0)

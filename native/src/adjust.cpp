@@ -164,151 +164,6 @@ void Solver::apply_materials() {
     compute_reference();
 }
 
-void Solver::refresh(int id, const Link& f) {
-    Link& l = links_[id];
-    l.K = f.K;
-    l.K_unoccluded = f.K_unoccluded;
-    l.dK = f.dK;
-    l.vis = f.vis;
-    l.partial = f.partial;
-    l.must_refine = f.must_refine;
-    l.outline = f.outline;
-    l.blocked = f.blocked;
-    l.samples = f.samples;
-    l.ray_count = f.ray_count;
-    l.ray_blocked = f.ray_blocked;
-    l.ray_self = f.ray_self;
-    l.settled = false;
-    l.stale = false;
-}
-
-void Solver::freshen_stale(std::vector<int>& ids, bool first_bounce) {
-    // A stale history link is judged first without rays, as if nothing stood between its
-    // ends. One that might come back then is evaluated -- only the rays through a moved box
-    // cast -- and judged as any other, so nothing is ever taken back on stale values and the
-    // result is never coarser than a full solve's. One judged to need its split keeps it and
-    // stays stale. That filter errs only toward finer: occlusion usually adds to what the
-    // oracle weighs (a partial view, a penumbra's spread), but it can also lower it (a sender
-    // whose dim part is hidden sends the mean of its bright part; a fully hidden one sends
-    // nothing), so some links a full solve would take back keep their split (a reviewer
-    // counted 790 of 3,635 stale links after a box move that the ray-free judgement splits
-    // and an exact one does not; their children carry the right light). Box room, MEDIUM:
-    // 24.6k of 65.4k stale links are evaluated; after a 30-step drag the built-in room holds
-    // 430.6k live links against 422.1k before this (a full solve: 357.1k).
-    std::vector<int> stale;
-    for (int id : ids)
-        if (links_[id].stale && !links_[id].dead) stale.push_back(id);
-    if (stale.empty()) return;
-    std::vector<Link> dry(stale.size());
-    parallel_for(stale.size(), settings_.threads, [&](size_t k) {
-        const Link& l = links_[stale[k]];
-        dry[k] = evaluate_link_unoccluded(h_, l.src, l.rcv, settings_.rays_per_link, link_seed(l.src, l.rcv));
-    }, 64);
-    std::vector<Judgement> first(first_bounce ? stale.size() : 0);
-    if (first_bounce)
-        at_first_bounce([&] {
-            const Oracle o = oracle();
-            parallel_for(stale.size(), settings_.threads, [&](size_t k) { first[k] = o.judge(dry[k]); }, 256);
-        });
-    std::vector<char> again(stale.size(), 0);
-    parallel_for(stale.size(), settings_.threads, [&](size_t k) {
-        Judgement use;
-        again[k] = acceptable_again(dry[k], first_bounce ? &first[k] : nullptr, use);
-    }, 256);
-    std::vector<int> eval;
-    for (size_t k = 0; k < stale.size(); ++k)
-        if (again[k]) eval.push_back(stale[k]);
-    std::vector<Link> fresh(eval.size());
-    parallel_for(eval.size(), settings_.threads, [&](size_t k) { fresh[k] = reevaluate(links_[eval[k]]); }, 16);
-    for (size_t k = 0; k < eval.size(); ++k) refresh(eval[k], fresh[k]);
-    stats_.history_links_recomputed += int64_t(eval.size());
-    size_t kept = 0;
-    for (int id : ids)
-        if (!links_[id].stale) ids[kept++] = id;
-    ids.resize(kept);
-}
-
-void Solver::reopen_settled(const std::vector<int>& ids) {
-    // 3.5 settled these links for their senders' radiance then: the spread of the kernel
-    // over the receiver's children times that radiance was below the threshold. The radiance
-    // a full solve settles on (judging_radiance) grew for their senders, so the settlement
-    // may no longer hold; a fresh evaluation (same rays as a full solve, few links) lets the
-    // oracle judge them as new links (else a lamp moved over a floor patch leaves links to
-    // the box beside it whole where a full solve splits them). Only growth counts (a
-    // settlement holds for less light), and in a lit scene only of the lamps' first bounce:
-    // a full solve's first linking never sees interreflected light, and judging on it
-    // refines a bright room far beyond a full solve (docs/decisions.md, "Updates").
-    std::vector<Link> fresh(ids.size());
-    parallel_for(ids.size(), settings_.threads, [&](size_t k) { fresh[k] = evaluate(links_[ids[k]].src, links_[ids[k]].rcv); }, 16);
-    for (size_t k = 0; k < ids.size(); ++k) refresh(ids[k], fresh[k]);
-}
-
-void Solver::unrefine(int id) {
-    links_.kill_refined(h_, id);
-    links_[id].closure_split = false;
-    links_.activate(h_, id);
-    ++stats_.history_reactivated;
-}
-
-bool Solver::acceptable_again(const Link& l, const Judgement* first, Judgement& use) const {
-    const Node& S = h_.nodes[l.src];
-    const bool fixed_sender = !S.is_cluster() && S.rho.max() <= 0 && S.emission.max() > 0;
-    const Judgement j = oracle().judge(l);
-    use = j;
-    const bool settle_ok = first || fixed_sender;
-    if (first && first->side == Side::Settle) use = *first;
-    else if (first && first->side != Side::Keep) return false;
-    else if (settle_ok ? (j.side != Side::Keep && j.side != Side::Settle) : j.side != Side::Keep) return false;
-    return true;
-}
-
-bool Solver::unrefine_if_acceptable(int id, const Judgement* first) {
-    // Acceptable again means what a full solve would decide for this link now. In a lit
-    // scene a full solve first judges on the lamps' first bounce (`first`, see
-    // at_first_bounce): a split or a settlement (3.5) made then stands, a link kept then is
-    // judged again on the solved radiance and may settle later (Keep alone left links split
-    // under a sender now dim where a full solve settles them whole). Without lamps a full
-    // solve's rounds judge on radiance still gaining its interreflection, whose early
-    // contrast splits links the solved radiance would settle, so there only Keep brings a
-    // link back. A sender that reflects nothing (an emitter) has the same radiance in every
-    // round of a full solve, so its links are judged there exactly as here: a settlement
-    // stands too. (The measurements: docs/decisions.md, "Updates".)
-    if (links_[id].stale) {  // judged where things are now (callers freshen_stale first)
-        refresh(id, reevaluate(links_[id]));
-        ++stats_.history_links_recomputed;
-    }
-    Judgement use;
-    if (!acceptable_again(links_[id], first, use)) return false;
-    unrefine(id);
-    std::vector<Candidate> none;
-    apply(id, use, none);
-    return true;
-}
-
-// 3.4: history links, coarsest first (parents have lower ids), whose error is acceptable
-// again become active; the links below them go.
-void Solver::unrefine_pass(const std::vector<char>* senders) {
-    std::vector<int> cand;
-    for (size_t i = 0; i < links_.size(); ++i) {
-        const Link& l = links_[i];
-        if (senders && (size_t(l.src) >= senders->size() || !(*senders)[l.src])) continue;
-        if (!l.dead && !l.active && !l.occluded && !l.closure_split && l.first_child >= 0) cand.push_back(int(i));
-    }
-    const bool lit = !scene_.lights().empty();
-    freshen_stale(cand, lit);
-    std::vector<Judgement> first(lit ? cand.size() : 0);
-    if (lit)
-        at_first_bounce([&] {
-            const Oracle o = oracle();
-            parallel_for(cand.size(), settings_.threads, [&](size_t k) { first[k] = o.judge(links_[cand[k]]); }, 256);
-        });
-    for (size_t k = 0; k < cand.size(); ++k) {
-        const int id = cand[k];
-        if (links_[id].dead || links_[id].active) continue;  // an ancestor came back first
-        unrefine_if_acceptable(id, lit ? &first[k] : nullptr);
-    }
-}
-
 // Bottom-up clean-up of elements no link refers to any more (3.4): memory for links
 // returns at once; element slots are marked dead (not reused).
 void Solver::prune_elements() {
@@ -464,8 +319,8 @@ void Solver::recompute_links(std::vector<int>& recompute, std::vector<int>& rech
     // open). Only the rays through a moved box are cast (replay). One whose evaluation comes
     // out the same is left as it is.
     // History links are not gathered: they are left stale, and evaluated when un-refinement
-    // asks about them and a judgement without rays says they might come back (freshen_stale;
-    // docs/decisions.md, "History links are left stale").
+    // asks about them and a judgement without rays says they might come back
+    // (Refinement::freshen_stale; docs/decisions.md, "History links are left stale").
     {
         size_t kept = 0;
         for (int id : recompute) {
@@ -482,6 +337,7 @@ void Solver::recompute_links(std::vector<int>& recompute, std::vector<int>& rech
     std::vector<Link> fresh(recompute.size());
     parallel_for(recompute.size(), settings_.threads,
                  [&](size_t k) { fresh[k] = reevaluate(links_[recompute[k]]); }, 16);
+    Refinement refining = refinement();
     for (size_t k = 0; k < recompute.size(); ++k) {
         Link& l = links_[recompute[k]];
         if (l.dead) continue;
@@ -495,7 +351,7 @@ void Solver::recompute_links(std::vector<int>& recompute, std::vector<int>& rech
             continue;
         }
         const bool changed = f.K != l.K || f.partial != l.partial;
-        refresh(recompute[k], f);
+        refining.refresh(recompute[k], f);
         l.rejudge = true;
         const bool transports = f.transports();
         if (l.active && !transports) {
@@ -519,9 +375,9 @@ void Solver::link_changed(const Change& ch) {
     std::set<std::pair<int, int>> pairs;
     std::vector<Candidate> wave;
     // A self-link seed (an added subtree) makes every pair of siblings inside its node when
-    // link_from expands it: a pair made again from a chain, or a seed inside another seed's
-    // subtree, would transport the same light twice (several objects added into one new
-    // collection diverged: sums of couplings above 1).
+    // Refinement::link_from expands it: a pair made again from a chain, or a seed inside
+    // another seed's subtree, would transport the same light twice (several objects added
+    // into one new collection diverged: sums of couplings above 1).
     std::vector<char> seeded(h_.nodes.size(), 0);
     for (const Candidate& c : ch.seeds)
         if (c.src == c.rcv) seeded[c.src] = 1;
@@ -539,8 +395,8 @@ void Solver::link_changed(const Change& ch) {
                 if (pairs.insert({chain[i + 1], sib}).second) wave.push_back({chain[i + 1], sib, -1});
             }
         }
-    // Added objects: their own inside (a self-link, expanded by link_from) and, unclustered,
-    // their surfaces with every other one.
+    // Added objects: their own inside (a self-link, expanded by Refinement::link_from) and,
+    // unclustered, their surfaces with every other one.
     for (const Candidate& c : ch.seeds) {
         if (c.src == c.rcv && h_.nodes[c.src].parent >= 0 && inside_seed(h_.nodes[c.src].parent)) continue;
         if (pairs.insert({c.src, c.rcv}).second) wave.push_back(c);
@@ -568,7 +424,7 @@ void Solver::link_changed(const Change& ch) {
     // comes later.)
     {
         const SceneWideThreshold first_linking(light_known_);
-        at_first_bounce_where_buried(ch.now, ch.moved, [&] { link_from(std::move(wave)); });
+        at_first_bounce_where_buried(ch.now, ch.moved, [&] { refinement().link_from(std::move(wave)); });
     }
 }
 
@@ -759,11 +615,7 @@ bool Solver::update_adjust(UpdateRun& u, Control* control) {
 void Solver::update_history(UpdateRun& u) {
     stats_.links_created = int64_t(links_.size()) - u.links_before;
     // History links whose view changed: coarsen back where the old shadow is gone.
-    freshen_stale(u.recheck_history, false);
-    for (int id : u.recheck_history)  // ascending: a parent before the links it refined into
-        // A closure split is undone too: the move changed what its receiver sees, and the
-        // next closure pass splits it again if a leaf below still needs it.
-        if (!links_[id].dead && !links_[id].active && !links_[id].occluded) unrefine_if_acceptable(id);
+    refinement().recheck_history(u.recheck_history);
     stats_.seconds_adjust = since(u.t0);
     lap("history");
     light_update();  // solver_lights.cpp: drop light splits the new direct light does not need
@@ -798,7 +650,7 @@ void Solver::update_resolve(UpdateRun& u) {
     std::vector<char> moved_light = changed_senders(u.before);
     // A new threshold (objects added or removed) can tip any judgement.
     if (u.rejudge_all) std::fill(moved_light.begin(), moved_light.end(), 1);
-    unrefine_pass(&moved_light);  // less light somewhere: un-refine (3.4)
+    refinement().unrefine_pass(&moved_light, !scene_.lights().empty());  // less light somewhere (3.4)
     lap("unrefine");
     // The closure factors and the converged radiances belong to the links as they were
     // before un-refinement and the rounds below: the last solve must see the final links.
@@ -819,7 +671,7 @@ void Solver::update_resolve(UpdateRun& u) {
                 judged_now[p] > 1.02 * u.judged_before[p] && judged_now[p] > floor)
                 unsettle.push_back(int(i));
         }
-        reopen_settled(unsettle);
+        refinement().reopen_settled(unsettle);
         for (Link& l : links_) l.rejudge = false;
         const std::vector<float> snap = snapshot();
         judged_from = int64_t(links_.size());
@@ -827,9 +679,9 @@ void Solver::update_resolve(UpdateRun& u) {
         bool more = lit;
         // A lit scene's first judgement on the radiance a full solve's first linking sees.
         if (round == 0 && !scene_.lights().empty())
-            at_first_bounce([&] { more = refine_links(ids) || more; });
+            at_first_bounce([&] { more = refinement().refine_links(ids) || more; });
         else
-            more = refine_links(ids) || more;
+            more = refinement().refine_links(ids) || more;
         lap("refine");
         if (!more) break;
         compute_closure();

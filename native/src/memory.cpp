@@ -36,6 +36,21 @@ double Solver::memory_estimate(size_t more_links, size_t more_nodes) const {
     return b;
 }
 
+namespace {
+// The output's forecast is made again once there are this many links, then at each doubling.
+constexpr int64_t kForecastLinks = 10000;
+}  // namespace
+
+// The forecast follows the links as refinement makes them, and wave by wave near the memory
+// cap. Once the output is traced the estimate counts the trace itself: a forecast, which reads
+// every link and corner of the scene, would be work for nothing.
+void Solver::follow_forecast() {
+    if (!output_.traced() &&
+        (links_.live() >= std::max<int64_t>(kForecastLinks, 2 * output_forecast_links_) ||
+         memory_estimate() > 0.5 * memory_limit_))
+        forecast_output();
+}
+
 void Solver::forecast_output() {
     output_forecast_ = 0;
     output_forecast_links_ = links_.live();

@@ -147,8 +147,8 @@ void Solver::fit_ray_epsilon() {
 void Solver::link_and_refine() {
     light_initial();  // solver_lights.cpp: lit surfaces get their first-bounce radiance before linking
     h_.index_emitters();  // can_split: small emitting clusters still split
-    forecast_output();    // memory.cpp: refinement leaves room for the output (link_from keeps it)
-    link_from({{h_.root, h_.root, -1}});
+    forecast_output();    // memory.cpp: refinement leaves room for the output (follow_forecast)
+    refinement().link_from({{h_.root, h_.root, -1}});
     lap("link");
     set_progress(0.2);
     // Refine against the evolving solution (BF refinement): light arriving from
@@ -165,7 +165,8 @@ void Solver::link_and_refine() {
         lap("gather");
         light_known_ = true;
         ++stats_.refine_rounds;
-        const bool more = refine_round();
+        const bool lights_split = light_refine();  // solver_lights.cpp: where direct light varies
+        const bool more = refinement().refine_active() || lights_split;
         lap("refine");
         if (!more) break;
     }
@@ -207,6 +208,29 @@ void Solver::lap(const char* phase) {
         }
     stats_.phases.emplace_back(phase, dt);
     stats_.phase_rays.emplace_back(phase, dr);
+}
+
+Refinement Solver::refinement() {
+    return Refinement({h_, links_, *vis_, direct_light_, settings_, stats_, threshold_state(), replay_boxes(),
+                       [this] {
+                           check_cancel();
+                           follow_forecast();  // memory.cpp
+                       },
+                       [this](size_t more_links, size_t more_nodes) {
+                           return memory_estimate(more_links, more_nodes) > memory_limit_;
+                       },
+                       [this](const std::function<void()>& judge) { at_first_bounce(judge); }});
+}
+
+Link Solver::evaluate(int src, int rcv) const {
+    settle_preview();
+    return link_evaluator().evaluate(src, rcv);
+}
+
+Link Solver::reevaluate(const Link& l) const {
+    // (evaluate puts a drag's placement back; a replay runs only inside update, which did.)
+    if (!replay_boxes() || l.must_refine) return evaluate(l.src, l.rcv);
+    return link_evaluator().reevaluate(l);
 }
 
 void Solver::compute_reference() {

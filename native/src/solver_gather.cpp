@@ -1,7 +1,7 @@
 // The solver's side of gathering (Gathering, gathering.h): the leaf elements listed and lit
 // before the sweeps, the sweeps run with the solve's progress and cancellation, the closure
-// passes that alternate closure factors with closure-driven splits (refine.cpp), and the escape
-// rays that decide whether a leaf is enclosed.
+// passes that alternate closure factors with closure-driven splits (refinement.h), and the
+// escape rays that decide whether a leaf is enclosed.
 #include <utility>
 
 #include "radiosity/solver.h"
@@ -12,7 +12,7 @@ void Solver::collect_receivers() {
     gathering_.collect(h_);
     // The direct light of the leaves lacking it: new ones, and every one after a light changed
     // or objects moved.
-    direct_light_.prepare(h_, light_sight(), gathering_.leaves(), edits_.poses(), light_replay());
+    direct_light_.prepare(h_, light_sight(), gathering_.leaves(), edits_.poses(), replay_boxes());
 }
 
 void Solver::iterate_to(double tolerance, int max_iterations, double p0, double p1) {
@@ -22,17 +22,22 @@ void Solver::iterate_to(double tolerance, int max_iterations, double p0, double 
 }
 
 // The closure correction (Gathering::set_closure) on the links as they stand, then the links
-// that an enclosed leaf's sums say are too coarse split (closure_refine), pass after pass until
+// that an enclosed leaf's sums say are too coarse split (Refinement::split_for_closure), pass after pass until
 // none is. A leaf decides with its own escape rays the first time it is a leaf in a closure
 // pass; its children inherit the answer (and the decider) when it splits.
 void Solver::compute_closure() {
+    // An update's closure passes split, away from its moved boxes, only the links it made.
+    static const std::vector<Aabb> no_focus;
+    const std::vector<Aabb>& focus = update_run_ ? update_run_->closure_focus : no_focus;
+    const int64_t new_from = update_run_ ? update_run_->links_before : 0;
     for (int pass = 0;; ++pass) {
         collect_receivers();
         const CouplingSums sums = gathering_.sum_couplings(gather_context());
         lap("closure sums");
         gathering_.set_closure(gather_context(), sums, [this](int leaf) { decide_enclosed(leaf, nullptr); });
         lap("closure decide");
-        const bool split = settings_.closure_rays > 0 && pass < settings_.closure_refine_passes && closure_refine(sums.total);
+        const bool split = settings_.closure_rays > 0 && pass < settings_.closure_refine_passes &&
+                           refinement().split_for_closure(gathering_.leaves(), sums.total, focus, new_from);
         lap("closure split");
         if (!split) break;
     }

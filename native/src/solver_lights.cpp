@@ -42,7 +42,7 @@ void Solver::light_update() {
     // first refinement round, after the first gather, links would be judged on the old,
     // coarser light elements and refined for good.)
     if (scene_.lights().empty()) return;
-    direct_light_.invalidate(h_, edits_.poses(), light_replay());
+    direct_light_.invalidate(h_, edits_.poses(), replay_boxes());
     if (!direct_light_.take_recheck()) return;
     light_coarsen();
     collect_receivers();

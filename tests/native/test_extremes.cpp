@@ -560,7 +560,7 @@ TEST(Extremes, InvertedNormalsStillBounceLight) {
 // Was 3.57 (MEDIUM) against >= 6.65: the closure correction summed at the leaf over the
 // light the couplings of its ancestors' links too, whose visibility was estimated over the
 // whole ancestor (~2 in all), and scaled the leaf by ~0.5. Closure-driven refinement
-// (refine.cpp) now splits those ancestor links toward the leaf.
+// (refinement.cpp) now splits those ancestor links toward the leaf.
 TEST(Extremes, LightOneMillimetreUnderTheCeilingLightsTheCeiling) {
     // Emission leaves both sides of a face: the ceiling right above the light gets almost
     // the full hemisphere of it (F -> 1 as the gap -> 0).

@@ -35,14 +35,14 @@ struct Link {
     bool blocked = false;
     bool dead = false;     // removed by a dynamic update or an un-refinement
     bool rejudge = false;  // re-evaluated by an update: the oracle must look at it again
-    // Split by closure-driven refinement (refine.cpp), not by the oracle: the split answers
+    // Split by closure-driven refinement (refinement.h), not by the oracle: the split answers
     // the geometry (a leaf below sees less than this link's receiver), not the light level,
     // so un-refinement (3.4) keeps it.
     bool closure_split = false;
     // A history link whose rays may have changed with a move (some pass through a moved box)
     // but which was not evaluated since: its K, vis and samples are of the old placement.
     // Un-refinement judges it without rays first and evaluates it before taking it back
-    // (Solver::freshen_stale); nothing else reads a history link's values.
+    // (Refinement::freshen_stale); nothing else reads a history link's values.
     bool stale = false;
     int first_child = -1;  // history tree: the links that refined this one
     int next_sibling = -1;

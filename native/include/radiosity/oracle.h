@@ -4,7 +4,7 @@
 // or whether the receiver may stay whole with its children's mean coupling (Settle); and which
 // elements may split at all. It reads the hierarchy (the nodes' radiance, which the solver sets
 // to the radiance it judges on), the settings, the direct light and the threshold state, and
-// changes nothing: Solver applies its judgements.
+// changes nothing: Refinement (refinement.h) applies its judgements.
 #pragma once
 #include <cstdint>
 

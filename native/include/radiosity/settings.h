@@ -54,7 +54,7 @@ struct Settings {
     // polygon straddling the wall of a box standing on it carries the room's light inside.
     bool gather_sealed_solids = true;
     int closure_rays = 32;              // escape rays per leaf for the closure correction
-    // Closure-driven refinement (refine.cpp): an enclosed leaf whose form factors sum further
+    // Closure-driven refinement (refinement.h): an enclosed leaf whose form factors sum further
     // than this from 1 has the links at its ancestors split toward it (0 = off), at most
     // closure_refine_passes times per closure computation.
     double closure_refine_tolerance = 0.1;

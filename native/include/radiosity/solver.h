@@ -23,6 +23,7 @@
 #include "radiosity/oracle.h"
 #include "radiosity/pending_edits.h"
 #include "radiosity/pockets.h"
+#include "radiosity/refinement.h"
 #include "radiosity/rigid.h"
 #include "radiosity/scene.h"
 #include "radiosity/settings.h"
@@ -166,24 +167,25 @@ public:
 
 private:
     static constexpr int kRoundSweeps = 40;  // gathering sweeps between refinement rounds
-    using Side = Oracle::Side;
-    using Judgement = Oracle::Judgement;
-    struct Candidate { int src, rcv, parent; };
+    using Candidate = Refinement::Candidate;
 
     // solve()'s phases (solver.cpp): the scene built, and a lit scene linked and refined.
     void build_scene();
     void link_and_refine();
     // Embree's ray offset for the scene's size (h_.scene_box, scene_diag).
     void fit_ray_epsilon();
-    // refine.cpp
-    void link_from(std::vector<Candidate> wave);
     // The oracle (oracle.h) on the hierarchy, the settings, the direct light and the threshold
     // state: the nodes' radiance is read at each judgement, the threshold state and the
     // element count are those of now, so one is made where links are judged or split.
     Oracle oracle() const {
-        return Oracle(h_, settings_, direct_light_, {threshold_, L_ref_, min_area_, light_known_}, stats_.element_nodes);
+        return Oracle(h_, settings_, direct_light_, threshold_state(), stats_.element_nodes);
     }
-    void apply(int link_id, const Judgement& j, std::vector<Candidate>& next);
+    Oracle::Threshold threshold_state() const { return {threshold_, L_ref_, min_area_, light_known_}; }
+    // solver.cpp: the refinement (refinement.h) on the solver's hierarchy, links and stats with
+    // the threshold state of now, so one is made for each step that links, splits or un-refines;
+    // and how the solver evaluates a link (evaluate, reevaluate), alike.
+    Refinement refinement();
+    LinkEvaluator link_evaluator() const { return {h_, *vis_, settings_, oracle(), replay_boxes()}; }
     // memory.cpp. Estimated bytes the solve holds with `more` links and nodes: nodes and
     // links in their chunks, Embree's BVHs, and the final gather's trace (the one made, or
     // the forecast of the next); compared with memory_limit_ before refining.
@@ -192,12 +194,12 @@ private:
     // leaves and the links that reach them; kept in output_forecast_ (per active link in
     // output_forecast_links_) for memory_estimate.
     void forecast_output();
+    // Before each wave of links: forecast_output again when the links have doubled since, or
+    // near the memory cap; once the output is traced, never.
+    void follow_forecast();
     double memory_limit_ = 0;
     double output_forecast_ = 0;
     int64_t output_forecast_links_ = 0;
-    uint64_t link_seed(int src, int rcv) const;
-    bool refine_round();
-    bool refine_links(const std::vector<int>& ids);  // one round over these links only
     // solver_gather.cpp: the gathering (gathering_) on the solver's hierarchy, links, direct
     // light and stats, as the oracle is made (oracle()). collect_receivers lists the leaves
     // anew and lights those lacking their direct term: whatever changes links, nodes or
@@ -212,9 +214,6 @@ private:
     // the rays through them are cast again.
     void escape_rays(const Node& n, std::vector<std::pair<Vec3, Vec3>>& rays) const;
     void decide_enclosed(int id, const std::vector<Aabb>* moved_boxes);
-    // refine.cpp: splits links above enclosed leaves whose form factors do not sum to ~1; true
-    // if any.
-    bool closure_refine(const std::vector<double>& fsum);
     // adjust.cpp
     // move_object's matrix as a placement in the internal frame (InputError when not rigid).
     Rigid pose_of(int object, const double m[16]) const;
@@ -299,24 +298,6 @@ private:
     void refit_tolerances();
     void set_material(int object, const std::vector<Rgb>& values, bool emission);
     void apply_materials();
-    void unrefine(int link_id);
-    // A history link whose judgement is Keep or Settle again: unrefined (and settled).
-    // `first`: its judgement on a lit scene's first bounce (at_first_bounce), if known.
-    bool unrefine_if_acceptable(int link_id, const Judgement* first = nullptr);
-    // Takes a fresh evaluation's coupling, visibility and samples into a kept link.
-    void refresh(int link_id, const Link& fresh);
-    // Settled links (3.5) whose sender's judging_radiance grew: evaluated afresh, unsettled.
-    void reopen_settled(const std::vector<int>& ids);
-    // History links reactivated where acceptable; only those whose sender is marked in
-    // `senders` (all when null).
-    void unrefine_pass(const std::vector<char>* senders = nullptr);
-    // Before history links are judged for un-refinement: the stale ones among `ids` that a
-    // judgement without rays would not take back are dropped from `ids` (they stay stale);
-    // the others are evaluated. `first_bounce`: judged as unrefine_pass does in a lit scene.
-    void freshen_stale(std::vector<int>& ids, bool first_bounce);
-    // Whether a history link would be taken back now (see unrefine_if_acceptable), and with
-    // which judgement.
-    bool acceptable_again(const Link& l, const Judgement* first, Judgement& use) const;
     // Nodes whose radiance (or its range below them) moved enough since `snap` to change an
     // oracle judgement of a link they send through.
     std::vector<char> changed_senders(const std::vector<float>& snap) const;
@@ -330,9 +311,10 @@ private:
     // solver_lights.cpp: the steps that light, split and coarsen elements through
     // direct_light_ (the hierarchy and the element count stay the solver's). What its shadow
     // rays are cast into (valid while vis_ is), and the boxes an update that replays rays
-    // (update_run_) moved geometry in: outside them a recorded ray keeps its outcome.
+    // (update_run_) moved geometry in: outside them a recorded ray keeps its outcome, a shadow
+    // ray's or a link's (null: nothing replays).
     DirectLight::Sight light_sight() const { return {scene_, *vis_, settings_}; }
-    const std::vector<Aabb>* light_replay() const {
+    const std::vector<Aabb>* replay_boxes() const {
         return update_run_ && update_run_->replaying ? &update_run_->replay_clips : nullptr;
     }
     void light_initial();  // before the first linking: split and light

@@ -26,7 +26,7 @@ Link reevaluate_link(const Hierarchy& h, const Visibility& vis, const Link& old,
 
 // evaluate_link as if nothing stood between the ends: no ray is cast (vis 1, nothing
 // partial or blocked). An update judges with it whether a history link it left stale might
-// be taken back (Solver::freshen_stale) before paying for its rays.
+// be taken back (Refinement::freshen_stale) before paying for its rays.
 Link evaluate_link_unoccluded(const Hierarchy& h, int src, int rcv, int rays, uint64_t seed);
 
 // What sender node `src` sends to one point (the output's final gather): x with unit normal n

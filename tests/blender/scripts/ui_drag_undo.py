@@ -7,7 +7,6 @@ Records per drag step whether a preview was shown (and if not, why), the colours
 drag's live update, and after Ctrl+Z: whether the earlier bake's colours are back within one
 redraw and whether any solve started.
 """
-import os
 import time
 
 import bpy
@@ -17,31 +16,13 @@ from bpy_extras import view3d_utils
 import rt_common as rt
 import ui_steps as ui
 from ui_steps import out
+from ui_undo import bake_button, bake_done, box, scene, settle_step, setup  # the box room, its bake
 
-EXAMPLE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..",
-                       "example_blends", "box_room.blend")
 STEPS = int(rt.arg("--steps", "10"))
 POLL = 0.02                             # seconds between looks at a step's progress
 DRAW = float(rt.arg("--draw", "0.8"))   # seconds each frame of the 3D viewport takes
 STEP_TIMEOUT = 10.0
 S = {}
-
-
-def scene():
-    return bpy.context.scene
-
-
-def box():
-    return bpy.data.objects["Box1"]
-
-
-def quiet():
-    st = ui.live_state()
-    return st.job is None and not st.pending
-
-
-def setup():
-    ui.install_and_open(os.path.abspath(EXAMPLE))
 
 
 def prepare():
@@ -50,16 +31,6 @@ def prepare():
     props.live = True
     with bpy.context.temp_override(**ui.ctx()):
         bpy.ops.radiosity.show_colors()
-
-
-def bake_button():
-    S["stats_before"] = scene().radiosity.last_stats
-    with bpy.context.temp_override(**ui.ctx()):
-        bpy.ops.radiosity.bake("INVOKE_DEFAULT")
-
-
-def bake_done():
-    return scene().radiosity.last_stats != S["stats_before"] and quiet()
 
 
 def first_bake():
@@ -147,20 +118,6 @@ def last_preview():
     out["updates_written_before_last_preview"] = ui.live_runs() - S["runs0"]
 
 
-def settled(seconds=1.5):
-    t = {"since": None}
-
-    def step():
-        now = time.monotonic()
-        if not quiet():
-            t["since"] = None
-            return ui.WAIT_STEP
-        if t["since"] is None:
-            t["since"] = now
-        return ui.WAIT_STEP if now - t["since"] < seconds else None
-    return step
-
-
 def after_drag():
     S["C1"] = ui.colours()
     S["runs1"] = ui.live_runs()
@@ -220,7 +177,7 @@ def later():
 
 if __name__ == "__main__":
     ui.run(setup, prepare, ui.open_sidebar, bake_button, ui.Waiter(bake_done, 300, "the bake"),
-           settled(1.0), first_bake, slow_drawing, ui.pause(2.0), grab, drag, release,
+           settle_step(), first_bake, slow_drawing, ui.pause(2.0), grab, drag, release,
            ui.Waiter(lambda: not ui.live_state().preview_pending, 10, "the last preview"), last_preview,
-           settled(2.0), after_drag, ctrl_z, one_redraw, ui.pause(3.0), settled(1.0), later,
+           settle_step(), after_drag, ctrl_z, one_redraw, ui.pause(3.0), settle_step(), later,
            ui.finish, first=1.0)

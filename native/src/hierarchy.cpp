@@ -1125,4 +1125,11 @@ int Hierarchy::remove_object(int oi) {
     return deepest;
 }
 
+int Hierarchy::side_met(int prim, const Vec3& d) const {
+    const Primitive& p = prims[size_t(prim)];
+    const Vec3 fn = p.front >= 0 ? nodes[size_t(surfaces[size_t(p.front)].root)].normal : p.poly.normal();
+    const int side = dot(d, fn) < 0 ? p.front : p.back;
+    return side >= 0 && !surface_dead(side) ? side : -1;
+}
+
 }  // namespace radiosity

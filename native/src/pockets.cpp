@@ -67,10 +67,7 @@ void Pockets::rays(const Hierarchy& h, const Sight& sight, int s, int count, uin
         int side = -1;
         if (obj >= 0 && size_t(obj) < sight.tri_prim.size() && !sight.tri_prim[size_t(obj)].empty()) {
             const auto& tp = sight.tri_prim[size_t(obj)];
-            const Primitive& hp = h.prims[size_t(tp[std::min<size_t>(size_t(std::max(tri, 0)), tp.size() - 1)])];
-            // The side the ray arrived at: the front when it travels against the normal.
-            side = dot(d, h.nodes[size_t(h.surfaces[size_t(hp.front)].root)].normal) < 0 ? hp.front : hp.back;
-            if (side >= 0 && h.surface_dead(side)) side = -1;
+            side = h.side_met(tp[std::min<size_t>(size_t(std::max(tri, 0)), tp.size() - 1)], d);
         }
         // A hair beyond the hit, so that a box the hit point lies on counts as met.
         hits.push_back({side, obj >= 0 ? length(at - o) * (1 + 1e-9) + lift : far});

@@ -230,9 +230,9 @@ Rgb fresh_irradiance(const FinalGather::Solution& s, const FinalGather::Config& 
     return E;
 }
 
-// Irradiance / pi at x (facing n) of a dragged object's face that the bake found covered and
-// that is lifted off now: it has no links of its own to gather (nothing faced it), so it reads
-// the solution's leaves where cosine-distributed rays from it land, and its lamps.
+// Irradiance / pi at x (facing n) of a dragged object's face lifted off what it stood on in
+// the bake: it has no links of its own to gather there (nothing faced it), so it reads the
+// solution's leaves where cosine-distributed rays from it land, and its lamps.
 Rgb hemisphere_irradiance(const FinalGather::Solution& s, const FinalGather::Config& config, const fg::Point& pt,
                           const Vec3& x, const Vec3& n, int64_t& rays) {
     constexpr int kSide = 6;  // kSide^2 stratified directions
@@ -257,14 +257,8 @@ Rgb hemisphere_irradiance(const FinalGather::Solution& s, const FinalGather::Con
         if (obj < 0 || size_t(obj) >= s.tri_prim->size() || tri < 0) continue;
         const std::vector<int>& tp = (*s.tri_prim)[size_t(obj)];
         if (size_t(tri) >= tp.size()) continue;
-        const Primitive& pr = h.prims[size_t(tp[size_t(tri)])];
-        const int front_root = pr.front >= 0 ? h.surfaces[size_t(pr.front)].root : -1;
-        const Vec3 fn = front_root >= 0 ? h.nodes[size_t(front_root)].normal : pr.poly.normal();
-        const int side = dot(d, fn) < 0 ? pr.front : pr.back;  // the side the ray meets
-        if (side < 0) continue;
-        const int root = h.surfaces[size_t(side)].root;
-        if (h.nodes[size_t(root)].dead) continue;
-        sum += h.nodes[size_t(h.leaf_at(root, at))].L;
+        const int side = h.side_met(tp[size_t(tri)], d);
+        if (side >= 0) sum += h.nodes[size_t(h.leaf_at(h.surfaces[size_t(side)].root, at))].L;
     }
     return E + sum / double(kSide * kSide);
 }

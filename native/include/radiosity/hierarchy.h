@@ -168,6 +168,10 @@ public:
     int remove_object(int object);
     // Surfaces of removed objects keep their slot (ids stay stable) with a dead root.
     bool surface_dead(int s) const { return nodes[surfaces[s].root].dead; }
+    // The side of primitive `prim` that a ray travelling along d arrives at: its front when d
+    // runs against the front's normal, else its back; -1 when that side does not exist or was
+    // removed.
+    int side_met(int prim, const Vec3& d) const;
     // Bounding box of an object's current placement (`own`: its primitives, when the caller
     // knows them; else found among all).
     Aabb object_box(int object, const std::vector<int>* own = nullptr) const;

@@ -363,16 +363,13 @@ bool point_escapes(const Solution& s, const Vec3& x, const Vec3& n, uint64_t see
     // Cosine-distributed, stratified over an 8 x 8 grid of the unit square: a gap of a fraction
     // g of the projected hemisphere goes unseen with probability about (1 - g)^64, and what it
     // then costs (a fill of g) is at most 1 / (64 e) = 0.6 % of the leaf's radiance.
-    constexpr int kSide = 8;
     const double far = 4.0 * s.h.scene_diag;
     const double lift = 1e-5 * s.h.scene_diag;
     Rng rng(Hierarchy::mix(seed, 0xe5ca9eu));
-    Vec3 u, v;
-    frame(n, u, v);
+    const CosineStrata strata(n, 8);
     const Vec3 o = x + n * lift;
-    for (int i = 0; i < kSide * kSide; ++i) {
-        const double r1 = (i % kSide + rng.next()) / kSide, r2 = (i / kSide + rng.next()) / kSide;
-        const Vec3 d = cosine_direction(u, v, n, r1, r2);
+    for (int i = 0; i < strata.count(); ++i) {
+        const Vec3 d = strata.direction(i, rng);
         ++counts.rays;
         if (!s.vis.occluded(o, o + d * far, 0.0)) return true;
     }
@@ -384,20 +381,17 @@ bool point_escapes(const Solution& s, const Vec3& x, const Vec3& n, uint64_t see
 bool point_sealed(const Solution& s, const Vec3& o, const Vec3& n, uint64_t seed, Counts& counts) {
     // As point_escapes: stratified and cosine-distributed; a gap in the solid (a crack under
     // a wall standing a hair above the floor) lets light in and is found with the same odds.
-    constexpr int kSide = 8;
     const Hierarchy& h = s.h;
     const double far = 4.0 * h.scene_diag;
     Rng rng(seed);
-    Vec3 u, v;
-    frame(n, u, v);
+    const CosineStrata strata(n, 8);
     // The backs met must face at least three ways: one plane seen from behind (a lamp hung
     // under a ceiling, a rug a hair above the floor) covers a point's hemisphere without
     // enclosing anything, and Cycles lights what lies behind it (an emitter's back glows).
     Vec3 ways[3];
     int nways = 0;
-    for (int i = 0; i < kSide * kSide; ++i) {
-        const double r1 = (i % kSide + rng.next()) / kSide, r2 = (i / kSide + rng.next()) / kSide;
-        const Vec3 d = cosine_direction(u, v, n, r1, r2);
+    for (int i = 0; i < strata.count(); ++i) {
+        const Vec3 d = strata.direction(i, rng);
         ++counts.rays;
         int tri = -1;
         Vec3 at;

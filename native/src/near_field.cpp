@@ -296,17 +296,15 @@ NearField::Stars NearField::gather_stars(const Seen& sn, const Node& root, doubl
     const Vec3& x = pt_.x;
     const Vec3& n = pt_.n;
     const int surface_root = h_.surfaces[size_t(sn.surface)].root;
-    Vec3 u, v;
-    frame(n, u, v);
+    const CosineStrata strata(n, side_);
     // Where the whole hemisphere meets the near part (a sender facing the point across a gap,
     // a board under a book) every stratum holds an s*: a stratified subset of them gathers,
     // every k-th along the strata's diagonals, from max_stars_ to twice that many.
     using Candidate = NearScratch::Candidate;
     std::vector<Candidate>& found = scratch_.found;
     found.clear();
-    for (int tries = 0; tries < side_ * side_; ++tries) {
-        const double r1 = (tries % side_ + rng.next()) / side_, r2 = (tries / side_ + rng.next()) / side_;
-        const Vec3 w = cosine_direction(u, v, n, r1, r2);
+    for (int tries = 0; tries < strata.count(); ++tries) {
+        const Vec3 w = strata.direction(tries, rng);
         const double dn = -dot(w, root.normal);
         if (!(dn > 1e-6)) continue;
         const double t = d / dn;

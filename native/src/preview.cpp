@@ -235,7 +235,6 @@ Rgb fresh_irradiance(const FinalGather::Solution& s, const FinalGather::Config& 
 // solution's leaves where cosine-distributed rays from it land, and its lamps.
 Rgb hemisphere_irradiance(const FinalGather::Solution& s, const FinalGather::Config& config, const fg::Point& pt,
                           const Vec3& x, const Vec3& n, int64_t& rays) {
-    constexpr int kSide = 6;  // kSide^2 stratified directions
     const Hierarchy& h = s.h;
     const PointLight lamp = direct_light_at(s.scene, h, s.vis, x, n, false, config.light_samples, pt.seed);
     rays += lamp.rays;
@@ -243,13 +242,11 @@ Rgb hemisphere_irradiance(const FinalGather::Solution& s, const FinalGather::Con
     if (!s.tri_prim) return E;
     const double far = 4.0 * h.scene_diag, lift = 1e-5 * h.scene_diag;
     Rng rng(Hierarchy::mix(pt.seed, 0x11f7edu));
-    Vec3 u, v;
-    frame(n, u, v);
+    const CosineStrata strata(n, 6);
     const Vec3 o = x + n * lift;
     Rgb sum;
-    for (int i = 0; i < kSide * kSide; ++i) {
-        const double r1 = (i % kSide + rng.next()) / kSide, r2 = (i / kSide + rng.next()) / kSide;
-        const Vec3 d = cosine_direction(u, v, n, r1, r2);
+    for (int i = 0; i < strata.count(); ++i) {
+        const Vec3 d = strata.direction(i, rng);
         ++rays;
         Vec3 at;
         int tri = -1;
@@ -260,7 +257,7 @@ Rgb hemisphere_irradiance(const FinalGather::Solution& s, const FinalGather::Con
         const int side = h.side_met(tp[size_t(tri)], d);
         if (side >= 0) sum += h.nodes[size_t(h.leaf_at(h.surfaces[size_t(side)].root, at))].L;
     }
-    return E + sum / double(kSide * kSide);
+    return E + sum / double(strata.count());
 }
 
 // Adds to dE the change of what the point's emitting senders (`emits`, per node) bring it at

@@ -67,22 +67,19 @@ int facing(const Vec3& n) {
 // (misses count as infinitely far): a point may lie beside an occluder its would-be lender
 // 1 cm away does not see (a chair leg's foot), and then shares with nobody.
 double probe_reach(const Solution& s, const Vec3& x, const Vec3& n, uint64_t seed, int64_t& rays) {
-    constexpr int kSide = 4;
     const double diag = s.h.scene_diag;
     const Vec3 o = x + n * (1e-6 * diag);
-    Vec3 u, v;
-    frame(n, u, v);
+    const CosineStrata strata(n, 4);
     Rng rng(seed);
     double inv = 0;
-    for (int i = 0; i < kSide * kSide; ++i) {
-        const double r1 = (i % kSide + rng.next()) / kSide, r2 = (i / kSide + rng.next()) / kSide;
-        const Vec3 d = cosine_direction(u, v, n, r1, r2);
+    for (int i = 0; i < strata.count(); ++i) {
+        const Vec3 d = strata.direction(i, rng);
         Vec3 at;
         ++rays;
         if (s.vis.hit_object(o, o + d * (2.0 * diag), 0.0, &at) < 0) continue;
         inv += 1.0 / std::max(length(at - o), 1e-9 * diag);
     }
-    return inv > 0 ? kSide * kSide / inv : std::numeric_limits<double>::infinity();
+    return inv > 0 ? strata.count() / inv : std::numeric_limits<double>::infinity();
 }
 
 // Per vertex of a mesh, whether it lies on an open edge (an edge of one polygon only). The

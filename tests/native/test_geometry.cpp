@@ -1,7 +1,8 @@
 // The clip of a polygon at a plane (front_part) against a reference computed another way, for
 // every way a plane can cross a triangle, a planar quad and a warped quad (Bevel and
 // Subdivision Surface make quads that are planar only to about 1e-4 of their size, and a plane
-// nearly containing one crosses it four times).
+// nearly containing one crosses it four times). Also the stratified cosine directions of
+// CosineStrata, draw for draw.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -231,4 +232,28 @@ TEST(FrontPart, ReceiverCubatureOfAWarpedQuadSumsToItsFrontShare) {
         EXPECT_GT(dot(c.p[size_t(k)] - x, nx), 0.0);
     }
     EXPECT_NEAR(w, reference_front_area(q, x, nx) / q.area(), 1e-9);
+}
+
+TEST(CosineStrata, DrawsTheAzimuthThenThePolarNumberOfEachStratum) {
+    // The hemisphere loops (escape rays, probes, the near field's s*) cast these rays and
+    // record or replay them: the directions, and the order of the draws, must stay as they are.
+    const Vec3 n = normalize(Vec3{0.3, -0.2, 0.9});
+    Vec3 u, v;
+    frame(n, u, v);
+    for (int side : {1, 4, 6, 8}) {
+        const CosineStrata strata(n, side);
+        ASSERT_EQ(strata.count(), side * side);
+        Rng a(11), b(11);
+        for (int i = 0; i < strata.count(); ++i) {
+            const Vec3 d = strata.direction(i, a);
+            const double r1 = (i % side + b.next()) / side;
+            const double r2 = (i / side + b.next()) / side;
+            const Vec3 e = cosine_direction(u, v, n, r1, r2);
+            EXPECT_EQ(d.x, e.x);
+            EXPECT_EQ(d.y, e.y);
+            EXPECT_EQ(d.z, e.z);
+            EXPECT_NEAR(length(d), 1.0, 1e-12);
+            EXPECT_GE(dot(d, n), 0.0);
+        }
+    }
 }

@@ -115,4 +115,24 @@ private:
     uint64_t state_;
 };
 
+// Cosine-distributed directions about the unit vector n, stratified over a side x side grid
+// of the unit square: direction i jitters within cell (i % side, i / side), drawing its azimuth
+// number, then its polar one, from rng. The order of the draws is fixed here so that every
+// hemisphere loop built on this casts the same rays, whatever it does between them (it may
+// stop early, or skip directions).
+class CosineStrata {
+public:
+    CosineStrata(const Vec3& n, int side) : n_(n), side_(side) { frame(n, u_, v_); }
+    int count() const { return side_ * side_; }
+    Vec3 direction(int i, Rng& rng) const {
+        const double r1 = (i % side_ + rng.next()) / side_;
+        const double r2 = (i / side_ + rng.next()) / side_;
+        return cosine_direction(u_, v_, n_, r1, r2);
+    }
+
+private:
+    Vec3 n_, u_, v_;
+    int side_;
+};
+
 }  // namespace radiosity

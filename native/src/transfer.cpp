@@ -99,14 +99,14 @@ struct RayReplay : RayLog {
 
 // Latin hypercube strata for n samples: coordinate d of sample k is (perm_d[k] + jitter) / n,
 // every coordinate permuted on its own. Each coordinate then puts one sample in each 1/n
-// interval (a plain draw clumps), so a link's few rays cover its ends evenly: a cluster link's
-// estimate varied about twice as much from seed to seed with independent draws. Never worse
+// interval (a plain draw clumps), so a link's few rays cover its ends evenly and a cluster
+// link's estimate varies less from seed to seed than with independent draws. Never worse
 // than independent draws beyond a factor n / (n - 1) in variance.
 class LatinHypercube {
 public:
     static constexpr int kDims = 6;  // at most, per ray: surface pick and a point, at each end
     // `dims` coordinates drawn (the rest of each ray's kDims left unset): an element link
-    // needs only the point on its sender, and drew the other four for nothing.
+    // needs only the point on its sender, not the other four.
     LatinHypercube(Rng& rng, int n, int dims = kDims) : n_(std::max(n, 1)) {
         thread_local std::vector<double> buf;  // one set in use per thread at a time
         buf.resize(size_t(n_) * kDims);
@@ -176,8 +176,8 @@ PointSight element_point_sight(const Hierarchy& h, const Vis& vis, int p_id, con
         Vec3 x = (front.n ? front.sample(u1, u2) : P.poly.sample(u1, u2)) + P.normal * lift;
         // Visibility weighted by the point-to-point kernel, as F is: the sender's part
         // below the receiver's tangent plane (rays through the receiver's own object)
-        // weighs nothing instead of counting as a shadow a second time (a box side
-        // under a ceiling light came out 40 % dark), and near parts weigh more.
+        // weighs nothing instead of counting as a shadow a second time (which would
+        // darken a box's side under a ceiling light), and near parts weigh more.
         Vec3 yx = x - y;
         double d2 = length2(yx);
         double wr = d2 > 0 ? std::max(0.0, dot(yx, n)) * std::max(0.0, -dot(yx, P.normal)) / (d2 * d2) : 0.0;
@@ -367,11 +367,11 @@ int surface_at_area(const Hierarchy& h, int begin, int end, double x) {
 // `min_cos` floors the density's cosine for the surfaces that face d at all: area x
 // max(cos, min_cos) (final gather). The cosine toward d stands for the cosine toward the
 // point, which for a surface nearly edge-on to d can be many times larger (the point lies off
-// the centre's axis); drawn by cos alone such a surface got a tiny density and, when a ray
-// landed on it, a huge weight (and the point's closure then scaled its other links down to
-// make its couplings sum to 1). Surfaces facing away from d are still left out: drawing them
-// as well (density area x max(0, cos + 2 R / r), which bounds every weight) costs more in
-// variance than they bring (docs/decisions.md, "Output").
+// the centre's axis); drawn by cos alone such a surface would get a tiny density and, when a
+// ray landed on it, a huge weight (and the point's closure would then scale its other links
+// down to make its couplings sum to 1). Surfaces facing away from d are still left out:
+// drawing them as well (density area x max(0, cos + 2 R / r), which bounds every weight)
+// costs more in variance than they bring (docs/decisions.md, "Output").
 class FacingSampler {
 public:
     struct Buffers {
@@ -679,8 +679,7 @@ PairSight cluster_pair_sight(const Hierarchy& h, const Vis& vis, const Node& P, 
         // box, or of one open at the bottom standing on the floor, share the room's pocket):
         // the gather shares K by cosine over the receiver's surfaces facing the sender, so
         // the visibility that K carries must be that of the surfaces that can be lit at all.
-        // Counted as blocked, such points halved what every outer face of a box got (sides
-        // and tops of the Cornell blocks 25-40 % short in coupling at DRAFT).
+        // Counted as blocked, such points would cut what every outer face of a box gets.
         if (!ok && Q.is_cluster() && rroot >= 0 &&
             vis.hidden_by(y + ny * lift, x + nx * lift, lift, h.nodes[size_t(rroot)].object))
             s.wself += w;
@@ -725,8 +724,8 @@ Link cluster_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
         l.K_unoccluded = 0;
         // The centre-to-centre direction says the ends do not face each other, but an
         // extended end can still be seen in part (the side of a box standing under a ceiling
-        // light sees only the part of the light in front of it: dropping the link left it
-        // dark). When some surface of each end faces within the ends' angular size, refine
+        // light sees only the part of the light in front of it: dropping the link would leave
+        // it dark). When some surface of each end faces within the ends' angular size, refine
         // until the exact element kernel decides.
         const double s = std::min(1.0, (P.radius + Q.radius) / r);
         if (may_face(h, P, l.dir, s, rcv) && may_face(h, Q, -l.dir, s, src) && may_exchange(h, P, Q)) l.must_refine = true;
@@ -749,8 +748,8 @@ Link cluster_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
     l.partial = ray.clear > 0 && ray.clear < ray.cast;
     // Every ray blocked is weak evidence for a whole cluster: the link stays (K = 0) and the
     // oracle decides from the light at stake whether to look closer. Splitting every such
-    // link unconditionally went down to element pairs: in a furnished room 8 of 12 million
-    // link evaluations were element pairs facing away or hidden (under and behind furniture).
+    // link unconditionally goes down to element pairs, most of them facing away or hidden
+    // (under and behind furniture).
     l.blocked = ray.clear == 0 && ray.cast > 0;
     // vis, partial and blocked keep every point (the oracle still sees the link as partly
     // occluded and splits the receiver when the light at stake asks for it); the coupling
@@ -761,8 +760,8 @@ Link cluster_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
 
 // Samples (those from `first` on) that name the same leaf become one, with their weights
 // summed, in the order of their first appearance: a sender's radiance is the same weighted
-// mean, and a third fewer samples are stored, copied into each gather plan and read in each
-// sweep (a link's 16 rays land on 9 leaves on average in the box room at MEDIUM).
+// mean, and fewer samples are stored, copied into each gather plan and read in each sweep (a
+// link's rays often land on the same leaf).
 void merge_samples(std::vector<std::pair<int, float>>& s, size_t first = 0) {
     size_t n = first;
     for (size_t i = first; i < s.size(); ++i) {
@@ -966,9 +965,9 @@ PointTransfer point_transfer_with(const Hierarchy& h, PointRayStream& vis, int s
     } else if (length(x - P.center) < 2.0 * P.radius) {
         // The point is near the cluster, or inside it (a floor point and the room around it):
         // no single direction says which of its surfaces face the point, and drawing them by
-        // their facing toward the cluster's centre missed the floor beside a block's foot
-        // (3.5x too dark there). Its children are asked instead, down to surfaces near the
-        // point, the rays shared by area.
+        // their facing toward the cluster's centre would miss the floor beside a block's
+        // foot. Its children are asked instead, down to surfaces near the point, the rays
+        // shared by area.
         PointTransfer sum;
         for (int c : P.children) {
             const Node& C = h.nodes[size_t(c)];

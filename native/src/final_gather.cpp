@@ -92,8 +92,9 @@ int corner_covered(const Solution& s, const Primitive& p, const Vec3& inside) {
 // error is the estimate's. Element senders' couplings are exact (Lambert's closed form, only
 // visibility sampled); cluster senders' are Monte Carlo sums over their surfaces. So the
 // excess is taken from the sampled couplings, own or inherited alike (all couplings alike when
-// those are too small to hold it). Taking it from the inherited links, as a leaf does, cut a
-// chair seat's exact lamp links where its own cluster links summed a little over 1.
+// those are too small to hold it). Taking it from the inherited links, as a leaf does, would
+// cut a point's exact lamp links where its own cluster links sum a little over 1
+// (docs/decisions.md, "Closure at output points").
 // Expressed as the factors on the own and inherited parts (values() splits by those).
 ClosureFactors point_closure_factors(double own, double inherited, double s_own, double s_inherited) {
     const double f = own + inherited;
@@ -509,9 +510,9 @@ void trace_point(const Run& run, Point& pt, const Point* old, Counts& counts, Sc
     if (c.share > 0) pt.reach = lend_reach(pt, dark);
     // Closure at the point, as the solver's at the leaf: where no escape ray of the leaf found
     // open space, the point's couplings must sum to 1 -- unless the point itself sees out.
-    // A ceiling leaf over a lamp hung 1 mm below it finds no way out with its 32 rays, but its
-    // points near the lamp's rim see 3 % of their hemisphere through the gap, dark: filling
-    // that with the leaf's own radiance read them 3 % too bright.
+    // A ceiling leaf over a lamp hung 1 mm below it finds no way out with its escape rays, but
+    // its points near the lamp's rim see a little of their hemisphere through the gap, dark:
+    // filling that with the leaf's own radiance would read them too bright.
     if (enclosed)
         pt.escapes = unchanged && old->escapes >= 0 ? old->escapes : int8_t(point_escapes(s, pt.x, pt.n, pt.seed, counts));
     if (enclosed && pt.escapes == 0) {
@@ -830,7 +831,7 @@ void FinalGather::Impl::run(const Solution& s, const Config& c, std::vector<fg::
         fg::trace_point(r, pt, was, local, scratch.local(), emitters_only);
         pt.samples.shrink_to_fit();
         // Each point is traced once: what it kept of its old self is copied, and the old one
-        // goes now rather than after the whole trace (an update held both traces at its peak).
+        // goes now rather than after the whole trace, so an update never holds both traces.
         if (was) old[at->second].release();
         tally.add(local, pt, was == nullptr);
     };

@@ -140,7 +140,9 @@ void Gathering::set_closure(const Context& c, const CouplingSums& sums, const st
         const double f = sums.total[leaves_[i]], own = sums.own[leaves_[i]], inherited = f - own;
         n.closure = n.closure_own = 1.0;
         n.closure_fill = 0.0;
-        if (c.settings.closure_rays > 0 && f > 0.25 && f < 4.0) {  // closure_factors' range  // far off 1 (DRAFT can be): a missing link, not a small error
+        // closure_factors' range: a sum far off 1 (DRAFT's can be) is a missing link, not a
+        // small error.
+        if (c.settings.closure_rays > 0 && f > 0.25 && f < 4.0) {
             if (n.enclosed < 0) decide_enclosed(leaves_[i]);
             if (n.enclosed == 1) {
                 // The leaf's own links were evaluated for it; links at its ancestors and
@@ -148,20 +150,18 @@ void Gathering::set_closure(const Context& c, const CouplingSums& sums, const st
                 // be wider (a ceiling patch in the gap behind a lamp sees the lamp through
                 // its own link and a sliver of the room, where the ceiling above it sees
                 // all the room). So an excess (sum > 1) is taken from those inherited
-                // couplings; scaling all alike dimmed the lamp's exact link with them (such
-                // patches 6 % dark, and by how much depended on how far an update had
-                // refined the room's links: 0.9 % NRMSE between an update and a full solve
-                // of the box room). When the own links alone pass 1 (a near-field link's
-                // estimate over a large patch can), they are the excess: scaled to 1, the
-                // inherited ones dropped (a DRAFT ceiling patch behind a lamp got 4.8
-                // instead of 5.9, rho x lamp, when all were scaled alike). inherited > 0
-                // whenever own < 1 < f.
+                // couplings: scaling all alike would dim the lamp's exact link with them, and
+                // by an amount that depends on how far an update refined the room's links.
+                // When the own links alone pass 1 (a near-field link's estimate over a large
+                // patch can), they are the excess: scaled to 1, the inherited ones dropped.
+                // inherited > 0 whenever own < 1 < f.
                 // A shortfall: what the links miss is taken to see surfaces as bright as
-                // the leaf itself. Scaling every coupling by 1 / f instead created light: a
-                // leaf's exact links to a lamp (radiance 12 against ~0.4 for the room) grew
-                // with the missing ones, and the closed rooms absorbed 4-14 % more power
-                // than their lamps emit (bench/results/brightness.md). A furnace stays
-                // exact: there every radiance is the leaf's own.
+                // the leaf itself. Scaling every coupling by 1 / f would create light: a
+                // leaf's exact links to a lamp (far brighter than the room) would grow with
+                // the missing ones, and a closed room absorb more power than its lamps emit.
+                // A furnace stays exact: there every radiance is the leaf's own. (Figures:
+                // docs/decisions.md, "Closure correction at leaves" and "Figures behind code
+                // comments".)
                 const ClosureFactors k = closure_factors(own, inherited);  // gather_plan.h
                 n.closure_own = k.c_own;
                 n.closure = k.c_inherited;
@@ -170,8 +170,8 @@ void Gathering::set_closure(const Context& c, const CouplingSums& sums, const st
         }
         // Guard, open or closed: the iteration contracts only if every leaf reflects less
         // than it gathers (rho * sum of couplings < 1). Sums above 1 (coincident faces, a
-        // pair linked twice) at reflectance near 1 diverged (fuzzer: 5e22, then inf after
-        // a move); such a leaf is scaled back to a gain just below 1.
+        // pair linked twice) at reflectance near 1 would diverge; such a leaf is scaled back
+        // to a gain just below 1.
         constexpr double kMaxGain = 0.9995;
         const double gain = n.rho.max() * (own * n.closure_own + inherited * n.closure + n.closure_fill);
         if (gain > kMaxGain) {

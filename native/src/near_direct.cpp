@@ -3,18 +3,20 @@
 // solved together), but its direct light is not the point's. A box's corner vertex in the
 // box's shadow has the lamp's penumbra a tenth of a millimetre away on the floor in front of
 // the same face, and the face's first millimetre sees it: read as the point's dark floor, the
-// vertex came out 25-30 % dark (tests/blender/test_corner_exact.py, the contact test). So the
-// plane's radiance at a spot q is taken as the point's plus rho (D(q) - D(x)), D the direct
-// light of lamps and emitting senders, and each point s* of the sender adds rho_s times the
-// mean of that over cosine directions from s* to the plane.
+// vertex would come out dark (tests/blender/test_corner_exact.py, the contact test; figures in
+// docs/design.md, "Output: a final gather at the corners"). So the plane's radiance at a spot
+// q is taken as the point's plus rho (D(q) - D(x)), D the direct light of lamps and emitting
+// senders, and each point s* of the sender adds rho_s times the mean of that over cosine
+// directions from s* to the plane.
 //
 // The lit part is a wedge a few per cent of those directions hit, so they must be many and
 // cheap: D is evaluated once per cell of a grid around x, even in angle (a penumbra's wedge
 // from a box's corner is a range of angles) and in log distance (a contact looks the same at
 // every scale), coarse everywhere and fine only where neighbouring coarse values differ; the
-// directions cast no ray and spend their weight on the fine cells around their spot. One
-// direction per s* hitting the plane (the first version) left the corner's value spread over
-// 0.0023-0.0041 across seeds; D read at the cells' centres alone (no fine grid) 10 % low.
+// directions cast no ray and spend their weight on the fine cells around their spot: one
+// direction per s* leaves the corner's value noisy from seed to seed, and D read at the
+// coarse cells' centres alone reads it low (docs/decisions.md, "Figures behind code
+// comments").
 #include <algorithm>
 #include <cmath>
 
@@ -140,8 +142,7 @@ DirectVariation::DirectVariation(const Solution& s, const Config& c, const Point
     // The emitters: the senders of the point's records that emit (judged by the sender, not
     // by what x's samples read of it: in a shadow x reads none), an element sender's whole
     // surface (or its object's cluster, when all of it emits) traced once: a lamp of 16 faces
-    // refined into elements linked to the point is one lamp to trace, not 30 (the Cornell
-    // box cast 1.7 M rays more, 0.3 M so).
+    // refined into elements linked to the point is one lamp to trace, not 30.
     for (const Record& r : pt.records) {
         const Node& src = h.nodes[size_t(r.src)];
         if (!(src.is_cluster() ? h.emits(r.src, Hierarchy::Unknown::Look) : src.emission.max() > 0)) continue;
@@ -198,8 +199,8 @@ Rgb DirectVariation::direct_at(int leaf, const Vec3& q, uint64_t seed) {
     // them than x does, it sees less or more of the surfaces around, taken to be as bright as
     // the sender (behind a box's end, what hides the lamp from x is the box's face). So in a
     // furnace, where all is equally bright, D is the same everywhere and the furnace stays
-    // exact (taking only the emitters' light, it read 0.15-0.2 % bright at the cube's
-    // corners: the other wall there is an emitter a hair away, seen more from some spots).
+    // exact (taking only the emitters' light would read the cube's corners a little bright:
+    // the other wall there is an emitter a hair away, seen more from some spots).
     const Hierarchy& h = s_.h;
     const PointLight lamp = direct_light_at(s_.scene, h, s_.vis, q, n_, false, std::max(4, c_.light_samples / 4), seed);
     counts_.rays += lamp.rays;

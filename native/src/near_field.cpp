@@ -246,8 +246,7 @@ bool NearField::near_part(const Seen& sn, const Node& root, double& d, double& F
     // Near: a hair from the sender's polygon, or in a narrow gap in front of a sender whose
     // leaves are much wider than the gap (a cabinet's back 2 cm from the wall: the wall's
     // leaves there average the lit wall beside the cabinet with the dark wall behind it, and
-    // the point sees the dark part; the back read 3x Cycles' value) and that brings the point
-    // a real share of its light.
+    // the point sees the dark part) and that brings the point a real share of its light.
     const bool hair = kNearReach * d <= kLeafShare * std::sqrt(root.area);
     const bool gap = kGapLeaf * d < sn.WS / sn.W && sn.W >= kGapShare;
     if (!hair && !gap) return false;

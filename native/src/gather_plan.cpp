@@ -334,8 +334,8 @@ void GatherPlan::prepare_sends(const Hierarchy& h, const LinkStore& links, int t
         sends_[k].sample_end = nsamples;
     }
     samples_.resize(size_t(nsamples));
-    // Each node's live element's slot, in one pass over the nodes: resolving a sample through
-    // its node (dead? parent?) was a cache miss per sample, millions per build.
+    // Each node's live element's slot, in one pass over the nodes: resolving each sample
+    // through its node (dead? parent?) would be a cache miss per sample.
     std::vector<int32_t> live_slot(h.nodes.size());
     parallel_for(h.nodes.size(), workers(threads), [&](size_t id) { live_slot[id] = slot_[size_t(h.live_element(int(id)))]; }, 4096);
     std::atomic<bool> outside{false};

@@ -71,8 +71,8 @@ bool planar_convex_quad(const Poly& q, const Vec3& nrm) {
 }
 
 // The vertex whose fan has only positively oriented triangles, or -1. Testing every vertex is
-// O(n^2): a 100k-corner polygon with one reflex corner near its end took minutes, so the
-// tests get a budget of O(n). Small polygons are searched in full; when a large one exhausts
+// O(n^2), too slow for a polygon of 100k corners whose one reflex corner lies near its end, so
+// the tests get a budget of O(n). Small polygons are searched in full; when a large one exhausts
 // the budget, its reflex corners are tried (a polygon with a single notch fans from the notch).
 template <class Corner>
 int fan_apex(const Corner& P, int n, const Vec3& nrm) {
@@ -454,11 +454,11 @@ int Hierarchy::build_object_tree(std::vector<int>& ids, int begin, int end, int 
         // Median split along the widest axis of the centroids: a balanced spatial tree gives
         // O(n log n) linking from the root down. The tree must not depend on where the object
         // stands: an update moves an object's tree, a full solve builds it where it now is, and
-        // different trees make different cluster links (a box's top refined elsewhere: 3 %
-        // NRMSE on the box after a move). Rounding made equal extents (a square box) and equal
-        // centroids (a grid's rows) compare differently at two places, so extents within a
-        // relative 1e-9 count as equal (the lower axis wins) and centroids are compared on a
-        // grid of 2^-30 of the extent, from the low side, ties by polygon order.
+        // different trees make different cluster links (a box's top refined elsewhere, so an
+        // update would differ from a full solve). Rounding makes equal extents (a square box)
+        // and equal centroids (a grid's rows) compare differently at two places, so extents
+        // within a relative 1e-9 count as equal (the lower axis wins) and centroids are
+        // compared on a grid of 2^-30 of the extent, from the low side, ties by polygon order.
         Aabb b;
         for (int i = begin; i < end; ++i) b.grow(prims[ids[i]].poly.centroid());
         const Vec3 ext = b.extent();
@@ -484,8 +484,8 @@ void Hierarchy::build(const SceneDesc& scene, bool use_clustering) {
     const auto& objs = scene.objects();
     Aabb world;
     // Only vertices that polygons use: a stray loose vertex far away (common in real meshes)
-    // would otherwise set the frame, and the scene, shrunk to a speck of it, loses precision
-    // (1e6 away: the room 7x too dark) or snaps to nothing (1e12 away: every polygon skipped).
+    // would otherwise set the frame, and the scene, shrunk to a speck of it, would lose
+    // precision (a vertex 1e6 away) or snap to nothing (1e12 away: every polygon skipped).
     for (const auto& o : objs)
         for (int32_t c : o.corner_verts) world.grow(o.vertices[c]);
     if (!world.empty() && world.diagonal() > 0) {

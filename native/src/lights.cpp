@@ -327,8 +327,8 @@ PointLight direct_light_replay(const SceneDesc& scene, const Hierarchy& h, const
 
 int element_shadow_rays(int rays_per_link, LightDesc::Type type) {
     // Half the link rays (an element costs two links), four times that for the sky, whose
-    // hemisphere integral is noisier than a small light's. Fewer hid real shadow edges behind
-    // the noise allowance of DirectLight::compute.
+    // hemisphere integral is noisier than a small light's. Fewer would hide real shadow edges
+    // behind the noise allowance of DirectLight::compute.
     const int m = std::max(4, rays_per_link / 2);
     return type == LightDesc::Type::Sky ? 4 * m : m;
 }
@@ -584,8 +584,8 @@ void DirectLight::walk(const Hierarchy& h, const Sight& sight, double threshold,
     // there for the light only if it was split for it and its direct light still varies by
     // more than the threshold. Below a node whose children neither the light nor a link
     // needs nothing is visited, so the splits down there are never evaluated. (Judged
-    // bottom-up, a light right above a node's centre kept its children: they agree with each
-    // other by symmetry, so a full solve never splits it, but their own children differ.)
+    // bottom-up, a light right above a node's centre would keep its children: they agree with
+    // each other by symmetry, so a full solve never splits it, but their own children differ.)
     resize(h.nodes.size());
     std::vector<int> level;
     for (const Surface& s : h.surfaces)

@@ -2,7 +2,7 @@
 // together with the outside of a cube lying in it. Light passes only between surfaces of one
 // pocket (transfer.cpp, gather_plan.cpp): a cluster link from the room into the crate's cluster
 // then neither samples nor lights the crate's inner faces or the cube, which the oracle's
-// cosine sharing otherwise did under its threshold (9 % of L_ref at DRAFT).
+// cosine sharing would otherwise do under its threshold (docs/decisions.md, "Closed pockets").
 //
 // Which surfaces see which is sampled with escape rays: a surface's rays that hit another
 // surface join the two (sight is mutual, so the graph is undirected); the connected

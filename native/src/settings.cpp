@@ -24,7 +24,7 @@ Settings Settings::preset(const std::string& name) {
         // bright, smooth walls coarse, down to 5 % of the scene's light (where the accuracy
         // metric's own floor lies). Leaves stop at DRAFT's area floor except where a narrow
         // gap, an emitter's outline or a lamp's shadow edge needs them finer (oracle.cpp,
-        // lights.cpp): half the links of the old floor (1e-5) at the same accuracy.
+        // lights.cpp): a finer floor everywhere costs links for no better accuracy.
         s.error_threshold = 0.1;
         s.threshold_floor = 0.05;
         s.min_area_fraction = 1e-4;

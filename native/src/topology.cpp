@@ -69,7 +69,7 @@ bool Solver::changes_outgrow_frame() const {
     if (all.empty()) return false;  // nothing left: the update handles an empty scene
     // More than twice as coarse or as fine: the minimum element area and the ray offsets,
     // relative to the frame, would differ that much from a fresh solve's. Far-off vertices
-    // (1e30) end here too, before they reach Embree as rays it refuses (fuzzer finding).
+    // (1e30) end here too, before they reach Embree as rays it refuses.
     const double d = all.diagonal();
     return !std::isfinite(d) || d > 2.0 * h_.unit || d < 0.5 * h_.unit;
 }

@@ -68,7 +68,7 @@ Cubature cubature(const Poly& poly);
 // receiver straddles that plane, only its part in front of it, with weights summing to that
 // part's share of the area (the rest sees the sender's back: kernel 0). The plain rule can put
 // every point behind (a floor patch under a box sees the box's side only beyond its foot):
-// the coupling came out 0 and the pair was dropped, however large its front part.
+// the coupling would come out 0 and the pair be dropped, however large its front part.
 Cubature receiver_cubature(const Poly& rcv, const Vec3& src_p, const Vec3& src_n);
 
 // Differential-area-to-polygon form factor from point x with unit normal nx to `poly`

@@ -60,8 +60,8 @@ struct Link {
     // kernel weight). The sender's radiance toward the receiver is their weighted mean, so
     // parts of the sender hidden from the receiver (self-occlusion, back faces, the ceiling
     // right above a lamp hanging under it) neither dilute nor add to it. Surface roots'
-    // area averages here let the ceiling above a lamp (radiance ~12) shine past the lamp
-    // through the few visible points of its polygon: +4-9 % on every receiver.
+    // area averages here would let the bright ceiling right above a lamp shine past the lamp
+    // through the few visible points of its polygon, onto every receiver.
     std::vector<std::pair<int, float>> samples;
 
     // Whether the link stays active after an evaluation: it carries light, or must be split

@@ -23,8 +23,8 @@ struct PointCouplings {
 
 // The part of a link's coupling F to a point that counts toward its closure: none from an
 // object that hides nothing (an area light: the ceiling behind it is seen too, so a wall
-// beside one summed 1 + its form factor, and the closure dimmed the wall's light 5 %), and from
-// a cluster above objects all but the samples that landed on such objects.
+// beside one would sum to 1 + its form factor, and the closure would dim the wall's light),
+// and from a cluster above objects all but the samples that landed on such objects.
 inline double closing_coupling(const Hierarchy& h, int src, double F, const std::pair<int, float>* samples, size_t n) {
     if (!h.closes(src)) return 0.0;
     if (h.nodes[size_t(src)].object >= 0) return F;

@@ -67,8 +67,8 @@ struct Settings {
     // The live drag's preview (Solver::preview): a step re-lights the points nearest the
     // dragged objects first and stops after about this much work (shadow rays streamed from
     // their records, each one cast counting 5); the others show what an earlier step of the
-    // drag found. On two cores a step takes about 45 ms in a 17 k-triangle room and 160 ms in
-    // a 0.25 M one (bench/results/live_drag.md); 0 = every point at every step.
+    // drag found (what a step then costs, by room size: bench/results/live_drag.md); 0 =
+    // every point at every step.
     int64_t preview_work = 1000000;
 
     // 'DRAFT' | 'MEDIUM' | 'HIGH'; throws std::invalid_argument otherwise.

@@ -1,10 +1,11 @@
-// Dynamic environments (paper 3.2-3.4): AdjustSystem for rigid moves of one or several
-// objects and for emission/reflectance changes, with history-link un-refinement.
+// Dynamic environments (paper 3.2-3.4): the edits recorded between updates (rigid moves,
+// emission and reflectance), and update()'s pipeline of phases: the moved objects placed, the
+// AdjustSystem (adjust_system.h) run on the change, history links and lights, the warm-started
+// re-solve with un-refinement, and the output.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <functional>
-#include <set>
 
 #include "radiosity/parallel.h"
 #include "radiosity/solver.h"
@@ -15,47 +16,7 @@ namespace radiosity {
 namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-// 3-D Cohen-Sutherland outcode of a box against a clipping volume, generalised from points
-// to boxes: a bit is set only when the whole box lies beyond that plane. Two boxes whose
-// codes share a bit lie beyond the same plane, and so does every segment between them.
-unsigned outcode(const Aabb& b, const Aabb& clip) {
-    unsigned c = 0;
-    for (int a = 0; a < 3; ++a) {
-        if (b.hi[a] < clip.lo[a]) c |= 1u << (2 * a);
-        if (b.lo[a] > clip.hi[a]) c |= 2u << (2 * a);
-    }
-    return c;
-}
-
-// Leaves of objects that did not move lying inside a moved object's new box (with a hair of
-// margin): what a move buried, such as the floor a box now stands on. Their radiance is the
-// one solved before the move, when they were open (see Solver::update).
-std::vector<char> buried_leaves(const Hierarchy& h, const std::vector<Aabb>& boxes, const std::vector<char>& moved) {
-    std::vector<char> b(h.nodes.size(), 0);
-    const double e = 1e-6 * h.scene_diag;  // a floor under a box lies in the box's bottom plane
-    for (size_t i = 0; i < h.nodes.size(); ++i) {
-        const Node& n = h.nodes[i];
-        if (n.dead || n.is_cluster() || !n.children.empty() || (n.object >= 0 && moved[size_t(n.object)])) continue;
-        for (const Aabb& c : boxes) {
-            bool in = true;
-            for (int a = 0; a < 3 && in; ++a) in = n.box.lo[a] >= c.lo[a] - e && n.box.hi[a] <= c.hi[a] + e;
-            if (in) {
-                b[i] = 1;
-                break;
-            }
-        }
-    }
-    return b;
-}
 }  // namespace
-
-void Solver::at_first_bounce_where_buried(const std::vector<Aabb>& now, const std::vector<char>& moved,
-                                          const std::function<void()>& judge_links) {
-    const std::vector<char> buried = now.empty() ? std::vector<char>() : buried_leaves(h_, now, moved);
-    if (std::find(buried.begin(), buried.end(), 1) != buried.end()) at_first_bounce(judge_links, &buried);
-    else judge_links();
-}
 
 void Solver::move_object(int object, const double m[16]) {
     settle_preview();
@@ -239,214 +200,6 @@ std::vector<float> Solver::judging_radiance(const std::vector<float>& snap) cons
     return v;
 }
 
-void Solver::adjust_links(Change& ch, std::vector<int>& recheck_history) {
-    std::vector<int> recompute = classify_links(ch);
-    lap("classify");
-    keep_links_rays_meet(ch, recompute);
-    lap("probe");
-    recompute_links(recompute, recheck_history);
-    lap("recompute");
-    link_changed(ch);
-    lap("relink");
-    redecide_enclosures(ch);
-}
-
-// Every live link against the change: a moved object's inner links turn with it, env-obj
-// links go (made anew by link_changed), env-env links are pruned by the old and new boxes'
-// outcodes (3.3); returns the env-env links that may have changed.
-std::vector<int> Solver::classify_links(const Change& ch) {
-    Stats& s = stats_;
-    std::vector<int> recompute;
-    const size_t nlinks = links_.size();
-    for (size_t i = 0; i < nlinks; ++i) {
-        Link& l = links_[i];
-        if (l.dead) continue;
-        const Node& a = h_.nodes[l.src];
-        const Node& b = h_.nodes[l.rcv];
-        if (ch.inX[l.src] || ch.inX[l.rcv]) {
-            // Obj-obj (both ends inside one moved object): a rigid move keeps its form
-            // factor; only the direction turns.
-            if (a.object >= 0 && a.object == b.object && ch.moved[a.object]) {
-                l.dir = ch.moves.at(a.object).dir(l.dir);
-                l.ray_count = -1;  // its rays moved with it: the record is of other segments
-                continue;
-            }
-            if (l.active) ++s.obj_env_links_removed;
-            if (l.parent < 0 || (!ch.inX[links_[l.parent].src] && !ch.inX[links_[l.parent].rcv])) links_.kill(h_, int(i));
-            continue;
-        }
-        // Env-env: 3.3 pruning with the old and new boxes of every moved object.
-        ++s.env_env_links_tested;
-        bool rejected = true;
-        for (const Aabb& c : ch.clips)
-            if ((outcode(a.box, c) & outcode(b.box, c)) == 0) { rejected = false; break; }
-        if (rejected) { ++s.env_env_links_rejected; continue; }
-        recompute.push_back(int(i));
-    }
-    return recompute;
-}
-
-void Solver::keep_links_rays_meet(const Change& ch, std::vector<int>& recompute) {
-    Stats& s = stats_;
-    // Of the links the outcode test kept, only those with a ray through an old or new box
-    // of a moved object can have changed. Every ray joins a point of one end's bounding
-    // sphere to a point of the other's, so it stays within max(radius) of the segment between
-    // the centres, and within the convex hull of the ends' boxes (meets_shaft, tighter where
-    // one end is much larger than the other): a box both miss meets no ray.
-    std::vector<char> may(recompute.size(), 0);
-    parallel_for(recompute.size(), settings_.threads, [&](size_t k) {
-        const Link& l = links_[recompute[k]];
-        const Node& a = h_.nodes[l.src];
-        const Node& b = h_.nodes[l.rcv];
-        const double r = std::max(a.radius, b.radius) + 1e-5;
-        for (const Aabb& c : ch.clips) {
-            Aabb g = c;
-            g.lo -= Vec3{r, r, r};
-            g.hi += Vec3{r, r, r};
-            if (g.meets_segment(a.center, b.center) && c.meets_shaft(a.box, b.box)) { may[k] = 1; break; }
-        }
-    }, 256);
-    size_t kept = 0;
-    for (size_t k = 0; k < recompute.size(); ++k)
-        if (may[k]) recompute[kept++] = recompute[k];
-    s.env_env_links_rays_clear += int64_t(recompute.size() - kept);
-    recompute.resize(kept);
-}
-
-void Solver::recompute_links(std::vector<int>& recompute, std::vector<int>& recheck_history) {
-    Stats& s = stats_;
-    // Every gathered link kept is evaluated at once, and every occluded one (the view may
-    // open). Only the rays through a moved box are cast (replay). One whose evaluation comes
-    // out the same is left as it is.
-    // History links are not gathered: they are left stale, and evaluated when un-refinement
-    // asks about them and a judgement without rays says they might come back
-    // (Refinement::freshen_stale; docs/decisions.md, "History links are left stale").
-    {
-        size_t kept = 0;
-        for (int id : recompute) {
-            Link& l = links_[id];
-            if (!l.active && !l.occluded) {
-                l.stale = true;
-                ++s.history_links_stale;
-            } else {
-                recompute[kept++] = id;
-            }
-        }
-        recompute.resize(kept);
-    }
-    std::vector<Link> fresh(recompute.size());
-    parallel_for(recompute.size(), settings_.threads,
-                 [&](size_t k) { fresh[k] = reevaluate(links_[recompute[k]]); }, 16);
-    Refinement refining = refinement();
-    for (size_t k = 0; k < recompute.size(); ++k) {
-        Link& l = links_[recompute[k]];
-        if (l.dead) continue;
-        const Link& f = fresh[k];
-        ++s.env_env_links_recomputed;
-        if (f.K == l.K && f.K_unoccluded == l.K_unoccluded && f.vis == l.vis && f.dK == l.dK && f.partial == l.partial &&
-            f.blocked == l.blocked && f.must_refine == l.must_refine) {
-            l.ray_count = f.ray_count;  // what the rays met may differ where it changed nothing
-            l.ray_blocked = f.ray_blocked;
-            l.ray_self = f.ray_self;
-            continue;
-        }
-        const bool changed = f.K != l.K || f.partial != l.partial;
-        refining.refresh(recompute[k], f);
-        l.rejudge = true;
-        const bool transports = f.transports();
-        if (l.active && !transports) {
-            links_.deactivate(h_, recompute[k]);  // newly fully occluded: a new shadow
-            l.occluded = true;
-        } else if (l.occluded && transports) {
-            links_.activate(h_, recompute[k]);    // the view opened: an old shadow goes
-        }
-        // Its history may coarsen back (an old shadow gone): the refined-from links up
-        // the chain are asked again, coarsest first (paper 3.4).
-        if (changed)
-            for (int p = l.parent; p >= 0; p = links_[p].parent) recheck_history.push_back(p);
-    }
-    std::sort(recheck_history.begin(), recheck_history.end());
-    recheck_history.erase(std::unique(recheck_history.begin(), recheck_history.end()), recheck_history.end());
-}
-
-void Solver::link_changed(const Change& ch) {
-    // Env-obj links created anew: the moved clusters against the environment, top-down,
-    // cluster pairs first (this also links an object where it had no link before).
-    std::set<std::pair<int, int>> pairs;
-    std::vector<Candidate> wave;
-    // A self-link seed (an added subtree) makes every pair of siblings inside its node when
-    // Refinement::link_from expands it: a pair made again from a chain, or a seed inside
-    // another seed's subtree, would transport the same light twice (several objects added
-    // into one new collection diverged: sums of couplings above 1).
-    std::vector<char> seeded(h_.nodes.size(), 0);
-    for (const Candidate& c : ch.seeds)
-        if (c.src == c.rcv) seeded[c.src] = 1;
-    auto inside_seed = [&](int n) {
-        for (int a = n; a >= 0; a = h_.nodes[a].parent)
-            if (seeded[a]) return true;
-        return false;
-    };
-    for (const auto& chain : ch.chains)
-        for (size_t i = 0; i + 1 < chain.size(); ++i) {
-            if (inside_seed(chain[i])) continue;
-            for (int sib : h_.nodes[chain[i]].children) {
-                if (sib == chain[i + 1]) continue;
-                if (pairs.insert({sib, chain[i + 1]}).second) wave.push_back({sib, chain[i + 1], -1});
-                if (pairs.insert({chain[i + 1], sib}).second) wave.push_back({chain[i + 1], sib, -1});
-            }
-        }
-    // Added objects: their own inside (a self-link, expanded by Refinement::link_from) and,
-    // unclustered, their surfaces with every other one.
-    for (const Candidate& c : ch.seeds) {
-        if (c.src == c.rcv && h_.nodes[c.src].parent >= 0 && inside_seed(h_.nodes[c.src].parent)) continue;
-        if (pairs.insert({c.src, c.rcv}).second) wave.push_back(c);
-    }
-    // Unclustered scenes have no object cluster: link each moved surface with the rest.
-    for (auto& [obj, pose] : ch.moves) {
-        (void)pose;
-        if (h_.object_node[obj] >= 0) continue;
-        for (int c : h_.nodes[h_.root].children) {
-            if (ch.inX[c]) continue;
-            for (const Primitive& p : h_.prims)
-                if (p.object == obj)
-                    for (int sidx : {p.front, p.back})
-                        if (sidx >= 0) {
-                            int r = h_.surfaces[sidx].root;
-                            wave.push_back({c, r, -1});
-                            wave.push_back({r, c, -1});
-                        }
-        }
-    }
-    // Judged with what the move buried (the floor under the box's new place) at the radiance a
-    // full solve's first linking gives it (emission and the lamps' first bounce), not at the
-    // radiance solved when it was open: see update(), before its first compute_closure. (In a
-    // lit scene the lamps' direct terms are still the ones before the move here: light_update
-    // comes later.)
-    {
-        const SceneWideThreshold first_linking(light_known_);
-        at_first_bounce_where_buried(ch.now, ch.moved, [&] { refinement().link_from(std::move(wave)); });
-    }
-}
-
-void Solver::redecide_enclosures(const Change& ch) {
-    // A move can open or close a pocket (the floor a box stood on now sees the sky).
-    // Every decider of an enclosure answer asks again, but casts again only the escape
-    // rays that pass through a moved object's old or new box (all of them if it moved).
-    std::vector<char> is_decider(h_.nodes.size(), 0);
-    for (const Node& n : h_.nodes)
-        if (!n.is_cluster() && !n.dead && n.enclosed >= 0 && n.decider >= 0) is_decider[n.decider] = 1;
-    std::vector<int> deciders;
-    for (size_t i = 0; i < is_decider.size(); ++i)
-        if (is_decider[i]) deciders.push_back(int(i));
-    parallel_for(deciders.size(), settings_.threads, [&](size_t k) {
-        Node& d = h_.nodes[deciders[k]];
-        if (ch.moved[d.object]) d.enclosed = -1;
-        decide_enclosed(deciders[k], ch.moved[d.object] ? nullptr : &ch.clips);
-    }, 16);
-    for (Node& n : h_.nodes)
-        if (!n.is_cluster() && !n.dead && n.decider >= 0) n.enclosed = h_.nodes[n.decider].enclosed;
-}
-
 void Solver::update(Control* control) {
     // The pipeline of an incremental update; each phase is a function below. A phase that
     // finds the update cannot be incremental solves in full instead and returns false.
@@ -531,6 +284,15 @@ bool Solver::update_materials(Control* control) {
     return true;
 }
 
+AdjustSystem Solver::adjust_system(const Change& ch) {
+    return AdjustSystem({h_, links_, settings_, stats_, ch, refinement_context(),
+                         [this](const std::function<void()>& judge, const std::vector<char>* only) {
+                             at_first_bounce(judge, only);
+                         },
+                         [this](int id, const std::vector<Aabb>* boxes) { decide_enclosed(id, boxes); },
+                         [this](const char* phase) { lap(phase); }});
+}
+
 bool Solver::update_adjust(UpdateRun& u, Control* control) {
     Change ch;
     ch.moves = edits_.take_moves();
@@ -590,17 +352,8 @@ bool Solver::update_adjust(UpdateRun& u, Control* control) {
         lap("topology");
     }
     // X: the moved objects' nodes and the clusters above them (their geometry changed).
-    for (const auto& move : ch.moves) {
-        const int obj = move.first;
-        for (int id : h_.object_nodes(obj)) ch.inX[id] = 1;
-        std::vector<int> chain;
-        for (int a = h_.object_node[obj]; a >= 0; a = h_.nodes[a].parent) chain.push_back(a);
-        for (int a : chain)
-            if (a != h_.root) ch.inX[a] = 1;
-        std::reverse(chain.begin(), chain.end());  // root first
-        ch.chains.push_back(chain);
-    }
-    adjust_links(ch, u.recheck_history);
+    AdjustSystem::mark_moved(h_, ch);
+    u.recheck_history = adjust_system(ch).run();
     u.now_boxes = ch.now;
     u.moved_objects = ch.moved;
     // The closure passes of this update split, away from the moved boxes, only the links
@@ -632,18 +385,18 @@ void Solver::update_resolve(UpdateRun& u) {
     // radiances (a few sweeps) cost measurably more error; to the tolerance every time cost a
     // third of the update's sweeps for no change in the result.
     const double loose = std::max(settings_.tolerance, 1e-3);
-    // What a move buried (the floor under the box's new place) still has the radiance solved
-    // when it was open, and keeps it until the first gather. Links judged on it -- the
-    // relink's (adjust_links) and the ones this closure pass makes -- take it for light:
-    // the floor under a box sees the box's inside through the contact (two-sided faces), so
-    // the inner faces were split down to the area limit, and since those leaves' sums stay
-    // above 1 however deep they go (they see both the floor and the box's coinciding
-    // bottom), every closure pass split every link above them again. A full solve judges
-    // them on the first bounce, where a buried floor is dark: so do these judgements, for
-    // the buried leaves only (the rest keeps the solved radiance, which after a small move is
-    // nearly right; judging everything on the first bounce left the moved object's links
-    // coarse, and the refinement rounds that caught up doubled the sweeps of a drag).
-    at_first_bounce_where_buried(u.now_boxes, u.moved_objects, [&] { compute_closure(); });
+    // What a move buried (the floor under the box's new place) keeps the radiance solved when
+    // it was open until the first gather. Taken for light, it would split the links into the
+    // box's inside, which the floor sees through the contact (two-sided faces), down to the
+    // area limit, and every closure pass again, since those leaves' sums stay above 1 however
+    // deep they go. A full solve judges them on the first bounce, where a buried floor is dark:
+    // so do the AdjustSystem's relink and this closure pass, for the buried leaves only; the
+    // rest keeps the solved radiance, nearly right after a small move (docs/decisions.md,
+    // "Links an update judges on a buried surface").
+    AdjustSystem::judge_where_buried(
+        h_, u.now_boxes, u.moved_objects,
+        [this](const std::function<void()>& judge, const std::vector<char>* only) { at_first_bounce(judge, only); },
+        [&] { compute_closure(); });
     lap("closure");
     iterate_to(loose, settings_.max_iterations, 0.3, 0.6);
     lap("gather");

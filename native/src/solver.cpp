@@ -210,16 +210,14 @@ void Solver::lap(const char* phase) {
     stats_.phase_rays.emplace_back(phase, dr);
 }
 
-Refinement Solver::refinement() {
-    return Refinement({h_, links_, *vis_, direct_light_, settings_, stats_, threshold_state(), replay_boxes(),
-                       [this] {
-                           check_cancel();
-                           follow_forecast();  // memory.cpp
-                       },
-                       [this](size_t more_links, size_t more_nodes) {
-                           return memory_estimate(more_links, more_nodes) > memory_limit_;
-                       },
-                       [this](const std::function<void()>& judge) { at_first_bounce(judge); }});
+Refinement::Context Solver::refinement_context() {
+    return {h_, links_, *vis_, direct_light_, settings_, stats_, threshold_state(), replay_boxes(),
+            [this] {
+                check_cancel();
+                follow_forecast();  // memory.cpp
+            },
+            [this](size_t more_links, size_t more_nodes) { return memory_estimate(more_links, more_nodes) > memory_limit_; },
+            [this](const std::function<void()>& judge) { at_first_bounce(judge); }};
 }
 
 Link Solver::evaluate(int src, int rcv) const {

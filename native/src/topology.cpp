@@ -4,7 +4,8 @@
 // and nodes where a fresh build would put them, a new Embree instance, and links made from the
 // clusters above it down, as for a moved object. In both cases the clusters that held the
 // object changed shape, so their links are made anew, and env-env links whose rays may pass
-// through the object's box are re-evaluated (adjust.cpp does both for all kinds of change).
+// through the object's box are re-evaluated (the AdjustSystem, adjust_system.h, does both for
+// all kinds of change).
 #include <algorithm>
 #include <cmath>
 

@@ -89,6 +89,9 @@ public:
     void unrefine_pass(const std::vector<char>* senders, bool lit);
     // History links whose view a move changed (ascending ids): taken back where acceptable.
     void recheck_history(std::vector<int>& ids);
+    // How links are evaluated here: on the threshold state, the element count of now and the
+    // update's replay boxes.
+    LinkEvaluator evaluator() const;
 
 private:
     using Side = Oracle::Side;
@@ -96,7 +99,6 @@ private:
 
     // The oracle on the threshold state and the element count of now.
     Oracle oracle() const;
-    LinkEvaluator evaluator() const;
     // A judgement carried out: a settlement, or link `id` split on the side it names into
     // candidates appended to `next` (nothing at a cap).
     void apply(int id, const Judgement& j, std::vector<Candidate>& next);

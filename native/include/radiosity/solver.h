@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "radiosity/adjust_system.h"
 #include "radiosity/direct_light.h"
 #include "radiosity/final_gather.h"
 #include "radiosity/gathering.h"
@@ -167,7 +168,6 @@ public:
 
 private:
     static constexpr int kRoundSweeps = 40;  // gathering sweeps between refinement rounds
-    using Candidate = Refinement::Candidate;
 
     // solve()'s phases (solver.cpp): the scene built, and a lit scene linked and refined.
     void build_scene();
@@ -182,9 +182,11 @@ private:
     }
     Oracle::Threshold threshold_state() const { return {threshold_, L_ref_, min_area_, light_known_}; }
     // solver.cpp: the refinement (refinement.h) on the solver's hierarchy, links and stats with
-    // the threshold state of now, so one is made for each step that links, splits or un-refines;
-    // and how the solver evaluates a link (evaluate, reevaluate), alike.
-    Refinement refinement();
+    // the threshold state of now, so one is made for each step that links, splits or un-refines
+    // (its Context alone for the AdjustSystem, which makes its own); and how the solver
+    // evaluates a link (evaluate, reevaluate), alike.
+    Refinement::Context refinement_context();
+    Refinement refinement() { return Refinement(refinement_context()); }
     LinkEvaluator link_evaluator() const { return {h_, *vis_, settings_, oracle(), replay_boxes()}; }
     // memory.cpp. Estimated bytes the solve holds with `more` links and nodes: nodes and
     // links in their chunks, Embree's BVHs, and the final gather's trace (the one made, or
@@ -218,16 +220,8 @@ private:
     // move_object's matrix as a placement in the internal frame (InputError when not rigid).
     Rigid pose_of(int object, const double m[16]) const;
     // What an update changed in the geometry (adjust.cpp for moves, topology.cpp for
-    // additions and removals); the AdjustSystem then works from it alone.
-    struct Change {
-        std::vector<Aabb> clips;               // old and new boxes of every changed object
-        std::vector<char> inX;                 // per node: its geometry changed (its links are remade)
-        std::vector<char> moved;               // per object: moved rigidly (links inside it only turn)
-        std::vector<std::vector<int>> chains;  // root-first cluster paths, relinked against their siblings
-        std::vector<Candidate> seeds;          // links to make besides (an added object's own links)
-        std::vector<Aabb> now;                 // new boxes of the moved objects (exact, no margin)
-        std::map<int, Rigid> moves;            // the moves applied: object -> its new placement
-    };
+    // additions and removals), for the AdjustSystem (adjust_system.h).
+    using Change = AdjustSystem::Change;
     // What one incremental update knows, handed from phase to phase (update()).
     struct UpdateRun {
         bool topology = false;            // objects added or removed
@@ -258,21 +252,9 @@ private:
     void update_output(UpdateRun& u);    // final gather, stats
     // A full solve in place of an update (pending moves become placements); `why` is warned.
     void solve_instead(Control* control, const char* why);
-    // The AdjustSystem proper: classifies every live link against `ch` (remade, turned, pruned
-    // by outcodes and the shaft test, re-evaluated with replayed rays), links the changed clusters anew and
-    // re-decides the enclosure of leaves whose escape rays meet a changed box.
-    void adjust_links(Change& ch, std::vector<int>& recheck_history);
-    // Its phases, in order (adjust.cpp).
-    std::vector<int> classify_links(const Change& ch);
-    // Of `recompute`, keeps the links with a ray that may pass through a changed box.
-    void keep_links_rays_meet(const Change& ch, std::vector<int>& recompute);
-    // Re-evaluates gathered and occluded links (history ones are left stale); a changed one
-    // is judged again and its history asked whether it may coarsen back (3.4).
-    void recompute_links(std::vector<int>& recompute, std::vector<int>& recheck_history);
-    // Links the changed clusters anew: env-obj pairs down the chains, added objects' seeds.
-    void link_changed(const Change& ch);
-    // The enclosure deciders ask again, casting only escape rays through a changed box.
-    void redecide_enclosures(const Change& ch);
+    // The AdjustSystem (adjust_system.h) for `ch` on the solver's hierarchy, links and stats,
+    // with the threshold state and replay boxes of now: made once the update knows them.
+    AdjustSystem adjust_system(const Change& ch);
     // preview.cpp: the objects of a drag's step placed away from where the solution has them,
     // with their placements, validated as move_object validates them.
     std::vector<std::pair<int, Rigid>> preview_placements(const std::map<int, std::array<double, 16>>& moves) const;
@@ -324,11 +306,6 @@ private:
     // Runs `judge_links` with every node's radiance set to DirectLight::first_bounce's (then
     // restored); `only`: per node, the leaves to set (the rest keep theirs).
     void at_first_bounce(const std::function<void()>& judge_links, const std::vector<char>* only = nullptr);
-    // adjust.cpp: runs `judge_links` with the leaves a move buried (those of unmoved objects
-    // inside a moved object's new box, `now`) at first-bounce radiance, the rest as solved;
-    // see Solver::update for why. Without such leaves it just runs it.
-    void at_first_bounce_where_buried(const std::vector<Aabb>& now, const std::vector<char>& moved,
-                                      const std::function<void()>& judge_links);
     DirectLight direct_light_;  // direct_light.h
     // output.cpp: per-corner values of any per-leaf quantity (gather_rays = 0)
     std::vector<float> corner_values(int object, const std::function<Rgb(int)>& leaf_value) const;
@@ -363,17 +340,6 @@ private:
     // Whether the nodes' radiance L estimates the light (false from a solve's start until
     // its first gathering): only then may a link's threshold follow its receiver's light.
     bool light_known_ = false;
-    // Judgements that stand for a full solve's first linking (an update's relink of moved and
-    // added objects) use the scene-wide threshold as that linking does, so an update links as
-    // a full solve of the new scene would. (Judgements at the first bounce, at_first_bounce,
-    // keep the receiver-relative one: on the scene-wide one the light-move test kept 11 % fewer
-    // elements than a full solve, on the relative one 2-7 % more.)
-    struct SceneWideThreshold {
-        bool& known;
-        bool was;
-        explicit SceneWideThreshold(bool& k) : known(k), was(k) { known = false; }
-        ~SceneWideThreshold() { known = was; }
-    };
     bool solved_ = false;
     PendingEdits edits_;  // what changed since the last update, and each object's placement
     std::chrono::steady_clock::time_point lap_t_;

@@ -358,9 +358,8 @@ bool Solver::update_adjust(UpdateRun& u, Control* control) {
     u.moved_objects = ch.moved;
     // The closure passes of this update split, away from the moved boxes, only the links
     // made since (the moved objects' new links change the sums of leaves far off): the
-    // links that were there passed the full solve's closure passes as they are, and
-    // splitting them again cast a third of the update's rays for no change in the result
-    // (docs/decisions.md, "Updates").
+    // links that were there passed the full solve's closure passes as they are
+    // (docs/decisions.md, "An update's closure passes split only links made since").
     if (!u.topology) u.closure_focus = ch.clips;
     return true;
 }
@@ -381,9 +380,8 @@ void Solver::update_resolve(UpdateRun& u) {
     // update touched, or whose sender's light changed enough to tip the oracle, are judged
     // again; a full solve's refine rounds judge every link.
     // The solves the oracle judges converge as far as a full solve's refine rounds do
-    // (`loose`, solver.cpp); only the last one to the tolerance. Judging half-converged
-    // radiances (a few sweeps) cost measurably more error; to the tolerance every time cost a
-    // third of the update's sweeps for no change in the result.
+    // (`loose`, solver.cpp); only the last one to the tolerance (docs/decisions.md, "An
+    // update's closure passes split only links made since").
     const double loose = std::max(settings_.tolerance, 1e-3);
     // What a move buried (the floor under the box's new place) keeps the radiance solved when
     // it was open until the first gather. Taken for light, it would split the links into the

@@ -48,8 +48,7 @@ Rigid Solver::pose_of(int object, const double m[16]) const {
     Rigid p;
     std::copy(R, R + 9, p.R.begin());
     p.t = (Ro + mt - o) / h_.unit;
-    // Beyond 1e12 scene diagonals rays to it leave float range: Embree refuses them (an
-    // assertion in Debian's build; fuzzer finding with a translation of 1e30).
+    // Beyond 1e12 scene diagonals rays to it leave float range, and Embree refuses them.
     for (int k = 0; k < 3; ++k)
         if (!(std::fabs(p.t[k]) <= 1e12))
             throw InputError("object '" + name + "': the move takes it more than 1e12 scene sizes away");
@@ -242,7 +241,7 @@ void Solver::update(Control* control) {
 void Solver::solve_instead(Control* control, const char* why) {
     // A full solve builds from scene_: additions are in, removals are committed by solve(),
     // moves become placements.
-    edits_.fit_poses(scene_.objects().size());  // a move can name an object added since (fuzzer finding)
+    edits_.fit_poses(scene_.objects().size());  // a move can name an object added since
     for (const auto& [obj, pose] : edits_.take_moves()) edits_.place(obj, pose);
     solve(control);
     if (why) stats_.warnings.push_back(why);
@@ -274,8 +273,8 @@ void Solver::update_begin(UpdateRun& u) {
 bool Solver::update_materials(Control* control) {
     if (edits_.take_materials()) apply_materials();
     if (L_ref_ <= 0 || stats_.no_emitters) {
-        // Dark now: a zero reference makes the oracle's threshold 0, and the update refined
-        // every link to the caps (gigabytes, minutes). Dark before: solve() made no links,
+        // Dark now: a zero reference makes the oracle's threshold 0, and the update would
+        // refine every link to the caps. Dark before: solve() made no links,
         // so there is nothing to update. solve() handles both.
         solve_instead(control, nullptr);
         return false;

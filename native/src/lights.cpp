@@ -553,7 +553,10 @@ void DirectLight::compute(const Hierarchy& h, const Sight& sight, const std::vec
                 const bool sky = l.type == LightDesc::Type::Sky;
                 const int mm = element_shadow_rays(sight.settings.rays_per_link, l.type);
                 // Stratified over the child along its first coordinate.
-                auto where = [&c, mm](int s, Rng& g) { return c.sample((s + g.next()) / mm, g.next()); };
+                auto where = [&c, mm](int s, Rng& g) {
+                    const double v = g.next(), u = (s + g.next()) / mm;  // named: the order is every compiler's
+                    return c.sample(u, v);
+                };
                 const Sampled r = estimate(l, where, n.normal, mm, rng, rs, lift, far,
                                            [&](const Vec3& p) { return contact(h, n.surface, p) >= 0; });
                 e += r.mean;

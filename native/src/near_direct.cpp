@@ -77,7 +77,10 @@ bool spread_directions(const Stars& stars, const Vec3& n, double offset, const V
         if (!(ds > 0)) continue;
         const Rgb w_dir = st.rho / double(kDirs * kDirs);
         for (int j = 0; j < kDirs * kDirs; ++j) {
-            const Vec3 w = cosine_direction(su, sv, sn, (j % kDirs + rng.next()) / kDirs, (j / kDirs + rng.next()) / kDirs);
+            // (The polar number drawn first, then the azimuth's: named, so every compiler draws alike.)
+            const double r2 = (j / kDirs + rng.next()) / kDirs;
+            const double r1 = (j % kDirs + rng.next()) / kDirs;
+            const Vec3 w = cosine_direction(su, sv, sn, r1, r2);
             const double dn = -dot(w, n);
             if (!(dn > 1e-6)) continue;
             const Vec3 q = st.p + w * (ds / dn);

@@ -347,7 +347,8 @@ bool NearField::beyond(const Node& root, const Aabb& box, uint64_t seed, Rng& rn
     const int nq = std::max(8, near_points_ / 2);
     for (int t = 0; t < 32 * nq && gq < nq; ++t) {
         const Vec3& sp = stars_[size_t(t) % stars_.size()];
-        const Vec3 w = cosine_direction(su, sv, root.normal, rng.next(), rng.next());
+        const double r2 = rng.next(), r1 = rng.next();  // named: the order is every compiler's
+        const Vec3 w = cosine_direction(su, sv, root.normal, r1, r2);
         const double dn = dot(w, pt_.n);
         if (!(dn < -1e-6)) continue;
         const Vec3 p = sp + w * ((wall_.offset - dot(sp, pt_.n)) / dn);

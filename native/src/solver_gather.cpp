@@ -55,7 +55,8 @@ void Solver::escape_rays(const Node& n, std::vector<std::pair<Vec3, Vec3>>& rays
     for (int r = 0; r < settings_.closure_rays; ++r) {
         double r1 = rng.next(), r2 = rng.next();
         Vec3 d = cosine_direction(u, v, n.normal, r1, r2);
-        Vec3 o = n.poly.sample(rng.next(), rng.next()) + n.normal * lift;
+        const double s2 = rng.next(), s1 = rng.next();  // named: the order is every compiler's
+        Vec3 o = n.poly.sample(s1, s2) + n.normal * lift;
         rays.emplace_back(o, o + d * far);
     }
 }

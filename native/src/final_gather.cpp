@@ -377,39 +377,53 @@ bool point_escapes(const Solution& s, const Vec3& x, const Vec3& n, uint64_t see
     return false;
 }
 
-// Whether every one of 64 stratified rays from o (already off its surface) over the
-// hemisphere of n reaches the back of a face: o lies inside a closed solid.
+// What a ray from o along d meets, for the sealed rule: the inside of a solid (kBack: the back
+// of a face, its front's normal in `fn`), or what says o is outside every solid there (kOpen:
+// nothing, an emitting face, a face's front out in the open). A front met inside another
+// solid (an eye's hidden half, sunk into a head) is the inside of that solid: a ray from it
+// along its normal (`probe`) meets a back there.
+enum class SolidSide { kOpen, kBack };
+SolidSide solid_side(const Solution& s, const Vec3& o, const Vec3& d, double far, Vec3& fn, bool probe, Counts& counts) {
+    const Hierarchy& h = s.h;
+    ++counts.rays;
+    int tri = -1;
+    Vec3 at;
+    const int obj = s.vis.hit_object(o, o + d * far, 0.0, &at, &tri);
+    if (obj < 0 || size_t(obj) >= s.tri_prim->size() || tri < 0) return SolidSide::kOpen;
+    const std::vector<int>& tp = (*s.tri_prim)[size_t(obj)];
+    if (size_t(tri) >= tp.size()) return SolidSide::kOpen;
+    const Primitive& p = h.prims[size_t(tp[size_t(tri)])];
+    for (int side : {p.front, p.back})
+        if (side >= 0 && h.nodes[size_t(h.surfaces[size_t(side)].root)].emission.max() > 0) return SolidSide::kOpen;
+    // The face's orientation as placed now (a moved object's surfaces turn with it).
+    fn = p.front >= 0 ? h.nodes[size_t(h.surfaces[size_t(p.front)].root)].normal : p.poly.normal();
+    // The front of a face covered there by another turned against it (a plinth's top
+    // under a cabinet's bottom: the ray meets either of the two coplanar faces) is the
+    // back of the covering one.
+    if (!(dot(d, fn) > 0) && p.front >= 0 && s.contact && s.contact(p.front, at) >= 0) fn = fn * -1.0;
+    if (dot(d, fn) > 0) return SolidSide::kBack;
+    if (!probe) return SolidSide::kOpen;
+    const Vec3 front = fn;
+    return solid_side(s, at + front * (1e-5 * h.scene_diag), front, far, fn, false, counts);
+}
+
+// Whether each of 64 stratified cosine rays from o (already off its surface) over the
+// hemisphere of n meets the inside of a solid (solid_side), the backs met facing at least
+// three ways: one plane seen from behind (a lamp hung under a ceiling, a rug a hair above the
+// floor) covers a point's hemisphere without enclosing anything, and Cycles lights what lies
+// behind it (an emitter's back glows).
 bool point_sealed(const Solution& s, const Vec3& o, const Vec3& n, uint64_t seed, Counts& counts) {
     // As point_escapes: stratified and cosine-distributed; a gap in the solid (a crack under
     // a wall standing a hair above the floor) lets light in and is found with the same odds.
-    const Hierarchy& h = s.h;
-    const double far = 4.0 * h.scene_diag;
+    const double far = 4.0 * s.h.scene_diag;
     Rng rng(seed);
     const CosineStrata strata(n, 8);
-    // The backs met must face at least three ways: one plane seen from behind (a lamp hung
-    // under a ceiling, a rug a hair above the floor) covers a point's hemisphere without
-    // enclosing anything, and Cycles lights what lies behind it (an emitter's back glows).
     Vec3 ways[3];
     int nways = 0;
     for (int i = 0; i < strata.count(); ++i) {
         const Vec3 d = strata.direction(i, rng);
-        ++counts.rays;
-        int tri = -1;
-        Vec3 at;
-        const int obj = s.vis.hit_object(o, o + d * far, 0.0, &at, &tri);
-        if (obj < 0 || size_t(obj) >= s.tri_prim->size() || tri < 0) return false;
-        const std::vector<int>& tp = (*s.tri_prim)[size_t(obj)];
-        if (size_t(tri) >= tp.size()) return false;
-        const Primitive& p = h.prims[size_t(tp[size_t(tri)])];
-        // The face's orientation as placed now (a moved object's surfaces turn with it).
-        Vec3 fn = p.front >= 0 ? h.nodes[size_t(h.surfaces[size_t(p.front)].root)].normal : p.poly.normal();
-        // The front of a face covered there by another turned against it (a plinth's top
-        // under a cabinet's bottom: the ray meets either of the two coplanar faces) is the
-        // back of the covering one.
-        if (!(dot(d, fn) > 0) && p.front >= 0 && s.contact && s.contact(p.front, at) >= 0) fn = fn * -1.0;
-        if (!(dot(d, fn) > 0)) return false;  // its front: outside every solid there
-        for (int side : {p.front, p.back})
-            if (side >= 0 && h.nodes[size_t(h.surfaces[size_t(side)].root)].emission.max() > 0) return false;
+        Vec3 fn;
+        if (solid_side(s, o, d, far, fn, true, counts) != SolidSide::kBack) return false;
         bool seen = false;
         for (int k = 0; k < nways && !seen; ++k) seen = dot(ways[k], fn) > 0.99;
         if (!seen && nways < 3) ways[nways++] = fn;

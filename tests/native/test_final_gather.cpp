@@ -2,6 +2,7 @@
 // closed forms (the point-to-polygon irradiance of a lamp), the furnace, and contacts.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -293,6 +294,55 @@ TEST(FinalGather, FloorInsideABottomlessBlockIsUnlit) {
                 EXPECT_GT(r.inside_max, 1e-3 * r.outside_mean);
             }
         }
+    }
+}
+
+TEST(FinalGather, CornersInsideASolidReadNothingThoughOtherObjectsAreInThere) {
+    // A box B sunk half into a closed box A (an eye in a head) and a box C floating inside A.
+    // No light enters A, so every corner inside it reads 0 in Cycles. From inside, B's corners
+    // see A's backs and C's fronts, C's corners A's backs and B's fronts: a point is inside a
+    // solid when each ray meets a back or a front that is itself inside one.
+    SceneDesc sc;
+    const Rgb rho = Rgb::all(0.5);
+    scenes::add_grid(sc, "floor", -1, {Vec3{0, 0, 0}, Vec3{4, 0, 0}, Vec3{4, 4, 0}, Vec3{0, 4, 0}}, 8, 8, rho, Rgb{}, true);
+    scenes::add_box(sc, "A", -1, Vec3{1, 1, 0}, Vec3{3, 3, 1}, 4, rho, Rgb{});
+    const int b = scenes::add_box(sc, "B", -1, Vec3{1.6, 1.6, 0.75}, Vec3{2.1, 2.1, 1.25}, 5, rho, Rgb{});
+    const int c = scenes::add_box(sc, "C", -1, Vec3{2.3, 2.3, 0.3}, Vec3{2.7, 2.7, 0.5}, 2, rho, Rgb{});
+    scenes::add_grid(sc, "lamp", -1, {Vec3{0.5, 0.5, 3}, Vec3{0.5, 3.5, 3}, Vec3{3.5, 3.5, 3}, Vec3{3.5, 0.5, 3}}, 1, 1,
+                     Rgb{}, Rgb::all(10), false);
+    for (uint64_t seed : {1u, 7u}) {
+        Settings st = Settings::preset("MEDIUM");
+        st.seed = seed;
+        Solver s(sc, st);
+        s.solve();
+        double inside_max = 0, outside_sum = 0;
+        int inside = 0, outside = 0;
+        std::vector<double> inside_values;
+        for (int obj : {b, c}) {
+            const ObjectDesc& o = sc.objects()[size_t(obj)];
+            const std::vector<float> v = s.corner_radiance(obj);
+            for (size_t k = 0; k < o.corner_verts.size(); ++k) {
+                const double g = v[3 * k + 1];
+                ASSERT_TRUE(std::isfinite(g));
+                if (obj == c || o.vertices[size_t(o.corner_verts[k])].z < 1.0 - 1e-9) {
+                    inside_max = std::max(inside_max, g);
+                    inside_values.push_back(g);
+                    ++inside;
+                } else {
+                    outside_sum += g;
+                    ++outside;
+                }
+            }
+        }
+        const double mean = outside_sum / std::max(outside, 1);
+        const long lit = std::count_if(inside_values.begin(), inside_values.end(), [&](double g) { return g > 1e-6 * mean; });
+        std::printf("[ figure ] seed %llu: %d corners inside A, %ld of them lit, max %.5f; %d outside, mean %.4f; "
+                    "sealed points %lld\n", (unsigned long long)seed, inside, lit, inside_max, outside, mean,
+                    (long long)s.stats().gather_sealed);
+        ASSERT_GT(inside, 100);
+        ASSERT_GT(mean, 0.05);
+        EXPECT_LE(lit, inside / 50);
+        EXPECT_LT(inside_max, 1e-3 * mean);
     }
 }
 

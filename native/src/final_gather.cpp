@@ -386,13 +386,10 @@ enum class SolidSide { kOpen, kBack };
 SolidSide solid_side(const Solution& s, const Vec3& o, const Vec3& d, double far, Vec3& fn, bool probe, Counts& counts) {
     const Hierarchy& h = s.h;
     ++counts.rays;
-    int tri = -1;
     Vec3 at;
-    const int obj = s.vis.hit_object(o, o + d * far, 0.0, &at, &tri);
-    if (obj < 0 || size_t(obj) >= s.tri_prim->size() || tri < 0) return SolidSide::kOpen;
-    const std::vector<int>& tp = (*s.tri_prim)[size_t(obj)];
-    if (size_t(tri) >= tp.size()) return SolidSide::kOpen;
-    const Primitive& p = h.prims[size_t(tp[size_t(tri)])];
+    const int prim = s.prim_hit(o, o + d * far, at);
+    if (prim < 0) return SolidSide::kOpen;
+    const Primitive& p = h.prims[size_t(prim)];
     for (int side : {p.front, p.back})
         if (side >= 0 && h.nodes[size_t(h.surfaces[size_t(side)].root)].emission.max() > 0) return SolidSide::kOpen;
     // The face's orientation as placed now (a moved object's surfaces turn with it).

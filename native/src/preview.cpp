@@ -249,12 +249,9 @@ Rgb hemisphere_irradiance(const FinalGather::Solution& s, const FinalGather::Con
         const Vec3 d = strata.direction(i, rng);
         ++rays;
         Vec3 at;
-        int tri = -1;
-        const int obj = s.vis.hit_object(o, o + d * far, 0.0, &at, &tri);
-        if (obj < 0 || size_t(obj) >= s.tri_prim->size() || tri < 0) continue;
-        const std::vector<int>& tp = (*s.tri_prim)[size_t(obj)];
-        if (size_t(tri) >= tp.size()) continue;
-        const int side = h.side_met(tp[size_t(tri)], d);
+        const int prim = s.prim_hit(o, o + d * far, at);
+        if (prim < 0) continue;
+        const int side = h.side_met(prim, d);
         if (side >= 0) sum += h.nodes[size_t(h.leaf_at(h.surfaces[size_t(side)].root, at))].L;
     }
     return E + sum / double(strata.count());

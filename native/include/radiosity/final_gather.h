@@ -50,6 +50,15 @@ public:
         std::function<int(int surface, const Vec3& p)> contact;
         // Per object, its Embree triangles' primitives (which side of a face a ray met).
         const std::vector<std::vector<int>>* tri_prim = nullptr;
+        // The primitive the segment a-b first meets and where (`at`); -1 when it meets
+        // nothing, or a triangle tri_prim does not map (none given).
+        int prim_hit(const Vec3& a, const Vec3& b, Vec3& at) const {
+            int tri = -1;
+            const int obj = vis.hit_object(a, b, 0.0, &at, &tri);
+            if (!tri_prim || obj < 0 || size_t(obj) >= tri_prim->size() || tri < 0) return -1;
+            const std::vector<int>& tp = (*tri_prim)[size_t(obj)];
+            return size_t(tri) < tp.size() ? tp[size_t(tri)] : -1;
+        }
     };
     struct Config {
         int rays = 256;      // ray budget per point, shared among its links by the light they bring

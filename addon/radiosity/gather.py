@@ -26,6 +26,7 @@ import numpy as np
 from .core import corners as core_corners
 from .core import lights as core_lights
 from .core import scene_data
+from .core import srgb
 from .core.corners import reverse_polygon_permutation
 from .core.scene_data import ObjectInput, SceneInput
 from . import textures, world as world_map
@@ -158,18 +159,43 @@ def _needs_origin(obj):
             and obj.mode != "EDIT" and len(obj.modifiers) > 0 and len(obj.data.polygons) > 0)
 
 
+def _color_values(attr):
+    """A corner colour attribute's values and the property they were read from: a byte colour
+    through its sRGB bytes, which round-trip exactly."""
+    prop = "color"
+    if attr.data_type == "BYTE_COLOR" and len(attr.data) \
+            and "color_srgb" in attr.data[0].bl_rna.properties:
+        prop = "color_srgb"
+    values = np.empty(len(attr.data) * 4, dtype=np.float32)
+    attr.data.foreach_get(prop, values)
+    return prop, values
+
+
 @contextmanager
-def _origin_layers(objects, depsgraph):
+def _origin_layers(objects, depsgraph, own_attributes=()):
     """For the time of the block, the meshes of `objects` carry the original-index attributes
     (_origin_attr_names) and the depsgraph is evaluated with them; afterwards the attributes are
-    removed again (the meshes are as they were; Blender re-evaluates them when next needed)."""
+    removed again (the meshes are as they were; Blender re-evaluates them when next needed).
+
+    Bevel picks the face whose attributes (and original index) a new face takes from the
+    corner data, colours included, so the corner map would follow the values of our own
+    output attributes (`own_attributes`) from the last bake: they read as zero (as a fresh
+    bake target does) while the block lasts, and get their values back after."""
     tagged = []
+    saved = []
     try:
         for obj in objects:
             me = obj.data
             if any(me is t for t in tagged):
                 continue        # a mesh shared by several objects: once
             tagged.append(me)
+            for name in own_attributes:
+                attr = me.color_attributes.get(name)
+                if attr is None or attr.domain != "CORNER":
+                    continue
+                prop, values = _color_values(attr)
+                saved.append((me, name, prop, values))
+                attr.data.foreach_set(prop, np.zeros_like(values))
             for domain in ORIGIN_DOMAINS:
                 n = len(me.vertices) if domain == "POINT" else len(me.polygons)
                 for name, values in zip(_origin_attr_names(domain),
@@ -183,6 +209,8 @@ def _origin_layers(objects, depsgraph):
             depsgraph.update()
         yield
     finally:
+        for me, name, prop, values in saved:
+            me.color_attributes[name].data.foreach_set(prop, values)
         for me in tagged:
             for domain in ORIGIN_DOMAINS:
                 for name in _origin_attr_names(domain):
@@ -335,8 +363,10 @@ def gather(scene, view_layer, depsgraph):
     geometry = {obj.name_full for obj in shown if obj.type in GEOMETRY_TYPES
                 and ADAPTIVE_TAG not in obj.keys()
                 and not (obj.is_instancer and not obj.show_instancer_for_render)}
+    own = getattr(scene, "radiosity", None)
+    own = (own.attribute_name, srgb.byte_attribute_name(own.attribute_name)) if own else ()
     with _origin_layers([o for o in shown if o.name_full in geometry and _needs_origin(o)],
-                        depsgraph):
+                        depsgraph, own):
         for obj in shown:
             if obj.type == "LIGHT":
                 _gather_light(obj, object_cluster(obj), si, warnings)

@@ -145,8 +145,34 @@ def cycles_setup(scene, samples, seed, bounces=64):
             else "auto", "blender": bpy.app.version_string}
 
 
+def _zero_corner_colours(objs, names):
+    """Sets the corner colour attributes `names` of objs' meshes to 0; returns what they held,
+    for _restore_corner_colours."""
+    saved = []
+    for o in objs:
+        for name in names:
+            attr = o.data.color_attributes.get(name)
+            if attr is None or attr.domain != "CORNER" or attr.data_type != "FLOAT_COLOR":
+                continue
+            values = np.empty(len(attr.data) * 4, dtype=np.float32)
+            attr.data.foreach_get("color", values)
+            saved.append((o.data, name, values))
+            attr.data.foreach_set("color", np.zeros_like(values))
+    return saved
+
+
+def _restore_corner_colours(saved):
+    for me, name, values in saved:
+        me.color_attributes[name].data.foreach_set("color", values)
+
+
 def cycles_bake(scene, objs, samples, seed):
-    """COMBINED bake of every object in objs to ATTR_CYCLES. Returns (corners (C,3), seconds)."""
+    """COMBINED bake of every object in objs to ATTR_CYCLES. Returns (corners (C,3), seconds).
+
+    Bevel takes a new face's original index from a neighbour chosen by the corner data,
+    colours included, so which evaluated corner Cycles bakes an original corner at follows the
+    colour attributes' values. The target and our own output read as zero during the bake (a
+    fresh target, as the add-on maps corners), whatever earlier bakes left in them."""
     settings = cycles_setup(scene, samples, seed)
     for o in scene.objects:
         o.select_set(False)
@@ -158,10 +184,15 @@ def cycles_bake(scene, objs, samples, seed):
         me.color_attributes.active_color = attr
         o.select_set(True)
     bpy.context.view_layer.objects.active = objs[0]
+    _zero_corner_colours(objs, [ATTR_CYCLES])
+    saved = _zero_corner_colours(objs, [ATTR_OURS])
     global last_cpu
     c = time.process_time()
     t = time.perf_counter()
-    res = bpy.ops.object.bake(type="COMBINED")
+    try:
+        res = bpy.ops.object.bake(type="COMBINED")
+    finally:
+        _restore_corner_colours(saved)
     seconds = time.perf_counter() - t
     last_cpu = time.process_time() - c
     if "FINISHED" not in res:

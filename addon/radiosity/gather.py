@@ -186,7 +186,7 @@ def _origin_layers(objects, depsgraph, own_attributes=()):
     try:
         for obj in objects:
             me = obj.data
-            if any(me is t for t in tagged):
+            if any(me.as_pointer() == t.as_pointer() for t in tagged):
                 continue        # a mesh shared by several objects: once
             tagged.append(me)
             for name in own_attributes:
@@ -209,14 +209,16 @@ def _origin_layers(objects, depsgraph, own_attributes=()):
             depsgraph.update()
         yield
     finally:
-        for me, name, prop, values in saved:
-            me.color_attributes[name].data.foreach_set(prop, values)
-        for me in tagged:
-            for domain in ORIGIN_DOMAINS:
-                for name in _origin_attr_names(domain):
-                    attr = me.attributes.get(name)
-                    if attr is not None:
-                        me.attributes.remove(attr)
+        try:
+            for me, name, prop, values in reversed(saved):
+                me.color_attributes[name].data.foreach_set(prop, values)
+        finally:
+            for me in tagged:
+                for domain in ORIGIN_DOMAINS:
+                    for name in _origin_attr_names(domain):
+                        attr = me.attributes.get(name)
+                        if attr is not None:
+                            me.attributes.remove(attr)
 
 
 def _corner_map(obj, geo, warnings):

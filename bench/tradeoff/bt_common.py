@@ -146,24 +146,32 @@ def cycles_setup(scene, samples, seed, bounces=64):
 
 
 def _zero_corner_colours(objs, names):
-    """Sets the corner colour attributes `names` of objs' meshes to 0; returns what they held,
-    for _restore_corner_colours."""
-    saved = []
+    """Sets the corner colour attributes `names` of objs' meshes to 0 (each mesh once, a byte
+    colour through its sRGB bytes, which round-trip exactly); returns what they held, for
+    _restore_corner_colours."""
+    saved, seen = [], set()
     for o in objs:
+        me = o.data
+        if me.as_pointer() in seen:
+            continue
+        seen.add(me.as_pointer())
         for name in names:
-            attr = o.data.color_attributes.get(name)
-            if attr is None or attr.domain != "CORNER" or attr.data_type != "FLOAT_COLOR":
+            attr = me.color_attributes.get(name)
+            if attr is None or attr.domain != "CORNER" or not len(attr.data):
                 continue
+            prop = "color_srgb" if attr.data_type == "BYTE_COLOR" else "color"
             values = np.empty(len(attr.data) * 4, dtype=np.float32)
-            attr.data.foreach_get("color", values)
-            saved.append((o.data, name, values))
-            attr.data.foreach_set("color", np.zeros_like(values))
+            attr.data.foreach_get(prop, values)
+            saved.append((me, name, prop, values))
+            attr.data.foreach_set(prop, np.zeros_like(values))
+        me.update()
     return saved
 
 
 def _restore_corner_colours(saved):
-    for me, name, values in saved:
-        me.color_attributes[name].data.foreach_set("color", values)
+    for me, name, prop, values in reversed(saved):
+        me.color_attributes[name].data.foreach_set(prop, values)
+        me.update()
 
 
 def cycles_bake(scene, objs, samples, seed):
@@ -185,7 +193,7 @@ def cycles_bake(scene, objs, samples, seed):
         o.select_set(True)
     bpy.context.view_layer.objects.active = objs[0]
     _zero_corner_colours(objs, [ATTR_CYCLES])
-    saved = _zero_corner_colours(objs, [ATTR_OURS])
+    saved = _zero_corner_colours(objs, [ATTR_OURS, ATTR_OURS + "_sRGB"])
     global last_cpu
     c = time.process_time()
     t = time.perf_counter()
@@ -197,7 +205,9 @@ def cycles_bake(scene, objs, samples, seed):
     last_cpu = time.process_time() - c
     if "FINISHED" not in res:
         raise SystemExit(f"Cycles bake failed: {res}")
-    return all_corners(objs, ATTR_CYCLES), seconds, settings
+    corners = all_corners(objs, ATTR_CYCLES)
+    _zero_corner_colours(objs, [ATTR_CYCLES])   # our later bakes map corners with it at zero
+    return corners, seconds, settings
 
 
 def bsdf_sampling_only(scene, materials):

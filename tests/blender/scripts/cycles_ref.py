@@ -21,9 +21,7 @@ def cycles_bake(objs, samples, name="CyclesRef", seed=1):
     for o in bpy.data.objects:
         o.select_set(False)
     for o in objs:
-        me = o.data
-        attr = me.color_attributes.get(name) or me.color_attributes.new(name, "FLOAT_COLOR", "CORNER")
-        me.color_attributes.active_color = attr
+        rt.fresh_bake_target(o.data, name)
         o.select_set(True)
     bpy.context.view_layer.objects.active = objs[0]
     bpy.ops.object.bake(type="COMBINED")

@@ -200,6 +200,18 @@ def black_world():
     scene.world = world
 
 
+def fresh_bake_target(me, name):
+    """The FLOAT_COLOR corner attribute `name` of mesh `me`, made or reused, at 0 and active: a
+    Cycles bake target as a fresh one (Bevel gives the faces it makes the original index of a
+    neighbour it picks by the corner data, colours included, so the values a reused target
+    holds would move the corners Cycles bakes)."""
+    attr = me.color_attributes.get(name) or me.color_attributes.new(name, "FLOAT_COLOR", "CORNER")
+    attr.data.foreach_set("color", np.zeros(len(attr.data) * 4, dtype=np.float32))
+    me.color_attributes.active_color = attr
+    me.update()
+    return attr
+
+
 def corner_colors(obj, name="Radiosity"):
     me = obj.data
     attr = me.color_attributes.get(name)

@@ -162,10 +162,7 @@ def _needs_origin(obj):
 def _color_values(attr):
     """A corner colour attribute's values and the property they were read from: a byte colour
     through its sRGB bytes, which round-trip exactly."""
-    prop = "color"
-    if attr.data_type == "BYTE_COLOR" and len(attr.data) \
-            and "color_srgb" in attr.data[0].bl_rna.properties:
-        prop = "color_srgb"
+    prop = "color_srgb" if attr.data_type == "BYTE_COLOR" else "color"
     values = np.empty(len(attr.data) * 4, dtype=np.float32)
     attr.data.foreach_get(prop, values)
     return prop, values
@@ -365,6 +362,7 @@ def gather(scene, view_layer, depsgraph):
     geometry = {obj.name_full for obj in shown if obj.type in GEOMETRY_TYPES
                 and ADAPTIVE_TAG not in obj.keys()
                 and not (obj.is_instancer and not obj.show_instancer_for_render)}
+    # (No settings when the add-on's modules run unregistered, as bench/export_scene.py does.)
     own = getattr(scene, "radiosity", None)
     own = (own.attribute_name, srgb.byte_attribute_name(own.attribute_name)) if own else ()
     with _origin_layers([o for o in shown if o.name_full in geometry and _needs_origin(o)],

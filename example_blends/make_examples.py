@@ -143,16 +143,27 @@ def subdivide(surface, target):
 # --------------------------------------------------------------------------- Blender helpers
 
 
-def diffuse_material(name, rgb):
+def node_material(name):
+    """A new material whose node tree holds only its output node; the caller adds the shader."""
     mat = bpy.data.materials.new(name)
     mat.use_nodes = True
     nt = mat.node_tree
     nt.nodes.clear()
-    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    return mat, nt, nt.nodes.new("ShaderNodeOutputMaterial")
+
+
+def lambert_node(nt, rgb, location):
+    """A Diffuse BSDF node of reflectance `rgb` with roughness 0: the pure Lambert model."""
     bsdf = nt.nodes.new("ShaderNodeBsdfDiffuse")
     bsdf.inputs["Color"].default_value = (*rgb, 1.0)
     bsdf.inputs["Roughness"].default_value = 0.0
-    bsdf.location = (-250, 0)
+    bsdf.location = location
+    return bsdf
+
+
+def diffuse_material(name, rgb):
+    mat, nt, out = node_material(name)
+    bsdf = lambert_node(nt, rgb, (-250, 0))
     nt.links.new(bsdf.outputs["BSDF"], out.inputs["Surface"])
     mat.diffuse_color = (*rgb, 1.0)
     return mat
@@ -162,11 +173,7 @@ def emission_material(name, radiance, reflectance=None):
     """Emission colour x strength = radiance. With `reflectance`, the surface also reflects."""
     strength = max(radiance)
     color = tuple(c / strength for c in radiance)
-    mat = bpy.data.materials.new(name)
-    mat.use_nodes = True
-    nt = mat.node_tree
-    nt.nodes.clear()
-    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    mat, nt, out = node_material(name)
     em = nt.nodes.new("ShaderNodeEmission")
     em.inputs["Color"].default_value = (*color, 1.0)
     em.inputs["Strength"].default_value = strength
@@ -175,10 +182,7 @@ def emission_material(name, radiance, reflectance=None):
         nt.links.new(em.outputs["Emission"], out.inputs["Surface"])
         mat.diffuse_color = (*color, 1.0)
     else:
-        bsdf = nt.nodes.new("ShaderNodeBsdfDiffuse")
-        bsdf.inputs["Color"].default_value = (*reflectance, 1.0)
-        bsdf.inputs["Roughness"].default_value = 0.0
-        bsdf.location = (-250, 100)
+        bsdf = lambert_node(nt, reflectance, (-250, 100))
         add = nt.nodes.new("ShaderNodeAddShader")
         add.location = (-50, 0)
         nt.links.new(bsdf.outputs["BSDF"], add.inputs[0])
@@ -314,13 +318,13 @@ def look_through_camera():
 def footprint(ob):
     """XY corners of the object's bounding box in world space (for overlap checks)."""
     corners = [ob.matrix_world @ Vector(c) for c in ob.bound_box]
-    pts = []
-    for c in corners:
-        p = (round(c.x, 6), round(c.y, 6))
-        if p not in pts:
-            pts.append(p)
     # keep the convex hull (4 points of a rotated box)
-    pts.sort()
+    return convex_hull_2d(set((round(c.x, 6), round(c.y, 6)) for c in corners))
+
+
+def convex_hull_2d(points):
+    """Convex hull of distinct XY points, counter-clockwise (Andrew's monotone chain)."""
+    pts = sorted(points)
     def cross(o, a, b):
         return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
     lower, upper = [], []
@@ -412,7 +416,9 @@ def ceiling_light(center, size, height, material):
     return [Surface(q, material, normal=(0, 0, -1))]
 
 
-def standard_room(scene, size, light_size, target):
+def standard_room(size, light_size, target):
+    """A new scene holding the room [0,X]x[0,Y]x[0,Z] of `size` and its ceiling light."""
+    scene = new_scene()
     wall = diffuse_material("Wall", (0.7, 0.7, 0.7))
     floor = diffuse_material("Floor", (0.55, 0.5, 0.45))
     ceiling = diffuse_material("Ceiling", (0.8, 0.8, 0.8))
@@ -421,6 +427,14 @@ def standard_room(scene, size, light_size, target):
     # 1 unit below the ceiling: both sides emit, so the ceiling above it is lit as in Cycles.
     make_object("CeilingLight", ceiling_light((size[0] / 2, size[1] / 2), light_size, size[2] - 1.0, light),
                 max(light_size) / 4, scene.collection)
+    return scene
+
+
+def finish_room(scene, name, out_dir, size, eye, look_at, expected_surfaces, expected_objects):
+    """The rooms' common end: check the move against the room, add the camera, save."""
+    check_move(scene, (0, 0, 0), size)
+    add_camera(scene, eye, look_at, 75.0)
+    finish(scene, name, out_dir, expected_surfaces, expected_objects)
 
 
 def chair_surfaces(origin, w, d, seat_h, seat_t, leg, H, material):
@@ -456,9 +470,8 @@ def chair_surfaces(origin, w, d, seat_h, seat_t, leg, H, material):
 
 
 def build_box_room(out_dir):
-    scene = new_scene()
     size = (300.0, 300.0, 250.0)
-    standard_room(scene, size, (80.0, 80.0), 12.5)
+    scene = standard_room(size, (80.0, 80.0), 12.5)
     # Box1: 80 x 80 x 100 centred at (114.4, 129.2, 50); Box2: 60 x 60 x 160 near the far corner.
     red = diffuse_material("BoxRed", (0.65, 0.12, 0.08))
     blue = diffuse_material("BoxBlue", (0.12, 0.25, 0.6))
@@ -470,30 +483,24 @@ def build_box_room(out_dir):
     scene["radiosity_move"] = {"object": "Box1", "location": (150.0, 190.0, 50.0), "rotation_z_deg": 0.0}
     # The paper's second test on this scene: the light dimmed from (12,12,12) to (2,2,2).
     scene["radiosity_dim"] = {"object": "CeilingLight", "radiance": (2.0, 2.0, 2.0)}
-    check_move(scene, (0, 0, 0), size)
-    add_camera(scene, (285.0, 12.0, 215.0), (120.0, 180.0, 40.0), 75.0)
-    finish(scene, "box_room", out_dir, 19, 2)
+    finish_room(scene, "box_room", out_dir, size, (285.0, 12.0, 215.0), (120.0, 180.0, 40.0), 19, 2)
 
 
 def build_chair_room(out_dir):
-    scene = new_scene()
     size = (400.0, 400.0, 250.0)
-    standard_room(scene, size, (100.0, 100.0), 16.0)
+    scene = standard_room(size, (100.0, 100.0), 16.0)
     wood = diffuse_material("ChairWood", (0.5, 0.3, 0.15))
     # A high-backed chair 184 tall: its origin (bbox centre) is the paper's z = 92.
     origin = (150.0, 270.0, 92.0)
     surf = chair_surfaces(origin, 90.0, 80.0, 85.0, 8.0, 8.0, 184.0, wood)
     make_object("Chair", surf, 8.0, object_collection(scene, "Chair"), origin=origin)
     scene["radiosity_move"] = {"object": "Chair", "location": (120.0, 150.0, 92.0), "rotation_z_deg": 25.0}
-    check_move(scene, (0, 0, 0), size)
-    add_camera(scene, (385.0, 15.0, 215.0), (160.0, 230.0, 50.0), 75.0)
-    finish(scene, "chair_room", out_dir, 73, 1)
+    finish_room(scene, "chair_room", out_dir, size, (385.0, 15.0, 215.0), (160.0, 230.0, 50.0), 73, 1)
 
 
 def build_full_room(out_dir):
-    scene = new_scene()
     size = (400.0, 400.0, 250.0)
-    standard_room(scene, size, (100.0, 100.0), 20.0)
+    scene = standard_room(size, (100.0, 100.0), 20.0)
     wood = diffuse_material("ChairWood", (0.5, 0.3, 0.15))
     table_mat = diffuse_material("TableTop", (0.6, 0.45, 0.3))
     cab_mat = diffuse_material("Cabinet", (0.75, 0.72, 0.6))
@@ -529,9 +536,7 @@ def build_full_room(out_dir):
     assert len(cab) == 30
     make_object("Cabinet", cab, 10.0, object_collection(scene, "Cabinet"), origin=(371.5, 110.0, 61.0))
     scene["radiosity_move"] = {"object": "Chair", "location": (120.0, 300.0, 57.5), "rotation_z_deg": 25.0}
-    check_move(scene, (0, 0, 0), size)
-    add_camera(scene, (15.0, 15.0, 220.0), (230.0, 230.0, 40.0), 75.0)
-    finish(scene, "full_room", out_dir, 203, 4)
+    finish_room(scene, "full_room", out_dir, size, (15.0, 15.0, 220.0), (230.0, 230.0, 40.0), 203, 4)
 
 
 def build_cornell_box(out_dir):
@@ -595,19 +600,7 @@ def check_move_cornell(scene):
             if abs(w.z) < 1e-9:
                 ring.append((w.x, w.y))
         # convex hull of the floor-level points
-        pts = sorted(set((round(x, 7), round(y, 7)) for x, y in ring))
-        def cross(o, a, b):
-            return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-        lo, up = [], []
-        for p in pts:
-            while len(lo) >= 2 and cross(lo[-2], lo[-1], p) <= 0:
-                lo.pop()
-            lo.append(p)
-        for p in reversed(pts):
-            while len(up) >= 2 and cross(up[-2], up[-1], p) <= 0:
-                up.pop()
-            up.append(p)
-        return lo[:-1] + up[:-1]
+        return convex_hull_2d(set((round(x, 7), round(y, 7)) for x, y in ring))
     short, tall = bpy.data.objects["ShortBlock"], bpy.data.objects["TallBlock"]
     bpy.context.view_layer.update()
     keep = short.location.copy()

@@ -58,16 +58,25 @@ class RADIOSITY_OT_bake(bpy.types.Operator):
                               + (" (kept solution)" if r.get("cached") else ""))
         return {"FINISHED"}
 
-    def execute(self, context):
-        bake.last_reports.clear()
+    def _conclude(self, steps):
+        """Run `steps`, which ends the bake and returns its run, and report the result; a
+        BakeError on the way is reported as an error and cancels."""
         try:
-            run = self._start(context)
-            run.run_sync()
-            run.finish()
+            run = steps()
         except bake.BakeError as exc:
             _report(self, "ERROR", str(exc))
             return {"CANCELLED"}
         return self._done(run)
+
+    def execute(self, context):
+        bake.last_reports.clear()
+
+        def solve():
+            run = self._start(context)
+            run.run_sync()
+            run.finish()
+            return run
+        return self._conclude(solve)
 
     # -- modal job (UI) --------------------------------------------------------------------------
     def invoke(self, context, event):
@@ -111,14 +120,13 @@ class RADIOSITY_OT_bake(bpy.types.Operator):
         if run.job.state == core_job.RUNNING:
             return {"RUNNING_MODAL"}
         self._cleanup(context)
-        try:
+
+        def finish():
             if run.job.state == core_job.FAILED:
                 raise bake.BakeError(f"solver failed: {run.job.error}")
             run.finish()
-        except bake.BakeError as exc:
-            _report(self, "ERROR", str(exc))
-            return {"CANCELLED"}
-        return self._done(run)
+            return run
+        return self._conclude(finish)
 
 
 def status_text(run, progress, elapsed):
@@ -170,13 +178,19 @@ def any_shows_bake(context):
     return any(shows_bake(s) for s in _views(context))
 
 
-def _views_and_saved(op, context):
-    """The 3D viewports to change and the scene's record of their shading before the bake
-    was shown; no viewports (and a warning) in background mode."""
+def _reshade(op, context, shading_for):
+    """Give each 3D viewport the shading `shading_for(space, saved)` returns, where `saved` is
+    the scene's record of the viewports' shading before the bake was shown; no viewports (and
+    a warning) in background mode."""
     views = _views(context)
+    saved = session.session(bake.scene_key(context.scene)).shading
     if not views:
         op.report({"WARNING"}, "no 3D viewport (background mode?)")
-    return views, session.session(bake.scene_key(context.scene)).shading
+        return {"CANCELLED"}
+    for space in views:
+        sh = space.shading
+        sh.type, sh.color_type, sh.light = shading_for(space, saved)
+    return {"FINISHED"}
 
 
 class RADIOSITY_OT_show_colors(bpy.types.Operator):
@@ -188,15 +202,11 @@ class RADIOSITY_OT_show_colors(bpy.types.Operator):
     bl_options = {"REGISTER"}
 
     def execute(self, context):
-        views, saved = _views_and_saved(self, context)
-        if not views:
-            return {"CANCELLED"}
-        for space in views:
+        def baked(space, saved):
             if not shows_bake(space):
                 saved[space.as_pointer()] = _shading_of(space)
-            sh = space.shading
-            sh.type, sh.color_type, sh.light = _BAKED_SHADING
-        return {"FINISHED"}
+            return _BAKED_SHADING
+        return _reshade(self, context, baked)
 
 
 class RADIOSITY_OT_restore_shading(bpy.types.Operator):
@@ -206,18 +216,10 @@ class RADIOSITY_OT_restore_shading(bpy.types.Operator):
     bl_options = {"REGISTER"}
 
     def execute(self, context):
-        views, saved = _views_and_saved(self, context)
-        if not views:
-            return {"CANCELLED"}
-        for space in views:
+        def previous(space, saved):
             # Unknown (a file opened showing the bake): Blender's default Solid look.
-            kind, color, light = saved.pop(space.as_pointer(),
-                                                    ("SOLID", "MATERIAL", "STUDIO"))
-            sh = space.shading
-            sh.type = kind
-            sh.color_type = color
-            sh.light = light
-        return {"FINISHED"}
+            return saved.pop(space.as_pointer(), ("SOLID", "MATERIAL", "STUDIO"))
+        return _reshade(self, context, previous)
 
 
 CLASSES = (RADIOSITY_OT_bake, RADIOSITY_OT_clear, RADIOSITY_OT_show_colors,

@@ -22,6 +22,20 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
 
 
+def results_dir(given, quick, name):
+    """Where a run_NAME.py driver writes: --out-dir (`given`), else for --quick a new temporary
+    directory (a smoke run never writes over the committed results), else bench/results."""
+    return given or (tempfile.mkdtemp(prefix=f"{name}-quick-") if quick
+                     else os.path.join(REPO, "bench", "results"))
+
+
+def data_dir(out_dir, name):
+    """The driver's folder of per-scene JSON and logs in `out_dir` (NAME_data), made."""
+    path = os.path.join(out_dir, f"{name}_data")
+    os.makedirs(path, exist_ok=True)
+    return path
+
+
 def path_without_pyenv(path):
     ours = {os.path.join(p, "bin") for p in (sys.prefix, sys.base_prefix) if p != "/usr"}
     return os.pathsep.join(d for d in path.split(os.pathsep)

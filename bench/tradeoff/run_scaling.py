@@ -13,7 +13,6 @@ import json
 import os
 import subprocess
 import sys
-import tempfile
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -111,8 +110,7 @@ def main():
         plot(rows, os.path.join(out_dir, "scaling.png"))
         print(table(rows))
         return
-    out_dir = a.out_dir or (tempfile.mkdtemp(prefix="scaling-quick-") if a.quick
-                            else os.path.join(REPO, "bench", "results"))
+    out_dir = bt_run.results_dir(a.out_dir, a.quick, "scaling")
     os.makedirs(out_dir, exist_ok=True)
     jsonl = os.path.join(out_dir, "scaling_data.jsonl")
     cmd = [a.exe, "--preset", a.preset, "--timeout", str(a.timeout), "--max-mb", str(a.max_mb),

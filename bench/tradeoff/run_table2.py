@@ -18,7 +18,6 @@ import json
 import os
 import statistics
 import sys
-import tempfile
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -57,6 +56,11 @@ def update_mode(inc):
     return mode
 
 
+def before_move(key):
+    """A cell of our column: `key` of the full bake before the first move, as 12,345."""
+    return lambda d: f"{d['moves'][0]['full_before'][key]:,}"
+
+
 def report(data, out_dir, command):
     rows = [
         ("input surfaces (paper-style / polygons)",
@@ -64,16 +68,11 @@ def report(data, out_dir, command):
          lambda p: p["surfaces"]),
         ("objects", lambda d: f"{d['paper_objects']} ({d['moves'][0]['full_before']['objects']} "
                               f"meshes)", lambda p: p["objects"]),
-        ("elements", lambda d: f"{d['moves'][0]['full_before']['elements']:,}",
-         lambda p: f"{p['elements']:,}"),
-        ("links (active)", lambda d: f"{d['moves'][0]['full_before']['links']:,}",
-         lambda p: f"{p['links']:,}"),
-        ("cluster links", lambda d: f"{d['moves'][0]['full_before']['cluster_links']:,}",
-         lambda p: ""),
-        ("obj–env links", lambda d: f"{d['moves'][0]['full_before']['obj_env_links']:,}",
-         lambda p: f"{p['obj_env']:,}"),
-        ("env–env links", lambda d: f"{d['moves'][0]['full_before']['env_env_links']:,}",
-         lambda p: f"{p['env_env']:,}"),
+        ("elements", before_move("elements"), lambda p: f"{p['elements']:,}"),
+        ("links (active)", before_move("links"), lambda p: f"{p['links']:,}"),
+        ("cluster links", before_move("cluster_links"), lambda p: ""),
+        ("obj–env links", before_move("obj_env_links"), lambda p: f"{p['obj_env']:,}"),
+        ("env–env links", before_move("env_env_links"), lambda p: f"{p['env_env']:,}"),
         ("full bake, add-on operator, s", lambda d: f"{med(m['full_before']['seconds'] for m in d['moves']):.2f}",
          lambda p: ""),
         ("full solve with 3.5 (native), s", lambda d: f"{d['native']['with']['seconds']:.2f} "
@@ -185,10 +184,8 @@ def main():
     scenes = a.scenes or (["cornell_box"] if a.quick else list(SCENES))
     preset = a.preset or ("DRAFT" if a.quick else "MEDIUM")
     drag = a.drag_steps if a.drag_steps is not None else (3 if a.quick else 30)
-    out_dir = a.out_dir or (tempfile.mkdtemp(prefix="table2-quick-") if a.quick
-                            else os.path.join(REPO, "bench", "results"))
-    data_dir = os.path.join(out_dir, "table2_data")
-    os.makedirs(data_dir, exist_ok=True)
+    out_dir = bt_run.results_dir(a.out_dir, a.quick, "table2")
+    data_dir = bt_run.data_dir(out_dir, "table2")
     command = "python3 bench/tradeoff/run_table2.py " + " ".join(sys.argv[1:])
     if not a.report_only:
         t0 = time.perf_counter()

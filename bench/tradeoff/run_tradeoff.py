@@ -26,7 +26,6 @@ import argparse
 import os
 import subprocess
 import sys
-import tempfile
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -61,10 +60,8 @@ def main():
     p.add_argument("--blender", choices=bt_run.FLAVOURS, default="bpy")
     a = p.parse_args()
     scenes = a.scenes or (["cornell_box"] if a.quick else list(SCENES))
-    out_dir = a.out_dir or (tempfile.mkdtemp(prefix="tradeoff-quick-") if a.quick
-                            else os.path.join(REPO, "bench", "results"))
-    data_dir = os.path.join(out_dir, "tradeoff_data")
-    os.makedirs(data_dir, exist_ok=True)
+    out_dir = bt_run.results_dir(a.out_dir, a.quick, "tradeoff")
+    data_dir = bt_run.data_dir(out_dir, "tradeoff")
     command = "python3 bench/tradeoff/run_tradeoff.py " + " ".join(sys.argv[1:])
     if not a.report_only:
         if not os.path.exists(a.zip):

@@ -14,6 +14,7 @@ import pytest
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.join(REPO, "addon"))
+from radiosity.core import session  # noqa: E402
 
 
 def _load(name, path):
@@ -52,3 +53,11 @@ def native(request):
     if mod is None:
         pytest.skip(why)
     return mod
+
+
+@pytest.fixture
+def no_kept_solutions():
+    """No solution kept from another test before the test, none left after it."""
+    session.forget_kept()
+    yield
+    session.forget_kept()

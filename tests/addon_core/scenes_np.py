@@ -1,7 +1,14 @@
 """numpy-only test scenes for the core tests."""
+import os
+import sys
+
 import numpy as np
 
 from radiosity.core.scene_data import ObjectInput, SceneInput
+
+# The Blender tests' bpy-free geometry: open_floor builds the box they build.
+sys.path.append(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "blender", "scripts"))
+from box_grid import gridded_box  # noqa: E402
 
 
 def grid(origin, u, v, n):
@@ -86,23 +93,9 @@ def open_floor(box_offset=(0.0, 0.0), light=10.0):
     si.objects.append(obj("Light", grid((-0.5, -0.5, 2.0), (0, 1, 0), (1, 0, 0), 1), [0] * 3,
                           [light] * 3))
     c = si.add_cluster("Props")
-    verts, cvs = [], []
-    ctr, h = np.array([0.6, 0.3, 0.4]), np.array([0.5, 0.5, 0.4])
-    for axis in range(3):
-        for sign in (-1, 1):
-            o = ctr.copy()
-            o[axis] += sign * h[axis]
-            a1, a2 = [k for k in range(3) if k != axis]
-            u = np.zeros(3); u[a1] = 2 * h[a1]
-            v = np.zeros(3); v[a2] = 2 * h[a2]
-            if np.cross(u, v)[axis] * sign < 0:
-                u, v = v, u
-            o = o - u / 2 - v / 2
-            gv, _, _, gcv = grid(o, u, v, 4)
-            cvs.append(gcv + sum(len(x) for x in verts))
-            verts.append(gv)
-    local = np.concatenate(verts)
-    cv = np.concatenate(cvs).astype(np.int32)
+    bv, bf = gridded_box([0.6, 0.3, 0.4], [0.5, 0.5, 0.4], 4)
+    local = np.array(bv)
+    cv = np.array(bf, dtype=np.int32).ravel()
     nf = len(cv) // 4
     m = np.eye(4)
     m[:2, 3] = box_offset

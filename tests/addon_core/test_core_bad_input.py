@@ -4,16 +4,13 @@ import math
 import numpy as np
 import pytest
 
-from radiosity.core import job, lights, presets, scene_data, session
+from radiosity.core import job, lights, presets, scene_data
 
 import scenes_np
 
 
-@pytest.fixture(autouse=True)
-def _clean_cache():
-    session.forget_kept()
-    yield
-    session.forget_kept()
+# Each test starts and ends with no kept solution (conftest.py).
+pytestmark = pytest.mark.usefixtures("no_kept_solutions")
 
 
 def _job(native, si, key="scene", use_cache=True):

@@ -17,11 +17,8 @@ def _nrmse(a, b):
     return float(np.sqrt(np.mean((a - b) ** 2)) / np.sqrt(np.mean(b ** 2)))
 
 
-@pytest.fixture(autouse=True)
-def _clean_cache():
-    session.forget_kept()
-    yield
-    session.forget_kept()
+# Each test starts and ends with no kept solution (conftest.py).
+pytestmark = pytest.mark.usefixtures("no_kept_solutions")
 
 
 def _tol(native):

@@ -12,11 +12,8 @@ def _job(native, si, preset="DRAFT", key="scene"):
                         presets.settings_key(preset, 0.05), cache_key=key)
 
 
-@pytest.fixture(autouse=True)
-def _clean_cache():
-    session.forget_kept()
-    yield
-    session.forget_kept()
+# Each test starts and ends with no kept solution (conftest.py).
+pytestmark = pytest.mark.usefixtures("no_kept_solutions")
 
 
 def test_furnace_sync(native):

@@ -8,11 +8,8 @@ from radiosity.core import job, presets, preview, session
 import scenes_np
 
 
-@pytest.fixture(autouse=True)
-def _clean_cache():
-    session.forget_kept()
-    yield
-    session.forget_kept()
+# Each test starts and ends with no kept solution (conftest.py).
+pytestmark = pytest.mark.usefixtures("no_kept_solutions")
 
 
 def _bake(native, si):

@@ -703,15 +703,24 @@ TEST(Extremes, HugeThresholdGivesTheCoarsestSolution) {
     EXPECT_FALSE(s.stats().capped);
 }
 
+namespace {
+// The Cornell box solved with `caps` at a threshold of 1e-9, which alone would refine without
+// end: the caps stop it. Checks that the solve is sane; the test checks which cap stopped it.
+Solver solve_at_tiny_threshold(Settings caps, const std::string& what) {
+    caps.error_threshold = 1e-9;
+    Solver s(scenes::cornell_box(2), caps);
+    s.solve();
+    expect_sane(s, what);
+    return s;
+}
+}  // namespace
+
 TEST(Extremes, TinyThresholdStopsAtTheMemoryCap) {
     // Without element or link caps, a tiny threshold refines until memory runs out; the
     // memory cap stops it first and says so (max_memory_mb; 0 = half the machine's memory).
     Settings st;
-    st.error_threshold = 1e-9;
     st.max_memory_mb = 40;
-    Solver s(scenes::cornell_box(2), st);
-    s.solve();
-    expect_sane(s, "eps 1e-9, memory cap");
+    Solver s = solve_at_tiny_threshold(st, "eps 1e-9, memory cap");
     std::printf("[ figure ] eps 1e-9, max_memory_mb 40: estimate %.1f MiB, element nodes %lld, stored links %zu\n",
                 s.stats().memory_bytes / 1048576.0, (long long)s.stats().element_nodes, s.links().size());
     EXPECT_TRUE(s.stats().capped);
@@ -755,12 +764,9 @@ TEST(Extremes, TinyThresholdStopsAtTheElementCap) {
     // The caps that exist (settings.h): max_elements and max_links, reported by
     // Stats::capped and a warning saying so. There is no memory cap as such.
     Settings st;
-    st.error_threshold = 1e-9;
     st.max_elements = 4000;
     st.max_links = 200000;  // with the element cap alone, links grow to the 10M default (~4 GB)
-    Solver s(scenes::cornell_box(2), st);
-    s.solve();
-    expect_sane(s, "eps 1e-9, element cap");
+    Solver s = solve_at_tiny_threshold(st, "eps 1e-9, element cap");
     std::printf("[ figure ] eps 1e-9, max_elements 4000: element nodes %lld, stored links %zu, capped %d, warnings %zu\n",
                 (long long)s.stats().element_nodes, s.links().size(), int(s.stats().capped), s.stats().warnings.size());
     EXPECT_TRUE(s.stats().capped);
@@ -783,11 +789,8 @@ TEST(Extremes, ElementCapIsExact) {
 
 TEST(Extremes, TinyThresholdStopsAtTheLinkCap) {
     Settings st;
-    st.error_threshold = 1e-9;
     st.max_links = 20000;
-    Solver s(scenes::cornell_box(2), st);
-    s.solve();
-    expect_sane(s, "eps 1e-9, link cap");
+    Solver s = solve_at_tiny_threshold(st, "eps 1e-9, link cap");
     const int64_t stored = int64_t(s.links().size());
     std::printf("[ figure ] eps 1e-9 with max_links 20000: stored links %lld (active %lld), capped %d\n",
                 (long long)stored, (long long)s.stats().links, int(s.stats().capped));
@@ -982,6 +985,21 @@ Solver solve_disc_under_light(const char* name, const std::vector<Vec3>& v, cons
     return s;
 }
 
+// The unit disc of kDiscCorners corners, with corner `moved` put at `to` (none moved when
+// `moved` < 0), solved under the light; checks that the solve is sane and that the disc
+// reflects the light's power, and returns the solver for the test's own checks.
+constexpr int kDiscCorners = 100000;
+Solver solve_unit_disc(const char* name, const std::string& what, int moved = -1, Vec3 to = {}) {
+    std::vector<Vec3> v;
+    std::vector<int> f;
+    unit_disc(kDiscCorners, v, f);
+    if (moved >= 0) v[moved] = to;
+    Solver s = solve_disc_under_light(name, v, f);
+    expect_sane(s, what);
+    expect_disc_power(s, v, what);
+    return s;
+}
+
 // Pieces of object 0 whose normal points down (a fan from a bad apex flips some).
 int flipped_pieces(const Solver& s) {
     const Hierarchy& h = s.hierarchy();
@@ -994,29 +1012,16 @@ int flipped_pieces(const Solver& s) {
 
 TEST(Extremes, HundredThousandVertexConvexNgon) {
     // scene.h takes Blender's polygon layout, so n-gons are accepted and fan-split natively.
-    const int n = 100000;
-    std::vector<Vec3> v;
-    std::vector<int> f;
-    unit_disc(n, v, f);
-    Solver s = solve_disc_under_light("disc", v, f);
-    expect_sane(s, "100k-gon");
-    EXPECT_EQ(s.stats().primitives, n - 2 + 1);
-    expect_disc_power(s, v, "convex 100k-gon");
+    Solver s = solve_unit_disc("disc", "convex 100k-gon");
+    EXPECT_EQ(s.stats().primitives, kDiscCorners - 2 + 1);
 }
 
 TEST(Extremes, HundredThousandVertexConcaveNgon) {
     // The same disc with one vertex pulled to the centre (a reflex corner half-way round):
     // the fan apex search must still finish and the pieces must face the right way.
-    const int n = 100000;
-    std::vector<Vec3> v;
-    std::vector<int> f;
-    unit_disc(n, v, f);
-    v[n / 2] = {-0.5, 0, 0};
-    Solver s = solve_disc_under_light("pacman", v, f);
-    expect_sane(s, "concave 100k-gon");
+    Solver s = solve_unit_disc("pacman", "concave 100k-gon", kDiscCorners / 2, {-0.5, 0, 0});
     // Every piece faces +z like the polygon (a fan from a bad apex would flip some).
     EXPECT_EQ(flipped_pieces(s), 0);
-    expect_disc_power(s, v, "concave 100k-gon");
 }
 
 TEST(Extremes, HundredThousandVertexNgonNotchedBeforeItsFirstCorner) {
@@ -1024,16 +1029,9 @@ TEST(Extremes, HundredThousandVertexNgonNotchedBeforeItsFirstCorner) {
     // every apex before it fails only at the end of its fan and testing all of them was O(n^2)
     // (20k corners: 20 s, 100k: minutes). The apex search has an O(n) budget, then tries the
     // reflex corners. (No timed assertion: a regression shows as this test running for minutes.)
-    const int n = 100000;
-    std::vector<Vec3> v;
-    std::vector<int> f;
-    unit_disc(n, v, f);
-    v[n - 1] = {0.9, 0, 0};
-    Solver s = solve_disc_under_light("notched", v, f);
-    expect_sane(s, "notched 100k-gon");
-    EXPECT_EQ(s.stats().primitives, n - 2 + 1);
+    Solver s = solve_unit_disc("notched", "notched 100k-gon", kDiscCorners - 1, {0.9, 0, 0});
+    EXPECT_EQ(s.stats().primitives, kDiscCorners - 2 + 1);
     EXPECT_EQ(flipped_pieces(s), 0);      // fanned from the notch: every piece faces +z
-    expect_disc_power(s, v, "notched 100k-gon");
 }
 
 TEST(Extremes, UShapedNgonWithoutAFanApexIsClippedIntoEars) {

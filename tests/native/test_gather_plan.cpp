@@ -1,6 +1,7 @@
 // The gather plan (gather_plan.h) against a Jacobi sweep over the hierarchy itself, written
 // here as plainly as paper 2 states it (gather through every receiver's links, push irradiance
-// down each quadtree, reflect at the leaves, pull radiance up area-weighted, then clusters).
+// down each quadtree, reflect at the leaves, pull radiance up area-weighted; then clusters, by
+// Gathering::pull_up_clusters, the pass over the nodes that code outside the sweeps uses).
 // The plan sums the same terms in the same order, so the two must agree bit for bit.
 #include <gtest/gtest.h>
 
@@ -9,6 +10,7 @@
 #include <ostream>
 
 #include "radiosity/gather_plan.h"
+#include "radiosity/gathering.h"
 #include "radiosity/transfer.h"
 #include "test_util.h"
 
@@ -85,31 +87,9 @@ struct ReferenceSweep {
             push_down(root, acc, unit, sums, delta);
         }
         if (unit) return 0.0;
-        for (int i = int(h.nodes.size()) - 1; i >= 0; --i) {
-            Node& c = h.nodes[size_t(i)];
-            if (!c.is_cluster()) continue;
-            Rgb sum, lo = Rgb::all(1e300), hi = Rgb::all(-1e300);
-            double area = 0;
-            c.S.fill(Rgb{});
-            for (int k : c.children) {
-                const Node& n = h.nodes[size_t(k)];
-                if (n.is_cluster()) {
-                    for (int b = 0; b < kBins; ++b) c.S[size_t(b)] += n.S[size_t(b)];
-                } else {
-                    for (int a = 0; a < 3; ++a) {
-                        double v = n.normal[a] * n.area;
-                        c.S[size_t(bin_of(a, v))] += n.L * std::fabs(v);
-                    }
-                }
-                sum += n.L * n.area;
-                area += n.area;
-                lo = cmin(lo, n.Lmin);
-                hi = cmax(hi, n.Lmax);
-            }
-            c.L = area > 0 ? sum / area : Rgb{};
-            c.Lmin = c.children.empty() ? Rgb{} : lo;
-            c.Lmax = c.children.empty() ? Rgb{} : hi;
-        }
+        // Clusters from their children, over the nodes: the hierarchy's own pass, which the
+        // plan's pass over its arrays must match.
+        Gathering::pull_up_clusters(h);
         return delta;
     }
 };

@@ -15,20 +15,11 @@ using namespace radiosity::testing;
 
 namespace {
 
-// A 4 x 4 x 2.5 m room (objects 0 and 1: the room and its ceiling lamp, a 1 m square emitter).
-SceneDesc lit_room() {
-    SceneDesc s;
-    scenes::add_box(s, "room", -1, {0, 0, 0}, {4, 4, 2.5}, 4, Rgb::all(0.6), {}, true);
-    scenes::add_grid(s, "lamp", -1, {Vec3{1.5, 1.5, 2.49}, Vec3{1.5, 2.5, 2.49}, Vec3{2.5, 2.5, 2.49}, Vec3{2.5, 1.5, 2.49}}, 1,
-                     1, {}, Rgb::all(10.0), false);
-    return s;
-}
-
 // A room lit by a ceiling lamp with a small trough on its floor: a half cylinder (radius
 // 0.15 m, 0.4 m long, Suzanne's size) open upward, of `around` x `along` quads, each seeing
 // most of the others across the hollow (an ear of a subdivided Suzanne).
 SceneDesc trough_room(int around, int along) {
-    SceneDesc s = lit_room();
+    SceneDesc s = lamp_room(4);
     ObjectDesc o;
     o.name = "trough";
     o.cluster = s.add_cluster("trough");
@@ -100,7 +91,7 @@ namespace {
 // the trough, while the sub-cluster holding that flank straddles the face's plane or overlaps
 // it: the point model fails, and both ends are below the smallest element.
 SceneDesc corrugated_room(int n) {
-    SceneDesc s = lit_room();
+    SceneDesc s = lamp_room(4);
     ObjectDesc o;
     o.name = "sheet";
     o.cluster = s.add_cluster("sheet");

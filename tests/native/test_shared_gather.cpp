@@ -19,10 +19,7 @@ namespace {
 // A 4 x 4 x 2.5 m room of 24 x 24 quads a face, an emitting panel under its ceiling and a
 // 0.6 m box standing on its floor.
 SceneDesc gridded_room() {
-    SceneDesc s;
-    scenes::add_box(s, "room", -1, {0, 0, 0}, {4, 4, 2.5}, 24, Rgb::all(0.6), {}, true);
-    scenes::add_grid(s, "lamp", -1, {Vec3{1.5, 1.5, 2.49}, Vec3{1.5, 2.5, 2.49}, Vec3{2.5, 2.5, 2.49}, Vec3{2.5, 1.5, 2.49}}, 1,
-                     1, {}, Rgb::all(10.0), false);
+    SceneDesc s = lamp_room(24);
     scenes::add_box(s, "box", -1, {1.0, 1.0, 0.0}, {1.6, 1.6, 0.6}, 2, Rgb{0.7, 0.4, 0.3}, {});
     return s;
 }

@@ -26,6 +26,16 @@ inline LightDesc point_light(Vec3 p, double intensity, double radius = 0) {
     return l;
 }
 
+// A 4 x 4 x 2.5 m room of n x n quads a face (object 0, reflectance 0.6, normals in) and a
+// 1 m square lamp of radiance 10 just under its ceiling (object 1).
+inline SceneDesc lamp_room(int n) {
+    SceneDesc s;
+    scenes::add_box(s, "room", -1, {0, 0, 0}, {4, 4, 2.5}, n, Rgb::all(0.6), {}, true);
+    scenes::add_grid(s, "lamp", -1, {Vec3{1.5, 1.5, 2.49}, Vec3{1.5, 2.5, 2.49}, Vec3{2.5, 2.5, 2.49}, Vec3{2.5, 1.5, 2.49}}, 1,
+                     1, {}, Rgb::all(10.0), false);
+    return s;
+}
+
 inline Poly quad(Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
     Poly p;
     p.n = 4;

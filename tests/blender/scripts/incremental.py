@@ -72,6 +72,21 @@ def set_strength(value):
                 n.inputs["Strength"].default_value = value
 
 
+def rebake_and_compare(key):
+    """After a change: an incremental bake, then a full one of the same scene; records both
+    bakes' stats under `key` and `key`_full and how far the incremental colours are from the
+    full ones. Returns the full bake's colours."""
+    ok.append(rt.bake()[0])
+    out[key] = rt.last_stats()
+    inc = colours()
+    ok.append(rt.bake(full=True)[0])
+    out[key + "_full"] = rt.last_stats()
+    full = colours()
+    out[key + "_nrmse"] = nrmse(inc, full)
+    out[key + "_worst"] = worst(inc, full)
+    return full
+
+
 out = {}
 ok = []
 t = time.perf_counter()
@@ -81,26 +96,12 @@ first = colours()
 
 # 1) move -> incremental, compare with a full bake of the moved scene
 do_move(bpy.data.objects[moved_name])
-ok.append(rt.bake()[0])
-out["move"] = rt.last_stats()
-inc = colours()
-ok.append(rt.bake(full=True)[0])
-out["move_full"] = rt.last_stats()
-full = colours()
-out["move_nrmse"] = nrmse(inc, full)
-out["move_worst"] = worst(inc, full)
+full = rebake_and_compare("move")
 out["move_changed"] = nrmse(first, full)
 
 # 2) light strength -> incremental
 set_strength(4.0)
-ok.append(rt.bake()[0])
-out["light"] = rt.last_stats()
-inc = colours()
-ok.append(rt.bake(full=True)[0])
-out["light_full"] = rt.last_stats()
-full = colours()
-out["light_nrmse"] = nrmse(inc, full)
-out["light_worst"] = worst(inc, full)
+rebake_and_compare("light")
 
 # 3) live: move + pump
 scene.radiosity.live = True

@@ -29,7 +29,6 @@ cube's specular layer is left out).
 import json
 import os
 import sys
-import time
 
 import bpy
 import numpy as np
@@ -38,6 +37,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.dirname(HERE))
 import corner_scenes as cs  # noqa: E402
+import cycles_ref  # noqa: E402
 import rt_common as rt  # noqa: E402
 
 
@@ -62,15 +62,7 @@ def cycles_bake(objs, samples, seed, threads, glossy=False, name="CyclesRef"):
     b.use_pass_diffuse = b.use_pass_emit = True
     b.use_pass_glossy = glossy
     b.use_pass_transmission = False
-    for o in bpy.data.objects:
-        o.select_set(False)
-    for o in objs:
-        rt.fresh_bake_target(o.data, name)
-        o.select_set(True)
-    bpy.context.view_layer.objects.active = objs[0]
-    t = time.perf_counter()
-    bpy.ops.object.bake(type="COMBINED")
-    seconds = time.perf_counter() - t
+    seconds = cycles_ref.bake_combined(objs, name)
     cols = np.concatenate([rt.corner_colors(o, name)[:, :3] for o in objs]).astype(np.float64)
     return cols, seconds
 
@@ -94,9 +86,8 @@ def main():
     samples = int(rt.arg("--samples", "16384"))
     threads = int(rt.arg("--threads", "1"))
     out = rt.arg("--out")
-    only = rt.arg("--cases")
     tag = cs.version_tag()
-    for case in (only.split(",") if only else cs.CASES):
+    for case in rt.cases(cs.CASES):
         rt.reset()
         objs, info = cs.build(case)
         geo = cs.corner_geometry(objs, cs.EMITTERS.get(case, ()))

@@ -13,10 +13,6 @@ float32) and a .json with the settings and timing.
 import json
 import os
 import sys
-import time
-
-import bpy
-import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import cycles_ref  # noqa: E402
@@ -27,20 +23,13 @@ import rt_common as rt  # noqa: E402
 def main():
     samples = int(rt.arg("--samples", "8192"))
     out = rt.arg("--out")
-    only = rt.arg("--cases")
     tag = light_scenes.version_tag()
-    for case in (only.split(",") if only else light_scenes.CASES):
+    for case in rt.cases(light_scenes.CASES):
         rt.reset()
         objs = light_scenes.build(case)
-        t = time.perf_counter()
-        cols = cycles_ref.cycles_bake(objs, samples)
-        seconds = time.perf_counter() - t
         path = os.path.join(out, f"lights_{case}_{tag}.npy")
-        np.save(path, np.concatenate(cols).astype(np.float32))
-        meta = {"case": case, "objects": list(light_scenes.ORDER), "corners": [len(c) for c in cols],
-                "samples": samples, "seconds": round(seconds, 1), "blender": bpy.app.version_string}
-        with open(os.path.splitext(path)[0] + ".json", "w") as f:
-            json.dump(meta, f, indent=1)
+        meta = cycles_ref.save_reference(objs, samples, path, {
+            "case": case, "objects": list(light_scenes.ORDER)}, seconds_digits=1)
         print("made", path, meta, flush=True)
     print("RESULT " + json.dumps({"ok": True}))
 

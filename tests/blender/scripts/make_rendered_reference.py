@@ -13,13 +13,10 @@ Writes the corner colours (RGB, float32) of the scene's compared objects concate
 beside it with the settings used. Cycles settings follow shared/NOTES.md
 (tests/blender/scripts/cycles_ref.py). Needs no add-on.
 """
-import json
 import os
 import sys
-import time
 
 import bpy
-import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import cycles_ref  # noqa: E402
@@ -27,24 +24,11 @@ import rt_common as rt  # noqa: E402
 import scenes_rendered  # noqa: E402
 
 
-def main():
+def build():
     which = rt.arg("--scene")
-    samples = int(rt.arg("--samples", "16384"))
-    out = rt.arg("--out")
-    rt.reset()
     names, emitter = scenes_rendered.BUILDERS[which]()
-    objs = [bpy.data.objects[n] for n in names]
-    t = time.perf_counter()
-    cols = cycles_ref.cycles_bake(objs, samples)
-    seconds = time.perf_counter() - t
-    ref = np.concatenate(cols).astype(np.float32)
-    np.save(out, ref)
-    meta = {"scene": f"scenes_rendered.BUILDERS[{which!r}]", "objects": names,
-            "corners": [len(c) for c in cols], "samples": samples, "seconds": seconds,
-            "blender": bpy.app.version_string}
-    with open(os.path.splitext(out)[0] + ".json", "w") as f:
-        json.dump(meta, f, indent=1)
-    print("RESULT " + json.dumps(meta))
+    return ([bpy.data.objects[n] for n in names],
+            {"scene": f"scenes_rendered.BUILDERS[{which!r}]", "objects": names})
 
 
-main()
+cycles_ref.reference_main("16384", build)

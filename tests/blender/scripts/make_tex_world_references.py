@@ -10,36 +10,19 @@ concatenated, and a .json beside it with the settings. Cycles as in shared/NOTES
 to the active colour attribute, adaptive sampling and denoising off, 64 bounces, no clamping.
 Needs no add-on.
 """
-import json
 import os
 import sys
-import time
-
-import bpy
-import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rt_common as rt  # noqa: E402
 import tex_world_scenes as tws  # noqa: E402
-from cycles_ref import cycles_bake  # noqa: E402
+from cycles_ref import reference_main  # noqa: E402
 
 
-def main():
+def build():
     kind = rt.arg("--kind")
-    samples = int(rt.arg("--samples", "4096"))
-    out = rt.arg("--out")
-    rt.reset()
     objs = tws.build(kind)
-    t = time.perf_counter()
-    cols = cycles_bake(objs, samples)
-    seconds = time.perf_counter() - t
-    np.save(out, np.concatenate(cols).astype(np.float32))
-    meta = {"scene": f"tex_world_scenes.build('{kind}')", "objects": [o.name for o in objs],
-            "corners": [len(x) for x in cols], "samples": samples, "seconds": seconds,
-            "blender": bpy.app.version_string}
-    with open(os.path.splitext(out)[0] + ".json", "w") as f:
-        json.dump(meta, f, indent=1)
-    print("RESULT " + json.dumps(meta))
+    return objs, {"scene": f"tex_world_scenes.build('{kind}')", "objects": [o.name for o in objs]}
 
 
-main()
+reference_main("4096", build)

@@ -64,9 +64,8 @@ def build(case):
 def main():
     samples = int(rt.arg("--samples", "1024"))
     out = rt.arg("--out")
-    only = rt.arg("--cases")
     data = {"blender": bpy.app.version_string, "samples": samples, "cases": {}}
-    for case in (only.split(",") if only else CASES):
+    for case in rt.cases(CASES):
         floor = build(case)
         col = cycles_ref.cycles_bake([floor], samples)[0]
         me = floor.data

@@ -10,6 +10,8 @@ import sys
 import bpy
 import numpy as np
 
+from box_grid import grid, gridded_box  # noqa: F401  (re-exported for the scripts)
+
 ADDON = "radiosity"
 
 
@@ -23,6 +25,12 @@ def arg(name, default=None):
     if name in a:
         return a[a.index(name) + 1]
     return default
+
+
+def cases(every):
+    """The cases --cases names (comma-separated), else `every` one."""
+    only = arg("--cases")
+    return only.split(",") if only else every
 
 
 def reset():
@@ -67,37 +75,6 @@ def mesh_object(name, verts, faces, collection=None, material=None):
     if material is not None:
         me.materials.append(material)
     return link(obj, collection)
-
-
-def grid(origin, u, v, n):
-    """n x n quads spanning origin + [0,1]u + [0,1]v; normal = u x v."""
-    origin, u, v = (np.asarray(x, dtype=float) for x in (origin, u, v))
-    verts = [origin + (i / n) * u + (j / n) * v for j in range(n + 1) for i in range(n + 1)]
-    faces = [(j * (n + 1) + i, j * (n + 1) + i + 1, (j + 1) * (n + 1) + i + 1,
-              (j + 1) * (n + 1) + i) for j in range(n) for i in range(n)]
-    return verts, faces
-
-
-def gridded_box(center, half, n):
-    """Axis-aligned box, faces outward, each side n x n quads (grid()); sides in the order
-    -x, +x, -y, +y, -z, +z. Returns (verts, faces) of one mesh."""
-    c, h = np.asarray(center, float), np.asarray(half, float)
-    bv, bf = [], []
-    for axis in range(3):
-        for sign in (-1, 1):
-            o = c.copy()
-            o[axis] += sign * h[axis]
-            a1, a2 = [k for k in range(3) if k != axis]
-            u = np.zeros(3); u[a1] = 2 * h[a1]
-            v = np.zeros(3); v[a2] = 2 * h[a2]
-            if np.cross(u, v)[axis] * sign < 0:
-                u, v = v, u                     # keep u x v pointing outward
-            o = o - u / 2 - v / 2
-            gv, gf = grid(o, u, v, n)
-            base = len(bv)
-            bv += list(gv)
-            bf += [tuple(i + base for i in f) for f in gf]
-    return bv, bf
 
 
 def box(center, size, inward=False):

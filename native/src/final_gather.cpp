@@ -222,6 +222,12 @@ Record trace_transfer(const Run& run, Point& pt, const Point* old, Counts& count
     // update's solution against a full solve's) then rarely changes a link's rays, so the
     // two gather the same rays where their links agree.
     int rays = ray_share(c.rays, weight, total, c.min_rays, std::max(c.rays, c.min_rays));
+    // A sender wholly behind the point's tangent plane brings it nothing: its record is what a
+    // trace would make (no coupling, no samples, no rays), without a sampler built or drawn.
+    if (plane_reach(h.nodes[size_t(src)].box, x, n) <= 0) {
+        rec.rays = uint16_t(std::min(rays, 65535));
+        return rec;
+    }
     const int refined_rays = std::min(c.rays, 4 * rays);
     // The same link, or one new since (split on the receiver side, or made again) from a
     // sender the point read before: the same transfer.

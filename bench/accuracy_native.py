@@ -78,7 +78,8 @@ def scene_input(z):
             name=name, cluster=int(cl), vertices=g("vertices"), loop_starts=g("loop_starts"),
             loop_totals=g("loop_totals"), corner_verts=g("corner_verts"),
             reflectance=g("reflectance"), emission=g("emission"), corner_perm=g("corner_perm"),
-            two_sided=g("two_sided"), occluder=bool(g("occluder", True)), output=bool(g("output", True))))
+            two_sided=g("two_sided"), occluder=bool(g("occluder", True)), output=bool(g("output", True)),
+            corner_map=g("corner_map")))
         written.append(bool(g("written", True)))
     if "lights" in z.files:
         for li in json.loads(str(z["lights"])):

@@ -7,7 +7,9 @@ bench/accuracy_native.py).
 Per object i: o{i}_vertices, _loop_starts, _loop_totals, _corner_verts (Blender's order),
 _reflectance, _emission; o{i}_two_sided and o{i}_occluder when not the defaults (an area
 light: one-sided, casts no shadow), o{i}_corner_perm for a mirrored object (the solver gets
-corner_verts[perm] and its output is mapped back with the same permutation), o{i}_written
+corner_verts[perm] and its output is mapped back with the same permutation), o{i}_corner_map
+for a modifier's evaluated mesh (per corner of the mesh written, the evaluated corner it reads:
+the solver gathers only at those), o{i}_written
 (False for what the add-on gathers but never writes: area lights, unwritable meshes,
 instances) and o{i}_output when False (the same objects: the solver gathers no light at
 their corners, core.scene_data.ObjectInput.output);
@@ -41,6 +43,8 @@ def main():
             arrays[f"o{i}_occluder"] = np.array(False)
         if o.corner_perm is not None:
             arrays[f"o{i}_corner_perm"] = np.asarray(o.corner_perm, np.int64)
+        if o.corner_map is not None:
+            arrays[f"o{i}_corner_map"] = np.asarray(o.corner_map, np.int64)
         arrays[f"o{i}_written"] = np.array(o.target is not None)
         if not o.output:
             arrays[f"o{i}_output"] = np.array(False)

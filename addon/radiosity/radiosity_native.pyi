@@ -105,6 +105,10 @@ class Scene:
                    # False: its colours are not read (an instance, an area light): no final
                    # gather at its corners, which read the leaves; it still lights the rest.
                    output: bool = True,
+                   # uint8 (C,) in the solver's corner order: 1 where the corner's colour is read
+                   # (a modifier's corner map); the others get no gather point and read the
+                   # leaves. None: every corner.
+                   written_corners: Optional[np.ndarray] = None,
                    ) -> int:
         """A rigid object. cluster=-1: a surface set by itself (object directly in the scene).
         Raises ValueError naming the object and polygon on NaN/inf, bad indices, rho outside [0,1),
@@ -152,7 +156,7 @@ class Solver:
                    emission: np.ndarray, two_sided: Optional[np.ndarray] = None,
                    occluder: bool = True, corner_reflectance: Optional[np.ndarray] = None,
                    corner_emission: Optional[np.ndarray] = None, pieces: Optional[tuple] = None,
-                   output: bool = True) -> int:
+                   output: bool = True, written_corners: Optional[np.ndarray] = None) -> int:
         """As Scene.add_object (world space, placed as given: later moves are relative to it).
         ValueError naming the object and polygon for bad input."""
     def remove_object(self, object_id: int) -> None: ...  # ValueError: unknown id, removed already

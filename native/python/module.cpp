@@ -73,7 +73,7 @@ ObjectDesc make_object(const std::string& name, int cluster, const Arr<double>& 
                        const Arr<int32_t>& loop_starts, const Arr<int32_t>& loop_totals, const Arr<int32_t>& corner_verts,
                        const Arr<double>& reflectance, const Arr<double>& emission, const py::object& two_sided,
                        bool occluder, const py::object& corner_reflectance, const py::object& corner_emission,
-                       const py::object& pieces, bool output) {
+                       const py::object& pieces, bool output, const py::object& written_corners) {
     ObjectDesc o;
     o.name = name;
     o.occluder = occluder;
@@ -99,6 +99,11 @@ ObjectDesc make_object(const std::string& name, int cluster, const Arr<double>& 
     o.corner_reflectance = optional_rgb(corner_reflectance, "corner_reflectance", o.corner_verts.size());
     o.corner_emission = optional_rgb(corner_emission, "corner_emission", o.corner_verts.size());
     o.pieces = texture_pieces(pieces, name, &o.pieces_emit);
+    if (!written_corners.is_none()) {
+        auto w = written_corners.cast<Arr<uint8_t>>();
+        check_shape(w, 0, "written_corners", o.corner_verts.size());
+        o.written_corners.assign(w.data(), w.data() + o.corner_verts.size());
+    }
     return o;
 }
 
@@ -106,10 +111,10 @@ int add_object(SceneDesc& s, const std::string& name, int cluster, const Arr<dou
                const Arr<int32_t>& loop_starts, const Arr<int32_t>& loop_totals, const Arr<int32_t>& corner_verts,
                const Arr<double>& reflectance, const Arr<double>& emission, const py::object& two_sided,
                bool occluder, const py::object& corner_reflectance, const py::object& corner_emission,
-               const py::object& pieces, bool output) {
+               const py::object& pieces, bool output, const py::object& written_corners) {
     return s.add_object(make_object(name, cluster, verts, loop_starts, loop_totals, corner_verts, reflectance,
                                     emission, two_sided, occluder, corner_reflectance, corner_emission, pieces,
-                                    output));
+                                    output, written_corners));
 }
 
 // A solver plus the job that may be running it.
@@ -237,7 +242,7 @@ PYBIND11_MODULE(radiosity_native, m) {
              py::arg("loop_starts"), py::arg("loop_totals"), py::arg("corner_verts"), py::arg("reflectance"),
              py::arg("emission"), py::arg("two_sided") = py::none(), py::arg("occluder") = true,
              py::arg("corner_reflectance") = py::none(), py::arg("corner_emission") = py::none(),
-             py::arg("pieces") = py::none(), py::arg("output") = true)
+             py::arg("pieces") = py::none(), py::arg("output") = true, py::arg("written_corners") = py::none())
         .def("add_light", &SceneDesc::add_light, py::arg("light"))
         .def_property_readonly("light_count", [](const SceneDesc& s) { return s.lights().size(); })
         .def_property_readonly("object_count", [](const SceneDesc& s) { return s.objects().size(); })
@@ -265,15 +270,16 @@ PYBIND11_MODULE(radiosity_native, m) {
                               const Arr<int32_t>& corner_verts, const Arr<double>& reflectance,
                               const Arr<double>& emission, const py::object& two_sided, bool occluder,
                               const py::object& corner_reflectance, const py::object& corner_emission,
-                              const py::object& pieces, bool output) {
+                              const py::object& pieces, bool output, const py::object& written_corners) {
             s.idle();
             return s.solver->add_object(make_object(name, cluster, verts, loop_starts, loop_totals, corner_verts,
                                                     reflectance, emission, two_sided, occluder, corner_reflectance,
-                                                    corner_emission, pieces, output));
+                                                    corner_emission, pieces, output, written_corners));
         }, py::arg("name"), py::arg("cluster"), py::arg("vertices"), py::arg("loop_starts"), py::arg("loop_totals"),
            py::arg("corner_verts"), py::arg("reflectance"), py::arg("emission"), py::arg("two_sided") = py::none(),
            py::arg("occluder") = true, py::arg("corner_reflectance") = py::none(),
-           py::arg("corner_emission") = py::none(), py::arg("pieces") = py::none(), py::arg("output") = true)
+           py::arg("corner_emission") = py::none(), py::arg("pieces") = py::none(), py::arg("output") = true,
+           py::arg("written_corners") = py::none())
         .def("remove_object", [](PySolver& s, int object) {
             s.idle();
             s.solver->remove_object(object);

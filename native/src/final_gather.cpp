@@ -668,7 +668,8 @@ struct Corner {
 // Every output corner once (an n-gon's corner is in several fan pieces: Cycles bakes it in
 // the first triangle that holds it, here the first piece), with its sample point and contact
 // state; `touched` gets, per object with output, per vertex, whether a corner of it lies on a
-// contact.
+// contact. Corners whose colour is not read (ObjectDesc::written) count for `touched` (so a
+// read corner shares a point as it would were every corner read) but get no entry.
 std::vector<Corner> output_corners(const fg::Solution& s, bool cycles_points, std::vector<std::vector<char>>& touched) {
     const Hierarchy& h = s.h;
     const auto& objects = s.scene.objects();
@@ -691,7 +692,7 @@ std::vector<Corner> output_corners(const fg::Solution& s, bool cycles_points, st
             Corner c{int(pi), k, corner, o.corner_verts[size_t(corner)], fg::sample_point(o, p, k, h, cycles_points), -1};
             c.beyond = fg::corner_covered(s, p, c.x);
             if (c.beyond != -1) touched[size_t(p.object)][size_t(c.vertex)] = 1;
-            corners.push_back(c);
+            if (o.written(size_t(corner))) corners.push_back(c);
         }
     }
     return corners;
@@ -752,7 +753,7 @@ std::vector<fg::Job> FinalGather::Impl::make_jobs(const Solution& s) {
         if (at_vertex[o].empty()) continue;
         for (size_t ci = 0; ci < corner_point[o].size(); ++ci) {
             const auto& at = at_vertex[o][size_t(objects[o].corner_verts[ci])];
-            if (corner_point[o][ci] < 0 && !at.empty()) corner_point[o][ci] = at.front();
+            if (corner_point[o][ci] < 0 && !at.empty() && objects[o].written(ci)) corner_point[o][ci] = at.front();
         }
     }
     return jobs;
@@ -866,7 +867,9 @@ void FinalGather::Impl::run(const Solution& s, const Config& c, std::vector<fg::
     bytes = measure_bytes();
     counts.points = int64_t(jobs.size());
     counts.corners = 0;
-    for (const auto& v : corner_point) counts.corners += int64_t(v.size());
+    const auto& objects = s.scene.objects();
+    for (size_t o = 0; o < corner_point.size(); ++o)
+        for (size_t ci = 0; ci < corner_point[o].size(); ++ci) counts.corners += objects[o].written(ci);
     tally.store(counts);
     counts.shared = 0;
     for (const fg::Point& p : points) counts.shared += !p.gathered;

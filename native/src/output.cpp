@@ -50,12 +50,17 @@ std::vector<float> Solver::corner_radiance(int object) const {
             }
         return v;
     }
-    // An object without output has no gather points (final_gather.cpp): its leaves.
+    // An object without output has no gather points (final_gather.cpp): its leaves; so too
+    // the corners of one whose colour is not read.
+    const auto leaves = [this, object] { return corner_values(object, [this](int id) { return h_.nodes[id].L; }); };
     if (settings_.gather_rays > 0 && o.output) {
         std::vector<float> v = output_.corner_radiance(h_, object);
-        if (v.size() == scene_.objects()[size_t(object)].corner_count() * 3) return v;
+        if (v.size() == o.corner_count() * 3) {
+            if (!o.written_corners.empty()) o.fill_unwritten(v, leaves());
+            return v;
+        }
     }
-    return corner_values(object, [this](int id) { return h_.nodes[id].L; });
+    return leaves();
 }
 
 void Solver::final_gather(double from, double to, const FinalGather::Moves* moves) {

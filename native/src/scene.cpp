@@ -95,9 +95,17 @@ int SceneDesc::add_object(ObjectDesc o) {
         }
     }
     check_corner_materials(o, o.corner_reflectance, o.corner_emission);
+    if (!o.written_corners.empty() && o.written_corners.size() != o.corner_verts.size())
+        fail(o, "written_corners needs one flag per corner");
     check_pieces(o, o.pieces);
     objects_.push_back(std::move(o));
     return int(objects_.size()) - 1;
+}
+
+void ObjectDesc::fill_unwritten(std::vector<float>& v, const std::vector<float>& others) const {
+    for (size_t c = 0; c < written_corners.size() && 3 * c + 2 < v.size() && 3 * c + 2 < others.size(); ++c)
+        if (!written_corners[c])
+            for (size_t k = 0; k < 3; ++k) v[3 * c + k] = others[3 * c + k];
 }
 
 size_t SceneDesc::polygon_count() const {

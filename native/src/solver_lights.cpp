@@ -171,11 +171,16 @@ std::vector<float> Solver::corner_irradiance(int object) const {
     settle_preview();
     if (object < 0 || object >= int(scene_.objects().size()))
         throw std::out_of_range("unknown object " + std::to_string(object));
+    const ObjectDesc& o = scene_.objects()[size_t(object)];
+    const auto leaves = [this, object] { return corner_values(object, [this](int id) { return leaf_irradiance(id); }); };
     if (settings_.gather_rays > 0) {  // output.cpp: the final gather's points
         std::vector<float> v = output_.corner_irradiance(h_, object);
-        if (v.size() == scene_.objects()[size_t(object)].corner_count() * 3) return v;
+        if (v.size() == o.corner_count() * 3) {
+            if (!o.written_corners.empty()) o.fill_unwritten(v, leaves());
+            return v;
+        }
     }
-    return corner_values(object, [this](int id) { return leaf_irradiance(id); });
+    return leaves();
 }
 
 }  // namespace radiosity

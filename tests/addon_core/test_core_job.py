@@ -68,3 +68,25 @@ def test_cancel_leaves_no_results(native):
         with pytest.raises(RuntimeError):
             j.radiance()
         assert session.kept("scene") is None
+
+
+def test_corner_map_gathers_only_the_corners_read(native):
+    """A modifier's corner map (the written mesh's corners read a few evaluated corners): the
+    solver is told which corners are read and gathers there only; those read what a bake of
+    every corner gives them."""
+    si = scenes_np.room()
+    full = _job(native, si, key=None).prepare().run()
+    box = next(i for i, o in enumerate(si.objects) if o.name == "box")
+    o = si.objects[box]
+    # The written mesh reads corners 0, 2, 4, ... of the box (some twice).
+    cmap = np.repeat(np.arange(0, o.corner_count, 2), 2)
+    o.corner_map = cmap
+    part = _job(native, si, key=None).prepare().run()
+    got = part.radiance()[box][cmap]
+    assert np.all(np.isfinite(got))
+    want = full.radiance()[box][cmap]
+    assert abs(got.mean() / want.mean() - 1) < 0.05
+    before, after = full.native_stats(), part.native_stats()
+    if "gather_corners" in before:  # (the stand-in does not count them)
+        read = len(np.unique(cmap))
+        assert after["gather_corners"] == before["gather_corners"] - o.corner_count + read

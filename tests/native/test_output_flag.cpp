@@ -236,3 +236,53 @@ TEST(OutputFlag, TexturedAndAllSilentObjects) {
     }
     EXPECT_TRUE(silent.preview({{kCopy, translation({-30, 20, 0})}}).empty());
 }
+
+// A modifier's evaluated mesh has many corners for each one written (ObjectDesc::
+// written_corners): only the read ones get gather points. Read here: the copy's corners at
+// even vertices (each such vertex's first corner is read, so its point is where the full
+// trace puts it); without shared gathers every read corner is then what the full trace
+// gives, bit for bit, and the others read the leaves.
+TEST(OutputFlag, OnlyTheCornersReadAreGathered) {
+    auto masked = [](bool mask) {
+        SceneDesc s = room(true, true);
+        ObjectDesc& o = s.objects_mut()[size_t(kCopy)];
+        if (mask) {
+            o.written_corners.assign(o.corner_count(), 0);
+            for (size_t c = 0; c < o.corner_count(); ++c) o.written_corners[c] = o.corner_verts[c] % 2 == 0;
+        }
+        return s;
+    };
+    Settings st = settings();
+    st.gather_share = 0;
+    Solver full(masked(false), st), part(masked(true), st);
+    full.solve();
+    part.solve();
+    const ObjectDesc& o = part.scene().objects()[size_t(kCopy)];
+    int64_t read = 0;
+    for (size_t c = 0; c < o.corner_count(); ++c) read += o.written(c);
+    ASSERT_GT(read, 0);
+    ASSERT_LT(read, int64_t(o.corner_count()));
+    EXPECT_EQ(part.stats().gather_corners, full.stats().gather_corners - int64_t(o.corner_count()) + read);
+    EXPECT_LT(part.stats().gather_points, full.stats().gather_points);
+    EXPECT_LT(part.object_costs()[kCopy].point_rays, full.object_costs()[kCopy].point_rays);
+    EXPECT_EQ(others(part), others(full));
+
+    Settings no_gather = st;
+    no_gather.gather_rays = 0;
+    Solver leaves(masked(false), no_gather);
+    leaves.solve();
+    const std::vector<float> a = full.corner_radiance(kCopy), b = part.corner_radiance(kCopy),
+                             l = leaves.corner_radiance(kCopy), e = part.corner_irradiance(kCopy);
+    ASSERT_EQ(b.size(), 3 * o.corner_count());
+    EXPECT_TRUE(all_finite(b));
+    EXPECT_TRUE(all_finite(e));
+    for (size_t c = 0; c < o.corner_count(); ++c)
+        for (size_t k = 0; k < 3; ++k)
+            EXPECT_EQ(b[3 * c + k], o.written(c) ? a[3 * c + k] : l[3 * c + k]) << "corner " << c;
+
+    // A mask of the wrong length is refused.
+    SceneDesc bad = room(false);
+    ObjectDesc copy = room(true).objects()[size_t(kCopy)];
+    copy.written_corners.assign(copy.corner_count() + 1, 1);
+    EXPECT_THROW(bad.add_object(copy), InputError);
+}

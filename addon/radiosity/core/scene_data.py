@@ -270,6 +270,8 @@ def fingerprint(scene_input, settings_key):
         h.update(f"O|{o.name}|{o.cluster}|{o.target is not None}|{o.occluder}|{o.output}".encode())
         if o.two_sided is not None:
             h.update(np.ascontiguousarray(o.two_sided, dtype=np.uint8).tobytes())
+        if o.corner_map is not None:
+            h.update(b"M" + np.ascontiguousarray(o.corner_map, dtype=np.int64).tobytes())
         for arr, dtype in ((o.vertices, np.float64), (o.loop_starts, np.int32),
                            (o.loop_totals, np.int32), (o.corner_verts, np.int32),
                            (o.reflectance, np.float32), (o.emission, np.float32)):
@@ -336,6 +338,9 @@ def shape_digest(obj, cluster_path):
              f"{obj.output}".encode())
     if obj.two_sided is not None:
         h.update(np.ascontiguousarray(obj.two_sided, dtype=np.uint8).tobytes())
+    # (The corners read are part of the native object: another corner map replaces it.)
+    if obj.corner_map is not None:
+        h.update(b"M" + np.ascontiguousarray(obj.corner_map, dtype=np.int64).tobytes())
     local = np.ascontiguousarray(obj.vertices if obj.local_vertices is None else obj.local_vertices,
                                  dtype=np.float64).reshape(-1, 3)
     h.update(str(local.shape).encode())
@@ -394,6 +399,9 @@ def add_native_object(target, obj, cluster_id):
         extra["occluder"] = False
     if not obj.output:
         extra["output"] = False
+    written = written_corners(obj)
+    if written is not None:
+        extra["written_corners"] = written
     corners = corner_materials(obj)
     if corners[0] is not None:
         extra["corner_reflectance"] = corners[0]
@@ -424,6 +432,18 @@ def native_texture_pieces(obj):
     if emission is not None:
         out += (np.ascontiguousarray(clamp_emission(emission), dtype=np.float64),)
     return out
+
+
+def written_corners(obj):
+    """Per corner in the solver's order, 1 where the written mesh reads it (a modifier's corner
+    map: the solver gathers only there), as uint8; None when every corner is read."""
+    if obj.corner_map is None or not obj.output:
+        return None
+    mask = np.zeros(obj.corner_count, dtype=np.uint8)
+    mask[np.asarray(obj.corner_map, dtype=np.int64)] = 1
+    if obj.corner_perm is not None:
+        mask = mask[obj.corner_perm]
+    return np.ascontiguousarray(mask)
 
 
 def corner_materials(obj):

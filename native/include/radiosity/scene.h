@@ -59,6 +59,14 @@ struct ObjectDesc {
     // written): the final gather traces no point at its corners, which read the leaves. It
     // takes part in the light transport all the same.
     bool output = true;
+    // Optional, per corner (empty: every corner when `output`): whether its colour is read. A
+    // modifier's evaluated mesh (Array, Bevel, Subdivision Surface) has many corners for each
+    // corner of the mesh written; the final gather traces points at the read ones only, and
+    // the others read the leaves, as an object without output does.
+    std::vector<uint8_t> written_corners;
+    bool written(size_t corner) const { return output && (written_corners.empty() || written_corners[corner] != 0); }
+    // Per-corner RGB values `v` (3 floats a corner) take `others`' at the corners not written.
+    void fill_unwritten(std::vector<float>& v, const std::vector<float>& others) const;
     size_t polygon_count() const { return loop_starts.size(); }
     size_t corner_count() const { return corner_verts.size(); }
     bool textured() const { return !corner_reflectance.empty() || !corner_emission.empty(); }

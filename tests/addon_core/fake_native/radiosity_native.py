@@ -80,7 +80,8 @@ class Scene:
 
     def add_object(self, name, cluster, vertices, loop_starts, loop_totals, corner_verts,
                    reflectance, emission, two_sided=None, occluder=True,
-                   corner_reflectance=None, corner_emission=None, pieces=None, output=True):
+                   corner_reflectance=None, corner_emission=None, pieces=None, output=True,
+                   written_corners=None):
         v = np.array(vertices, dtype=np.float64)
         ls = np.array(loop_starts, dtype=np.int64)
         lt = np.array(loop_totals, dtype=np.int64)
@@ -158,7 +159,8 @@ class Solver:
 
     def add_object(self, name, cluster, vertices, loop_starts, loop_totals, corner_verts,
                    reflectance, emission, two_sided=None, occluder=True,
-                   corner_reflectance=None, corner_emission=None, pieces=None, output=True):
+                   corner_reflectance=None, corner_emission=None, pieces=None, output=True,
+                   written_corners=None):
         oid = self.scene.add_object(name, cluster, vertices, loop_starts, loop_totals,
                                     corner_verts, reflectance, emission, two_sided, occluder)
         self._base.append(self.scene.objects[oid]["v"].copy())

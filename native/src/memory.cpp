@@ -102,7 +102,7 @@ void Solver::forecast_output() {
         if (first.empty()) first.assign(o.corner_count(), 0);
         for (int k = 0; k < p.poly.n; ++k) {
             const int corner = p.corner[size_t(k)];
-            if (first[size_t(corner)]) continue;
+            if (first[size_t(corner)] || !o.written(size_t(corner))) continue;
             first[size_t(corner)] = 1;
             const int v = o.corner_verts[size_t(corner)];
             if (!made.insert(Hierarchy::mix(Hierarchy::mix(uint64_t(p.object), uint64_t(v)), facing)).second) continue;

@@ -265,6 +265,8 @@ TEST(OutputFlag, OnlyTheCornersReadAreGathered) {
     EXPECT_EQ(part.stats().gather_corners, full.stats().gather_corners - int64_t(o.corner_count()) + read);
     EXPECT_LT(part.stats().gather_points, full.stats().gather_points);
     EXPECT_LT(part.object_costs()[kCopy].point_rays, full.object_costs()[kCopy].point_rays);
+    // The memory forecast of the trace counts the points made, not the corners left out.
+    EXPECT_LT(part.stats().gather_forecast_bytes, full.stats().gather_forecast_bytes);
     EXPECT_EQ(others(part), others(full));
 
     Settings no_gather = st;

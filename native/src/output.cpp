@@ -50,17 +50,18 @@ std::vector<float> Solver::corner_radiance(int object) const {
             }
         return v;
     }
-    // An object without output has no gather points (final_gather.cpp): its leaves; so too
-    // the corners of one whose colour is not read.
-    const auto leaves = [this, object] { return corner_values(object, [this](int id) { return h_.nodes[id].L; }); };
-    if (settings_.gather_rays > 0 && o.output) {
-        std::vector<float> v = output_.corner_radiance(h_, object);
-        if (v.size() == o.corner_count() * 3) {
-            if (!o.written_corners.empty()) o.fill_unwritten(v, leaves());
-            return v;
-        }
-    }
-    return leaves();
+    // An object without output has no gather points (final_gather.cpp): its leaves.
+    return gathered_or_leaves(object,
+                              settings_.gather_rays > 0 && o.output ? output_.corner_radiance(h_, object) : std::vector<float>{},
+                              [this](int id) { return h_.nodes[id].L; });
+}
+
+std::vector<float> Solver::gathered_or_leaves(int object, std::vector<float> gathered,
+                                              const std::function<Rgb(int)>& leaf_value) const {
+    const ObjectDesc& o = scene_.objects()[size_t(object)];
+    if (gathered.size() != o.corner_count() * 3) return corner_values(object, leaf_value);
+    if (!o.written_corners.empty()) o.fill_unwritten(gathered, corner_values(object, leaf_value));
+    return gathered;
 }
 
 void Solver::final_gather(double from, double to, const FinalGather::Moves* moves) {

@@ -171,16 +171,9 @@ std::vector<float> Solver::corner_irradiance(int object) const {
     settle_preview();
     if (object < 0 || object >= int(scene_.objects().size()))
         throw std::out_of_range("unknown object " + std::to_string(object));
-    const ObjectDesc& o = scene_.objects()[size_t(object)];
-    const auto leaves = [this, object] { return corner_values(object, [this](int id) { return leaf_irradiance(id); }); };
-    if (settings_.gather_rays > 0) {  // output.cpp: the final gather's points
-        std::vector<float> v = output_.corner_irradiance(h_, object);
-        if (v.size() == o.corner_count() * 3) {
-            if (!o.written_corners.empty()) o.fill_unwritten(v, leaves());
-            return v;
-        }
-    }
-    return leaves();
+    // (output.cpp: the final gather's points, or the leaves)
+    return gathered_or_leaves(object, settings_.gather_rays > 0 ? output_.corner_irradiance(h_, object) : std::vector<float>{},
+                              [this](int id) { return leaf_irradiance(id); });
 }
 
 }  // namespace radiosity

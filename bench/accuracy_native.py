@@ -116,6 +116,8 @@ def main():
                     help="also print each solve's wall time and rays per phase")
     ap.add_argument("--reference", choices=("bpy", "binary"), default="bpy",
                     help="judge against the references made in bpy 5.x (default) or Blender 3.4")
+    ap.add_argument("--ref", help="the Cycles reference (.npz) of a single exported scene given as "
+                    "F.npz (e.g. an interior's, as bench/interior/run_interior.py --cycles caches it)")
     ap.add_argument("scenes", nargs="*")
     a = ap.parse_args()
     sys.path.insert(0, a.native_dir)
@@ -130,17 +132,17 @@ def main():
         else:
             name, path = arg, export(arg, tmp)
         z = np.load(path)
-        ref, ref_var, meta = cm.load_reference(bt_scenes.ref(name, a.reference))
+        ref, ref_var, meta = cm.load_reference(a.ref or bt_scenes.ref(name, a.reference))
         si, written = scene_input(z)
         ids = [i for i, o in enumerate(si.objects) if written[i]]
         order = sorted(ids, key=lambda i: si.objects[i].name)
         if [si.objects[i].name for i in order] != meta["objects"]:
             raise SystemExit(f"{name}: objects {[si.objects[i].name for i in order]} differ from "
                              f"the reference's {meta['objects']}")
-        emit = np.concatenate([np.repeat(np.any(si.objects[i].emission > 0, axis=1),
-                                         si.objects[i].loop_totals) for i in order])
+        emit = np.concatenate([si.objects[i].written_values(np.repeat(
+            np.any(si.objects[i].emission > 0, axis=1), si.objects[i].loop_totals)) for i in order])
         refs[name] = (meta, cm.corner_error(ref, ref, emitter=emit, ref_var=ref_var))
-        counts = [len(si.objects[i].corner_verts) for i in order]
+        counts = [si.objects[i].written_corner_count for i in order]
         by_preset = {}
         for preset, seed in [(p, sd) for p in a.presets.split(",")
                              for sd in (a.seeds.split(",") if a.seeds else [None])]:
@@ -158,7 +160,7 @@ def main():
                 x = np.asarray(s.corner_radiance(oids[i]), dtype=np.float64)
                 if si.objects[i].corner_perm is not None:
                     x = x[si.objects[i].corner_perm]    # solver order -> Blender's
-                parts.append(x)
+                parts.append(si.objects[i].written_values(x))
             x = np.concatenate(parts)
             if a.save:
                 os.makedirs(a.save, exist_ok=True)
@@ -185,6 +187,11 @@ def main():
                 for k, v in surfaces.items() if np.mean(v["ref_mean"]) > 0), flush=True)
             by_preset.setdefault(preset, []).append(x)
             if a.phases:
+                if stats.get("gather_points"):
+                    print(f"   per output point: {stats['gather_links'] / stats['gather_points']:.0f} links, "
+                          f"{stats['gather_rays'] / stats['gather_points']:.0f} rays "
+                          f"({stats['gather_near_rays'] / stats['gather_points']:.0f} near field, "
+                          f"{stats['gather_lamp_rays'] / stats['gather_points']:.0f} lamps)", flush=True)
                 rays = dict(stats.get("phase_rays", {}))
                 print("   phases: " + ", ".join(f"{k} {v:.2f} s ({rays.get(k, 0):,} rays)"
                                                for k, v in stats.get("phases", {}).items()), flush=True)

@@ -47,6 +47,9 @@ def main():
     print("  output: " + ", ".join(f"{k} {st[k]:,}" for k in (
         "gather_points", "gather_fresh_points", "gather_kept", "gather_replayed", "gather_rays",
         "gather_lamp_rays", "gather_near_rays", "gather_shared")))
+    print("  solution: " + ", ".join(f"{k} {st[k]:,}" if isinstance(st[k], int) else f"{k} {st[k]:.2f}" for k in (
+        "links", "links_created", "iterations", "link_sweeps", "seconds_sweeps", "gather_plans",
+        "seconds_gather_plan", "refine_rounds")))
 
 
 if __name__ == "__main__":

@@ -44,15 +44,40 @@ void unit_push_down(const Hierarchy& h, const LinkStore& links, int id, Rgb acc,
 }  // namespace
 
 void coupling_sums(const Hierarchy& h, const LinkStore& links, CouplingSums& sums, int threads) {
+    // The links into clusters that can bring light (their senders close the view), per
+    // cluster in in_links order, copied once: a cluster high up is above thousands of
+    // surfaces, and its links read from the store would each be a miss.
+    struct Term {
+        Vec3 dir;
+        double K;
+        int src;
+    };
+    std::vector<int64_t> begin(h.nodes.size() + 1, 0);
+    for (size_t id = 0; id < h.nodes.size(); ++id) {
+        const Node& n = h.nodes[id];
+        begin[id + 1] = begin[id] + (n.is_cluster() ? int64_t(n.in_links.size()) : 0);
+    }
+    std::vector<Term> terms(size_t(begin.back()));
+    std::vector<char> closing(terms.size(), 0);
+    parallel_for(h.nodes.size(), threads, [&](size_t id) {
+        const Node& n = h.nodes[id];
+        if (!n.is_cluster()) return;
+        for (size_t k = 0; k < n.in_links.size(); ++k) {
+            const Link& l = links[size_t(n.in_links[k])];
+            const size_t t = size_t(begin[id]) + k;
+            terms[t] = {l.dir, l.K, l.src};
+            closing[t] = h.closes(l.src);
+        }
+    }, 256);
     parallel_for(h.surfaces.size(), threads, [&](size_t s) {
         const Node& root = h.nodes[size_t(h.surfaces[s].root)];
         const Vec3 nrm = root.normal;
         Rgb acc;  // through the cluster links above the surface, times its cosine toward each
         for (int a : h.ancestors_of_surface(int(s)))
-            for (int li : h.nodes[size_t(a)].in_links) {
-                const Link& l = links[size_t(li)];
+            for (int64_t t = begin[size_t(a)]; t < begin[size_t(a) + 1]; ++t) {
+                const Term& l = terms[size_t(t)];
                 const double c = -dot(nrm, l.dir);
-                if (c > 0 && h.holds_pocket(l.src, root.pocket) && h.closes(l.src)) acc += (Rgb::all(1.0) * l.K) * c;
+                if (c > 0 && h.holds_pocket(l.src, root.pocket) && closing[size_t(t)]) acc += (Rgb::all(1.0) * l.K) * c;
             }
         unit_push_down(h, links, h.surfaces[s].root, acc, sums);
     }, 64);
@@ -81,8 +106,9 @@ void GatherPlan::build(const Hierarchy& h, const LinkStore& links, int threads) 
     slot_node_.clear();
     build_elements(h);
     const std::vector<int32_t> c_value_begin = build_clusters(h);
-    build_links(h, links, threads);
-    build_flux_groups(h, links, c_value_begin);
+    ClusterLinkEnds ends;
+    build_links(h, links, threads, ends);
+    build_flux_groups(h, c_value_begin, ends);
     valid_ = true;
 }
 
@@ -160,15 +186,23 @@ std::vector<int32_t> GatherPlan::build_clusters(const Hierarchy& h) {
 }
 
 // Sender slot and K of every link, in one flat pass that fetches links ahead (a link read is a
-// cache miss; this way the misses overlap). Cluster senders and element senders with samples
+// cache miss; this way the misses overlap), and the links into clusters' directions and
+// senders for the flux groups (`ends`). Cluster senders and element senders with samples
 // are marked -2 and senders outside the plan -3 for the serial pass after, which gives the
 // former their sender records and the latter their slots.
-void GatherPlan::build_links(const Hierarchy& h, const LinkStore& links, int threads) {
+void GatherPlan::build_links(const Hierarchy& h, const LinkStore& links, int threads, ClusterLinkEnds& ends) {
     const int32_t cl_lo = n_elem_, cl_hi = n_elem_ + n_clusters_;
     plinks_.resize(plink_id_.size());
+    const size_t from = size_t(cluster_links_from_);
+    ends.dir.resize(plinks_.size() - from);
+    ends.src.resize(plinks_.size() - from);
     parallel_for(plinks_.size(), workers(threads), [&](size_t k) {
         if (k + kAhead < plink_id_.size()) __builtin_prefetch(&links[size_t(plink_id_[k + kAhead])]);
         const Link& l = links[size_t(plink_id_[k])];
+        if (k >= from) {
+            ends.dir[k - from] = l.dir;
+            ends.src[k - from] = l.src;
+        }
         const int32_t src = slot_[size_t(l.src)];
         const int32_t send = src < 0 ? -3 : ((src >= cl_lo && src < cl_hi) || !l.samples.empty() ? -2 : -1);
         plinks_[k] = PlanLink{src, send, l.K, h.closes(l.src) ? l.K : 0.0};
@@ -201,8 +235,8 @@ uint64_t bits_of(double x) {
 // chain (the same deepest ancestor), the same normal (keyed by its bits) and the same pocket
 // (a link brings nothing to surfaces in pockets its sender has none in). Terms in the order
 // the ancestors (root first) and their in_links come, as a per-surface walk would add them.
-void GatherPlan::build_flux_groups(const Hierarchy& h, const LinkStore& links,
-                                   const std::vector<int32_t>& c_value_begin) {
+void GatherPlan::build_flux_groups(const Hierarchy& h, const std::vector<int32_t>& c_value_begin,
+                                   const ClusterLinkEnds& ends) {
     const int32_t cl_lo = n_elem_, cl_hi = n_elem_ + n_clusters_;
     const size_t ns = h.surfaces.size();
     std::map<std::tuple<int, uint64_t, uint64_t, uint64_t, int>, int32_t> groups;
@@ -228,11 +262,12 @@ void GatherPlan::build_flux_groups(const Hierarchy& h, const LinkStore& links,
             const int32_t sa = slot_[size_t(a)];
             const int32_t first = sa >= cl_lo && sa < cl_hi ? c_value_begin[size_t(sa - cl_lo)] : -1;
             if (first < 0) continue;  // no links into it
-            const std::vector<int>& in = h.nodes[size_t(a)].in_links;
-            for (size_t k = 0; k < in.size(); ++k) {
-                const Link& l = links[size_t(in[k])];
-                const double c = -dot(nrm, l.dir);
-                if (c > 0 && h.holds_pocket(l.src, pocket)) flux_.push_back({first + int32_t(k), c});
+            // (The links' ends as build_links copied them: one ancestor high up serves
+            // thousands of groups, and its links read from the store would each be a miss.)
+            const int32_t count = int32_t(h.nodes[size_t(a)].in_links.size());
+            for (int32_t k = first; k < first + count; ++k) {
+                const double c = -dot(nrm, ends.dir[size_t(k)]);
+                if (c > 0 && h.holds_pocket(ends.src[size_t(k)], pocket)) flux_.push_back({k, c});
             }
         }
     }
@@ -471,12 +506,12 @@ double GatherPlan::sweep(bool unit, CouplingSums* sums, int threads) {
         G_[size_t(r_entry_[i])] = g;
     }, 64);
     // 2. Flux arriving through cluster links, per surface group, times its cosine (oriented
-    //    clusters; few groups: serial); then push-pull down and up each surface's quadtree.
-    for (size_t g = 0; g < g_flux_.size(); ++g) {
+    //    clusters); then push-pull down and up each surface's quadtree.
+    parallel_for(g_flux_.size(), workers(threads), [&](size_t g) {
         Rgb acc;
         for (int32_t k = g_begin_[g]; k < g_begin_[g + 1]; ++k) acc += cvalue_[size_t(flux_[size_t(k)].value)] * flux_[size_t(k)].cos;
         g_flux_[g] = acc;
-    }
+    }, 256);
     std::vector<double> deltas(s_group_.size(), 0.0);
     parallel_for(s_group_.size(), workers(threads), [&](size_t s) { push_pull(s, unit, sums, deltas[s]); }, 64);
     if (unit) return 0.0;

@@ -138,14 +138,19 @@ private:
         double cos;
     };
 
+    // The links into clusters, in cvalue_'s order: direction and sender (build()'s scratch).
+    struct ClusterLinkEnds {
+        std::vector<Vec3> dir;
+        std::vector<int> src;
+    };
+
     int32_t slot_of(int node);
     int workers(int threads) const;  // threads, or 1 for a small plan
     // build()'s steps, in order (each described in gather_plan.cpp).
     void build_elements(const Hierarchy& h);
     std::vector<int32_t> build_clusters(const Hierarchy& h);
-    void build_links(const Hierarchy& h, const LinkStore& links, int threads);
-    void build_flux_groups(const Hierarchy& h, const LinkStore& links,
-                           const std::vector<int32_t>& c_value_begin);
+    void build_links(const Hierarchy& h, const LinkStore& links, int threads, ClusterLinkEnds& ends);
+    void build_flux_groups(const Hierarchy& h, const std::vector<int32_t>& c_value_begin, const ClusterLinkEnds& ends);
     // prepare_radiometry()'s steps, in order.
     void prepare_elements(const Hierarchy& h, const std::function<Rgb(int)>& direct, int threads);
     void prepare_clusters(const Hierarchy& h);

@@ -10,6 +10,7 @@
 
 #include "radiosity/direct_light.h"
 #include "radiosity/parallel.h"
+#include "radiosity/replay.h"
 
 namespace radiosity {
 
@@ -260,17 +261,10 @@ Sampled estimate(const ILight& l, const Where& where, const Vec3& n, int m, Rng&
     return r;
 }
 
-// A point's shadow rays, cast through `vis` or, with `old` (the same point's record, same
-// seed and lights) and `changed` (boxes where geometry moved since), a ray that meets none of
-// the boxes takes its recorded outcome.
-struct LampRayStream {
-    LampRayStream(const Visibility& v, const LampRays* o, const std::vector<Aabb>* c)
-        : vis(v), old(o), changed(o ? c : nullptr) {}
-    const Visibility& vis;
-    const LampRays* old = nullptr;
-    MovedBoxes changed;
-    LampRays out;
-    int cast = 0;
+// A point's shadow rays, replayed (ReplayedRays) from the same point's record (same seed and
+// lights) where they meet no moved box.
+struct LampRayStream : ReplayedRays<LampRays> {
+    using ReplayedRays::ReplayedRays;
     bool occluded(const Vec3& a, const Vec3& b) { return take(a, b, -1); }
     bool occluded(const Vec3& a, const Vec3& b, double near) { return take(a, b, near); }
     bool take(const Vec3& a, const Vec3& b, double near) {
@@ -320,7 +314,7 @@ PointLight direct_light_replay(const SceneDesc& scene, const Hierarchy& h, const
                                const std::vector<Aabb>* changed, LampRays& out) {
     LampRayStream rs(vis, old, changed);
     PointLight r = direct_light_with(scene, h, rs, x, n, false, m, seed);
-    r.rays = rs.cast;
+    r.rays = int(rs.cast);
     out = std::move(rs.out);
     return r;
 }

@@ -8,6 +8,7 @@
 
 #include "radiosity/hierarchy.h"
 #include "radiosity/link.h"
+#include "radiosity/replay.h"
 #include "radiosity/visibility.h"
 
 namespace radiosity {
@@ -62,19 +63,12 @@ struct PointRays {
     int count = 0;
     uint64_t blocked = 0;
 };
-// The rays of one point transfer: cast through `vis`, or, with `old` (the same transfer's
-// record, same seed and ray count) and `changed` (boxes where the geometry changed since), a
-// ray that meets none of the boxes takes its recorded outcome (the segment and everything
-// along it are the same). `out` is the fresh record; `cast` counts the rays really cast.
-struct PointRayStream {
+// The rays of one point transfer, replayed (ReplayedRays) from the same transfer's record
+// where they meet no moved box: the segment and everything along it are the same.
+struct PointRayStream : ReplayedRays<PointRays> {
     explicit PointRayStream(const Visibility& v, const PointRays* o = nullptr, const std::vector<Aabb>* c = nullptr)
-        : vis(v), old(o), changed(o ? c : nullptr) {}
-    const Visibility& vis;
-    const PointRays* old = nullptr;
-    MovedBoxes changed;
-    PointRays out;
+        : ReplayedRays(v, o, c) {}
     int n = 0;
-    int64_t cast = 0;
     bool occluded(const Vec3& a, const Vec3& b);
 };
 PointTransfer point_transfer(const Hierarchy& h, PointRayStream& rays_out, int src, const Vec3& x, const Vec3& n,

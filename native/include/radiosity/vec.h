@@ -126,18 +126,6 @@ inline bool meets_any(const std::vector<Aabb>& boxes, const Vec3& a, const Vec3&
         if (box.meets_segment(a, b)) return true;
     return false;
 }
-// The boxes where geometry moved since some rays were recorded (a move's old and new boxes),
-// for a replay to ask which rays it must cast again; most segments are turned away by the
-// boxes' union first (a moved collection's parts give a dozen boxes in one place).
-struct MovedBoxes {
-    explicit MovedBoxes(const std::vector<Aabb>* b = nullptr) : boxes(b) {
-        if (b)
-            for (const Aabb& x : *b) all.grow(x);
-    }
-    bool meets(const Vec3& a, const Vec3& b) const { return all.meets_segment(a, b) && meets_any(*boxes, a, b); }
-    const std::vector<Aabb>* boxes;
-    Aabb all;
-};
 
 constexpr double kPi = 3.14159265358979323846;
 

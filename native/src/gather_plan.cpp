@@ -51,6 +51,7 @@ void coupling_sums(const Hierarchy& h, const LinkStore& links, CouplingSums& sum
         Vec3 dir;
         double K;
         int src;
+        bool closes;  // Hierarchy::closes(src)
     };
     std::vector<int64_t> begin(h.nodes.size() + 1, 0);
     for (size_t id = 0; id < h.nodes.size(); ++id) {
@@ -58,15 +59,12 @@ void coupling_sums(const Hierarchy& h, const LinkStore& links, CouplingSums& sum
         begin[id + 1] = begin[id] + (n.is_cluster() ? int64_t(n.in_links.size()) : 0);
     }
     std::vector<Term> terms(size_t(begin.back()));
-    std::vector<char> closing(terms.size(), 0);
     parallel_for(h.nodes.size(), threads, [&](size_t id) {
         const Node& n = h.nodes[id];
         if (!n.is_cluster()) return;
         for (size_t k = 0; k < n.in_links.size(); ++k) {
             const Link& l = links[size_t(n.in_links[k])];
-            const size_t t = size_t(begin[id]) + k;
-            terms[t] = {l.dir, l.K, l.src};
-            closing[t] = h.closes(l.src);
+            terms[size_t(begin[id]) + k] = {l.dir, l.K, l.src, h.closes(l.src)};
         }
     }, 256);
     parallel_for(h.surfaces.size(), threads, [&](size_t s) {
@@ -77,7 +75,7 @@ void coupling_sums(const Hierarchy& h, const LinkStore& links, CouplingSums& sum
             for (int64_t t = begin[size_t(a)]; t < begin[size_t(a) + 1]; ++t) {
                 const Term& l = terms[size_t(t)];
                 const double c = -dot(nrm, l.dir);
-                if (c > 0 && h.holds_pocket(l.src, root.pocket) && closing[size_t(t)]) acc += (Rgb::all(1.0) * l.K) * c;
+                if (c > 0 && h.holds_pocket(l.src, root.pocket) && l.closes) acc += (Rgb::all(1.0) * l.K) * c;
             }
         unit_push_down(h, links, h.surfaces[s].root, acc, sums);
     }, 64);

@@ -191,7 +191,8 @@ def main():
                     print(f"   per output point: {stats['gather_links'] / stats['gather_points']:.0f} links, "
                           f"{stats['gather_rays'] / stats['gather_points']:.0f} rays "
                           f"({stats['gather_near_rays'] / stats['gather_points']:.0f} near field, "
-                          f"{stats['gather_lamp_rays'] / stats['gather_points']:.0f} lamps)", flush=True)
+                          f"{stats['gather_lamp_rays'] / stats['gather_points']:.0f} lamps); "
+                          f"{stats['gather_points']:,} points, {stats['gather_shared']:,} of them shared", flush=True)
                 rays = dict(stats.get("phase_rays", {}))
                 print("   phases: " + ", ".join(f"{k} {v:.2f} s ({rays.get(k, 0):,} rays)"
                                                for k, v in stats.get("phases", {}).items()), flush=True)

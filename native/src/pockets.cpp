@@ -77,6 +77,9 @@ void Pockets::rays(const Hierarchy& h, const Sight& sight, int s, int count, uin
 
 void Pockets::compute(Hierarchy& h, const Sight& sight, const std::vector<Aabb>* changed, const std::vector<char>* moved) {
     const size_t ns = h.surfaces.size();
+    std::vector<int> was(ns, 0);  // each surface's pocket before (label() writes the new ones)
+    for (size_t s = 0; s < ns; ++s)
+        if (!h.surface_dead(int(s))) was[s] = h.nodes[size_t(h.surfaces[s].root)].pocket;
     std::vector<std::vector<Ray>> hits(ns);
     parallel_for(ns, sight.settings.threads, [&](size_t s) {
         if (h.surface_dead(int(s))) return;
@@ -116,11 +119,16 @@ void Pockets::compute(Hierarchy& h, const Sight& sight, const std::vector<Aabb>*
     int largest = -1;
     for (size_t s : live)
         if (size_t(sets.find(int(s))) == s && !open[s] && (largest < 0 || area[s] > area[size_t(largest)])) largest = int(s);
-    // Confirmation of the smaller closed components.
+    // Confirmation of the smaller closed components; after a move, not of one that was such a
+    // pocket before, confirmed, and that no change can reach (kept_confirmed).
+    std::vector<int> rep(ns, -1);  // per live surface, its component's representative
+    for (size_t s : live) rep[s] = sets.find(int(s));
+    const std::vector<char> kept = changed && moved ? kept_confirmed(h, live, rep, open, largest, was, *changed, *moved)
+                                                    : std::vector<char>(ns, 0);
     std::vector<size_t> confirm;
     for (size_t s : live) {
-        const int c = sets.find(int(s));
-        if (!open[size_t(c)] && c != largest) confirm.push_back(s);
+        const int c = rep[s];
+        if (!open[size_t(c)] && c != largest && !kept[size_t(c)]) confirm.push_back(s);
     }
     if (!confirm.empty()) {
         parallel_for(confirm.size(), sight.settings.threads, [&](size_t k) {
@@ -133,8 +141,45 @@ void Pockets::compute(Hierarchy& h, const Sight& sight, const std::vector<Aabb>*
     std::vector<int> component(ns, -1);
     for (size_t s : live) component[s] = sets.find(int(s));
     label(h, live, component, open, area);
+    unconfirmed_ = largest >= 0 && !open[size_t(largest)] ? largest + 1 : -1;
     h.set_pocket_sets();
     h.refresh_surface_geom();  // the samplers' copy of each surface's pocket
+}
+
+std::vector<char> Pockets::kept_confirmed(const Hierarchy& h, const std::vector<size_t>& live, const std::vector<int>& rep,
+                                          const std::vector<char>& open, int largest, const std::vector<int>& was,
+                                          const std::vector<Aabb>& changed, const std::vector<char>& moved) const {
+    // A closed component found again with the same surfaces as a pocket the last compute
+    // confirmed: its confirmation rays then all hit its own surfaces, so they stayed in the
+    // box of those surfaces. If no surface of it moved and no changed box meets that box,
+    // each ray meets what it met: the confirmation stands, without a ray cast.
+    const size_t ns = h.surfaces.size();
+    std::vector<int> members(ns, 0), old_members(ns + 1, 0), old_label(ns, -1);
+    std::vector<char> ok(ns, 1);
+    std::vector<Aabb> box(ns);
+    for (size_t s : live) {
+        const int c = rep[s];
+        const Node& n = h.nodes[size_t(h.surfaces[s].root)];
+        ++members[size_t(c)];
+        if (was[s] > 0 && size_t(was[s]) <= ns) ++old_members[size_t(was[s])];
+        if (old_label[size_t(c)] < 0) old_label[size_t(c)] = was[s];
+        const bool still = n.object >= 0 && size_t(n.object) < moved.size() && !moved[size_t(n.object)];
+        ok[size_t(c)] &= char(still && was[s] == old_label[size_t(c)] && was[s] > 0 && was[s] != unconfirmed_);
+        box[size_t(c)].grow(n.box);
+    }
+    std::vector<char> kept(ns, 0);
+    for (size_t s : live) {
+        if (rep[s] != int(s) || open[s] || int(s) == largest || !ok[s]) continue;
+        if (size_t(old_label[s]) > ns || old_members[size_t(old_label[s])] != members[s]) continue;  // not the same set
+        Aabb b = box[s];  // (the rays start lifted off their surfaces)
+        const double lift = 2e-5 * h.scene_diag;
+        b.lo -= Vec3{lift, lift, lift};
+        b.hi += Vec3{lift, lift, lift};
+        bool reached = false;
+        for (const Aabb& c : changed) reached = reached || c.overlaps(b);
+        kept[s] = !reached;
+    }
+    return kept;
 }
 
 void Pockets::label(Hierarchy& h, const std::vector<size_t>& live, const std::vector<int>& component,

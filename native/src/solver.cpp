@@ -281,24 +281,31 @@ void Solver::compute_stats() {
     std::vector<char> reached(h_.surfaces.size(), 0);
     for (size_t si = 0; si < h_.surfaces.size(); ++si) {
         if (h_.surface_dead(int(si))) continue;  // of a removed object
-        // Reached through a cluster link only if the surface faces its sender.
-        bool r = false;
         const Node& sr = h_.nodes[h_.surfaces[si].root];
-        for (int a : h_.ancestors_of_surface(int(si)))
-            for (int li : h_.nodes[a].in_links)
-                r |= links_[li].K > 0 && dot(sr.normal, links_[li].dir) < 0 && h_.holds_pocket(links_[li].src, sr.pocket);
+        bool r = sr.emission.max() > 0;
         std::vector<int> stack{h_.surfaces[si].root};
         int64_t leaves = 0;
         while (!stack.empty()) {
             int id = stack.back();
             stack.pop_back();
             const Node& n = h_.nodes[id];
-            r |= !n.in_links.empty() || !n.out_links.empty();
-            r |= n.children.empty() && direct_light_.direct(id).max() > 0;  // lit by a lamp
+            r = r || !n.in_links.empty() || !n.out_links.empty();
+            r = r || (n.children.empty() && direct_light_.direct(id).max() > 0);  // lit by a lamp
             if (n.children.empty()) ++leaves;
             for (int c : n.children) stack.push_back(c);
         }
-        if (r || h_.nodes[h_.surfaces[si].root].emission.max() > 0) s.elements += leaves;
+        // Else reached through a cluster link only if the surface faces its sender (the
+        // clusters' lists are long: read only when nothing else says so).
+        auto faces_a_sender = [&] {
+            for (int a : h_.ancestors_of_surface(int(si)))
+                for (int li : h_.nodes[a].in_links) {
+                    const Link& l = links_[li];
+                    if (l.K > 0 && dot(sr.normal, l.dir) < 0 && h_.holds_pocket(l.src, sr.pocket)) return true;
+                }
+            return false;
+        };
+        r = r || faces_a_sender();
+        if (r) s.elements += leaves;
     }
     s.closed_pockets = pockets_.closed_pockets();
     s.pocket_surfaces = pockets_.pocket_surfaces();

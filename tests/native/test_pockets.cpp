@@ -128,3 +128,49 @@ TEST(Pockets, MovingIntoAndOutOfAClosedCrateSolvesInFull) {
     EXPECT_TRUE(s.stats().mode_incremental);
     EXPECT_FALSE(said()) << "the previous update's fallback warning is not this one's";
 }
+
+TEST(Pockets, AMoveAwayFromAClosedPocketKeepsItsConfirmationWithoutARay) {
+    // A closed pocket's confirmation rays all hit its own surfaces: after a move whose boxes
+    // miss the pocket, its confirmation stands as it was. The pockets an update finds are
+    // those a full solve of the moved scene finds, and the update casts fewer pocket rays
+    // than one that casts every ray again.
+    auto scene = [](Vec3 stool_lo) {
+        SceneDesc sc = room_with_crate(true, {0.7, 0.7, 0.3});
+        scenes::add_box(sc, "stool", sc.add_cluster("Stool"), stool_lo, stool_lo + Vec3{0.4, 0.4, 0.4}, 2, Rgb::all(0.6), {});
+        return sc;
+    };
+    const Vec3 was{2.0, 2.0, 0.0}, by{0.25, -0.3, 0};
+    const SceneDesc sc = scene(was);
+    const int stool = int(sc.objects().size()) - 1;
+    const std::array<double, 16> step = translation(by);
+    auto pockets = [](const Solver& s) {
+        std::vector<int> p;
+        const Hierarchy& h = s.hierarchy();
+        for (size_t k = 0; k < h.surfaces.size(); ++k) p.push_back(h.nodes[size_t(h.surfaces[k].root)].pocket);
+        return p;
+    };
+    int64_t pocket_rays[2] = {0, 0};
+    std::vector<int> found[2];
+    for (int replay = 0; replay < 2; ++replay) {
+        Settings st = Settings::preset("DRAFT");
+        st.replay_rays = replay == 1;
+        Solver s(sc, st);
+        s.solve();
+        s.move_object(stool, step.data());
+        s.update();
+        ASSERT_TRUE(s.stats().mode_incremental);
+        for (const auto& [phase, rays] : s.stats().phase_rays)
+            if (phase == "pockets") pocket_rays[replay] = rays;
+        found[replay] = pockets(s);
+    }
+    Solver full(scene(was + by), Settings::preset("DRAFT"));
+    full.solve();
+    const std::vector<int> want = pockets(full);
+    std::set<int> closed(want.begin(), want.end());
+    EXPECT_GE(closed.size(), 4u) << "open space, the room, the crate, the cubes' insides";
+    EXPECT_EQ(found[1], want);
+    EXPECT_EQ(found[0], want);
+    std::printf("[ figure ] pocket rays of the update: %lld keeping confirmations, %lld casting every ray\n",
+                (long long)pocket_rays[1], (long long)pocket_rays[0]);
+    EXPECT_LT(2 * pocket_rays[1], pocket_rays[0]);
+}

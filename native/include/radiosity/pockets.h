@@ -57,7 +57,13 @@ private:
     void label(Hierarchy& h, const std::vector<size_t>& live, const std::vector<int>& component,
                const std::vector<char>& open, const std::vector<double>& area);
 
+    // compute's confirmation after a move: per component representative, whether its
+    // confirmation of the last compute still holds (see pockets.cpp).
+    std::vector<char> kept_confirmed(const Hierarchy& h, const std::vector<size_t>& live, const std::vector<int>& rep,
+                                     const std::vector<char>& open, int largest, const std::vector<int>& was,
+                                     const std::vector<Aabb>& changed, const std::vector<char>& moved) const;
     std::vector<std::vector<Ray>> records_;
+    int unconfirmed_ = -1;  // the largest closed pocket's label at the last compute: not confirmed
     int main_pocket_ = 0;  // the pocket of the largest space (open space, or a closed room)
     int64_t closed_pockets_ = 0, pocket_surfaces_ = 0;
 };

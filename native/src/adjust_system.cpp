@@ -85,12 +85,26 @@ std::vector<int> AdjustSystem::classify_links() {
     Stats& s = c_.stats;
     std::vector<int> recompute;
     const size_t nlinks = links.size();
+    // The outcode test of every link whose ends both stay, in parallel (it reads the ends'
+    // boxes, far apart in memory); the boxes' union first, beyond which lies beyond every box.
+    Aabb all;
+    for (const Aabb& c : ch.clips) all.grow(c);
+    std::vector<char> meets(nlinks, 0);
+    parallel_for(nlinks, c_.settings.threads, [&](size_t i) {
+        const Link& l = links[i];
+        if (l.dead || ch.inX[l.src] || ch.inX[l.rcv]) return;
+        const Aabb& a = h.nodes[l.src].box;
+        const Aabb& b = h.nodes[l.rcv].box;
+        if (ch.clips.empty() || (outcode(a, all) & outcode(b, all)) != 0) return;
+        for (const Aabb& c : ch.clips)
+            if ((outcode(a, c) & outcode(b, c)) == 0) { meets[i] = 1; return; }
+    }, 4096);
     for (size_t i = 0; i < nlinks; ++i) {
         Link& l = links[i];
         if (l.dead) continue;
-        const Node& a = h.nodes[l.src];
-        const Node& b = h.nodes[l.rcv];
         if (ch.inX[l.src] || ch.inX[l.rcv]) {
+            const Node& a = h.nodes[l.src];
+            const Node& b = h.nodes[l.rcv];
             // Obj-obj (both ends inside one moved object): a rigid move keeps its form
             // factor; only the direction turns.
             if (a.object >= 0 && a.object == b.object && ch.moved[a.object]) {
@@ -104,10 +118,7 @@ std::vector<int> AdjustSystem::classify_links() {
         }
         // Env-env: 3.3 pruning with the old and new boxes of every moved object.
         ++s.env_env_links_tested;
-        bool rejected = true;
-        for (const Aabb& c : ch.clips)
-            if ((outcode(a.box, c) & outcode(b.box, c)) == 0) { rejected = false; break; }
-        if (rejected) { ++s.env_env_links_rejected; continue; }
+        if (!meets[i]) { ++s.env_env_links_rejected; continue; }
         recompute.push_back(int(i));
     }
     return recompute;

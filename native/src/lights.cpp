@@ -539,7 +539,7 @@ void DirectLight::compute(const Hierarchy& h, const Sight& sight, const std::vec
         double area = 0, var_max = 0, edge = 0;
         for (int k = 0; k < 4; ++k) {
             const Poly c = n.poly.child(k);
-            const double a = c.area();
+            const double a = c.area(), share = c.first_share();
             Rgb e;
             double var = 0;
             for (const ILight& l : ls) {
@@ -547,9 +547,9 @@ void DirectLight::compute(const Hierarchy& h, const Sight& sight, const std::vec
                 const bool sky = l.type == LightDesc::Type::Sky;
                 const int mm = element_shadow_rays(sight.settings.rays_per_link, l.type);
                 // Stratified over the child along its first coordinate.
-                auto where = [&c, mm](int s, Rng& g) {
+                auto where = [&c, share, mm](int s, Rng& g) {
                     const double v = g.next(), u = (s + g.next()) / mm;  // named: the order is every compiler's
-                    return c.sample(u, v);
+                    return c.sample(share, u, v);
                 };
                 const Sampled r = estimate(l, where, n.normal, mm, rng, rs, lift, far,
                                            [&](const Vec3& p) { return contact(h, n.surface, p) >= 0; });

@@ -49,12 +49,13 @@ void Pockets::rays(const Hierarchy& h, const Sight& sight, int s, int count, uin
     Rng rng(Hierarchy::mix(sight.settings.seed ^ 0x5EA1ED ^ stream, n.key));
     Vec3 u, v;
     frame(n.normal, u, v);
+    const double share = n.poly.first_share();
     for (int r = 0; r < count; ++r) {
         // Cosine-distributed: the directions that carry the most light are tried most.
         const double r1 = rng.next(), r2 = rng.next();
         const Vec3 d = cosine_direction(u, v, n.normal, r1, r2);
         const double s2 = rng.next(), s1 = rng.next();  // named: the order is every compiler's
-        const Vec3 o = n.poly.sample(s1, s2) + n.normal * lift;
+        const Vec3 o = n.poly.sample(share, s1, s2) + n.normal * lift;
         if (old && size_t(r) < old->size()) {
             // Nothing changed between o and what it hit (or the ray's end): the same hit.
             if (!meets_any(*changed, o, o + d * (*old)[size_t(r)].reach)) {

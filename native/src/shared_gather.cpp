@@ -115,8 +115,19 @@ std::vector<char> open_edge_points(const Solution& s, const std::vector<Job>& jo
 }
 
 // The gathered points that lend, each in the cell of the grid level matching its lending
-// radius (share x reach, cells from `base` up); `levels_used` gets a bit per level used.
-using LenderGrid = std::unordered_map<CellKey, std::vector<int>, CellHash>;
+// radius (share x reach, cells from `base` up); `levels_used` gets a bit per level used. Most
+// cells a point asks for hold no lender: a bit per hash of the cells that do (a table that
+// stays in cache) answers those without a look into the map.
+struct LenderGrid {
+    std::unordered_map<CellKey, std::vector<int>, CellHash> cells;
+    std::vector<uint64_t> held;  // bit (hash mod held.size() * 64) set: that cell may hold lenders
+    const std::vector<int>* find(const CellKey& k) const {
+        const size_t b = CellHash{}(k) % (held.size() * 64);
+        if (!((held[b >> 6] >> (b & 63)) & 1)) return nullptr;
+        const auto it = cells.find(k);
+        return it == cells.end() ? nullptr : &it->second;
+    }
+};
 LenderGrid lender_grid(const std::vector<Point>& points, const std::vector<size_t>& lenders,
                        const std::vector<char>& open_edge, double share, double base, uint64_t& levels_used) {
     LenderGrid grid;
@@ -127,8 +138,13 @@ LenderGrid lender_grid(const std::vector<Point>& points, const std::vector<size_
         if (!(r > 0) || open_edge[i]) continue;
         const int l = std::clamp(int(std::ceil(std::log2(r / base))), 0, 63);
         const double size = base * std::ldexp(1.0, l);
-        grid[cell_of(p.object, l, p.x, size)].push_back(int(i));
+        grid.cells[cell_of(p.object, l, p.x, size)].push_back(int(i));
         levels_used |= uint64_t(1) << l;
+    }
+    grid.held.assign(std::max<size_t>(64, (grid.cells.size() * 16 + 63) / 64), 0);  // ~16 bits a cell
+    for (const auto& c : grid.cells) {
+        const size_t b = CellHash{}(c.first) % (grid.held.size() * 64);
+        grid.held[b >> 6] |= uint64_t(1) << (b & 63);
     }
     return grid;
 }
@@ -147,9 +163,9 @@ bool find_lenders(const Solution& s, const std::vector<Point>& points, const Len
         for (int dx = -1; dx <= 1; ++dx)
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dz = -1; dz <= 1; ++dz) {
-                    const auto it = grid.find({j.object, l, at.ix + dx, at.iy + dy, at.iz + dz});
-                    if (it == grid.end()) continue;
-                    for (int q : it->second) {
+                    const std::vector<int>* cell = grid.find({j.object, l, at.ix + dx, at.iy + dy, at.iz + dz});
+                    if (!cell) continue;
+                    for (int q : *cell) {
                         const Point& p = points[size_t(q)];
                         const Vec3 d = j.x - p.x;
                         // (Not across a step: both on one tangent plane, within a tenth of

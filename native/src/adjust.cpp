@@ -405,36 +405,33 @@ void Solver::update_resolve(UpdateRun& u) {
     // The closure factors and the converged radiances belong to the links as they were
     // before un-refinement and the rounds below: the last solve must see the final links.
     bool solved_final_links = false;
+    // Whether the last closure pass and solve stand on the links and leaves as they are (the
+    // un-refinement above changed them since the first).
+    bool closure_current = false;
     int64_t judged_from = u.links_before;  // links made since are new: judge them all
     for (int round = 0; round < settings_.max_refine_rounds; ++round) {
         check_cancel();
         ++s.refine_rounds;
+        const size_t links_were = links_.size(), nodes_were = h_.nodes.size();
+        const int64_t elements_were = stats_.element_nodes;
         std::vector<int> ids, unsettle;
-        const std::vector<float> judged_now = round == 0 ? judging_radiance(snapshot()) : std::vector<float>();
-        const double floor = 0.01 * threshold_;
-        for (size_t i = 0; i < links_.size(); ++i) {
-            const Link& l = links_[i];
-            if (!l.active || !(int64_t(i) >= judged_from || l.rejudge || moved_light[l.src])) continue;
-            ids.push_back(int(i));
-            const size_t p = size_t(l.src);
-            if (l.settled && p < u.judged_before.size() && p < judged_now.size() &&
-                judged_now[p] > 1.02 * u.judged_before[p] && judged_now[p] > floor)
-                unsettle.push_back(int(i));
-        }
+        update_judged(u, round, judged_from, moved_light, ids, unsettle);
         refinement().reopen_settled(unsettle);
         for (Link& l : links_) l.rejudge = false;
         const std::vector<float> snap = snapshot();
         judged_from = int64_t(links_.size());
         const bool lit = light_refine();  // solver_lights.cpp: where direct light varies
-        bool more = lit;
+        bool more = lit, touched = false;
         // A lit scene's first judgement on the radiance a full solve's first linking sees.
         if (round == 0 && !scene_.lights().empty())
-            at_first_bounce([&] { more = refinement().refine_links(ids) || more; });
+            at_first_bounce([&] { more = refinement().refine_links(ids, &touched) || more; });
         else
-            more = refinement().refine_links(ids) || more;
+            more = refinement().refine_links(ids, &touched) || more;
         lap("refine");
+        closure_current = closure_current && !touched && unsettle.empty() && links_.size() == links_were &&
+                          h_.nodes.size() == nodes_were && stats_.element_nodes == elements_were;
         if (!more) break;
-        compute_closure();
+        closure_current = compute_closure();
         lap("closure");
         solved_final_links = round + 1 == settings_.max_refine_rounds;
         iterate_to(solved_final_links ? settings_.tolerance : loose, settings_.max_iterations, 0.6, 0.9);
@@ -442,14 +439,32 @@ void Solver::update_resolve(UpdateRun& u) {
         moved_light = changed_senders(snap);
     }
     if (!solved_final_links) {
-        // Warm: a handful of sweeps when nothing changed since the last solve.
-        compute_closure();
-        lap("closure");
-        iterate_to(settings_.tolerance, settings_.max_iterations, 0.9, 0.95);
+        // Warm: a handful of sweeps when nothing changed since the last solve. When no link or
+        // leaf changed since the last closure pass, that pass stands and so does the plan.
+        if (!closure_current) {
+            compute_closure();
+            lap("closure");
+        }
+        iterate_to(settings_.tolerance, settings_.max_iterations, 0.9, 0.95, closure_current);
         lap("gather");
     }
     prune_elements();
     lap("prune");
+}
+
+void Solver::update_judged(const UpdateRun& u, int round, int64_t judged_from, const std::vector<char>& moved_light,
+                           std::vector<int>& ids, std::vector<int>& unsettle) const {
+    const std::vector<float> judged_now = round == 0 ? judging_radiance(snapshot()) : std::vector<float>();
+    const double floor = 0.01 * threshold_;
+    for (size_t i = 0; i < links_.size(); ++i) {
+        const Link& l = links_[i];
+        if (!l.active || !(int64_t(i) >= judged_from || l.rejudge || moved_light[l.src])) continue;
+        ids.push_back(int(i));
+        const size_t p = size_t(l.src);
+        if (l.settled && p < u.judged_before.size() && p < judged_now.size() &&
+            judged_now[p] > 1.02 * u.judged_before[p] && judged_now[p] > floor)
+            unsettle.push_back(int(i));
+    }
 }
 
 void Solver::update_output(UpdateRun& u) {

@@ -116,14 +116,14 @@ void Refinement::link_from(std::vector<Candidate> wave) {
     }
 }
 
-bool Refinement::refine_active() {
+bool Refinement::refine_active(bool* touched) {
     std::vector<int> active;
     for (size_t i = 0; i < c_.links.size(); ++i)
         if (c_.links[i].active) active.push_back(int(i));
-    return refine_links(active);
+    return refine_links(active, touched);
 }
 
-bool Refinement::refine_links(const std::vector<int>& ids) {
+bool Refinement::refine_links(const std::vector<int>& ids, bool* touched) {
     std::vector<int> active;
     for (int id : ids)
         if (c_.links[id].active) active.push_back(id);
@@ -132,9 +132,11 @@ bool Refinement::refine_links(const std::vector<int>& ids) {
     parallel_for(active.size(), c_.settings.threads, [&](size_t i) { js[i] = o.judge(c_.links[active[i]]); }, 256);
     std::vector<Candidate> next;
     bool changed = false;
+    if (touched) *touched = false;
     for (size_t i = 0; i < active.size(); ++i) {
         if (js[i].side == Side::Keep) continue;
         if (js[i].side != Side::Settle) changed = true;
+        if (touched) *touched = true;
         apply(active[i], js[i], next);
     }
     link_from(std::move(next));

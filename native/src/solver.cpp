@@ -80,13 +80,15 @@ void Solver::solve(Control* control) {
         stats_.warnings.push_back("the scene has no emitter: every radiance is 0");
     } else {
         const auto t1 = Clock::now();
-        link_and_refine();
+        const bool closure_current = link_and_refine();
         stats_.seconds_link = since(t1);
         const auto t2 = Clock::now();
-        compute_closure();
-        lap("closure");
+        if (!closure_current) {
+            compute_closure();
+            lap("closure");
+        }
         stats_.iteration_capped = false;
-        iterate_to(settings_.tolerance, settings_.max_iterations, 0.8, 0.9);
+        iterate_to(settings_.tolerance, settings_.max_iterations, 0.8, 0.9, closure_current);
         lap("gather");
         final_gather(0.9, 1.0);  // output.cpp
         lap("output");
@@ -144,7 +146,7 @@ void Solver::fit_ray_epsilon() {
 
 // A lit scene's linking: first-bounce light, links from the root's self-link down, then
 // rounds of gathering and refinement until the oracle splits nothing (or the round cap).
-void Solver::link_and_refine() {
+bool Solver::link_and_refine() {
     light_initial();  // solver_lights.cpp: lit surfaces get their first-bounce radiance before linking
     h_.index_emitters();  // can_split: small emitting clusters still split
     forecast_output();    // memory.cpp: refinement leaves room for the output (follow_forecast)
@@ -158,18 +160,25 @@ void Solver::link_and_refine() {
     const int round_sweeps = std::min(settings_.max_iterations, kRoundSweeps);
     for (int round = 0; round < settings_.max_refine_rounds; ++round) {
         check_cancel();
-        compute_closure();
+        const bool closure_settled = compute_closure();
         lap("closure");
         iterate_to(loose, round_sweeps, 0.2 + 0.6 * round / settings_.max_refine_rounds,
                    0.2 + 0.6 * (round + 0.5) / settings_.max_refine_rounds);
         lap("gather");
         light_known_ = true;
         ++stats_.refine_rounds;
+        const size_t links_were = links_.size(), nodes_were = h_.nodes.size();
+        const int64_t elements_were = stats_.element_nodes;
+        bool touched = false;
         const bool lights_split = light_refine();  // solver_lights.cpp: where direct light varies
-        const bool more = refinement().refine_active() || lights_split;
+        const bool more = refinement().refine_active(&touched) || lights_split;
         lap("refine");
-        if (!more) break;
+        // Nothing judged, split or merged since this round's closure pass and solve: they stand.
+        if (!more)
+            return closure_settled && !touched && links_.size() == links_were && h_.nodes.size() == nodes_were &&
+                   stats_.element_nodes == elements_were;
     }
+    return false;
 }
 
 // Warnings about the result that stands after a solve or an update (an update starts from

@@ -15,8 +15,8 @@ void Solver::collect_receivers() {
     direct_light_.prepare(h_, light_sight(), gathering_.leaves(), edits_.poses(), replay_boxes());
 }
 
-void Solver::iterate_to(double tolerance, int max_iterations, double p0, double p1) {
-    collect_receivers();
+void Solver::iterate_to(double tolerance, int max_iterations, double p0, double p1, bool keep_plan) {
+    if (!keep_plan) collect_receivers();
     gathering_.iterate_to(gather_context(), tolerance, max_iterations, L_ref_, [this] { check_cancel(); },
                           [&](double f) { set_progress(p0 + (p1 - p0) * f); });
 }
@@ -25,7 +25,7 @@ void Solver::iterate_to(double tolerance, int max_iterations, double p0, double 
 // that an enclosed leaf's sums say are too coarse split (Refinement::split_for_closure), pass after pass until
 // none is. A leaf decides with its own escape rays the first time it is a leaf in a closure
 // pass; its children inherit the answer (and the decider) when it splits.
-void Solver::compute_closure() {
+bool Solver::compute_closure() {
     // An update's closure passes split, away from its moved boxes, only the links it made.
     static const std::vector<Aabb> no_focus;
     const std::vector<Aabb>& focus = update_run_ ? update_run_->closure_focus : no_focus;
@@ -39,7 +39,7 @@ void Solver::compute_closure() {
         const bool split = settings_.closure_rays > 0 && pass < settings_.closure_refine_passes &&
                            refinement().split_for_closure(gathering_.leaves(), sums.total, focus, new_from);
         lap("closure split");
-        if (!split) break;
+        if (!split) return pass < settings_.closure_refine_passes || settings_.closure_rays <= 0;
     }
 }
 

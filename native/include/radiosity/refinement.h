@@ -69,10 +69,11 @@ public:
     // their splits, until a wave is empty. A cluster's self-link expands into its children's.
     void link_from(std::vector<Candidate> wave);
     // One round of judgements over the active ones of `ids`, their splits linked; true when any
-    // link split (settlements alone do not count).
-    bool refine_links(const std::vector<int>& ids);
+    // link split (settlements alone do not count). `touched`, if given: whether any link was
+    // split or settled (false: the links are as they were).
+    bool refine_links(const std::vector<int>& ids, bool* touched = nullptr);
     // refine_links over every active link.
-    bool refine_active();
+    bool refine_active(bool* touched = nullptr);
     // Splits, on the receiver side, the element links above enclosed `leaves` whose sums of
     // couplings (`fsum`, per node) are off 1; true if any split. Away from the `focus` boxes
     // (none: no focus) only links from `new_from` on split.

@@ -169,9 +169,10 @@ public:
 private:
     static constexpr int kRoundSweeps = 40;  // gathering sweeps between refinement rounds
 
-    // solve()'s phases (solver.cpp): the scene built, and a lit scene linked and refined.
+    // solve()'s phases (solver.cpp): the scene built, and a lit scene linked and refined
+    // (true when its last closure pass and solve stand on the links as they end).
     void build_scene();
-    void link_and_refine();
+    bool link_and_refine();
     // Embree's ray offset for the scene's size (h_.scene_box, scene_diag).
     void fit_ray_epsilon();
     // The oracle (oracle.h) on the hierarchy, the settings, the direct light and the threshold
@@ -209,9 +210,14 @@ private:
     Gathering::Context gather_context() { return {h_, links_, direct_light_, settings_, stats_}; }
     void collect_receivers();
     // Sweeps to `tolerance` (Gathering::iterate_to), progress from progress_from to progress_to.
-    void iterate_to(double tolerance, int max_iterations, double progress_from, double progress_to);
+    // With `keep_plan`, the leaves and the gather plan are not collected again: no link or
+    // node changed since the last iterate_to.
+    void iterate_to(double tolerance, int max_iterations, double progress_from, double progress_to,
+                    bool keep_plan = false);
     // Closure factors set, then closure-driven splits, pass after pass until none splits.
-    void compute_closure();
+    // True when its last pass split nothing (not cut by Settings::closure_refine_passes): a
+    // second call on the same links would change nothing.
+    bool compute_closure();
     // Whether a node's escape rays find open space (Node::enclosed); with `moved_boxes`, only
     // the rays through them are cast again.
     void escape_rays(const Node& n, std::vector<std::pair<Vec3, Vec3>>& rays) const;
@@ -249,6 +255,10 @@ private:
     bool update_adjust(UpdateRun& u, Control* control);  // place the moved objects, AdjustSystem
     void update_history(UpdateRun& u);   // un-refine history links, lights
     void update_resolve(UpdateRun& u);   // closure, gathering, un-refinement, refine rounds
+    // A refine round's links to judge (new since `judged_from`, flagged, or from a sender whose
+    // light moved) and, among them, the settled ones whose sender's first bounce grew.
+    void update_judged(const UpdateRun& u, int round, int64_t judged_from, const std::vector<char>& moved_light,
+                       std::vector<int>& ids, std::vector<int>& unsettle) const;
     void update_output(UpdateRun& u);    // final gather, stats
     // A full solve in place of an update (pending moves become placements); `why` is warned.
     void solve_instead(Control* control, const char* why);

@@ -412,8 +412,7 @@ void Solver::update_resolve(UpdateRun& u) {
     for (int round = 0; round < settings_.max_refine_rounds; ++round) {
         check_cancel();
         ++s.refine_rounds;
-        const size_t links_were = links_.size(), nodes_were = h_.nodes.size();
-        const int64_t elements_were = stats_.element_nodes;
+        const LinkShape was = link_shape();
         std::vector<int> ids, unsettle;
         update_judged(u, round, judged_from, moved_light, ids, unsettle);
         refinement().reopen_settled(unsettle);
@@ -428,8 +427,7 @@ void Solver::update_resolve(UpdateRun& u) {
         else
             more = refinement().refine_links(ids, &touched) || more;
         lap("refine");
-        closure_current = closure_current && !touched && unsettle.empty() && links_.size() == links_were &&
-                          h_.nodes.size() == nodes_were && stats_.element_nodes == elements_were;
+        closure_current = closure_current && !touched && unsettle.empty() && link_shape() == was;
         if (!more) break;
         closure_current = compute_closure();
         lap("closure");

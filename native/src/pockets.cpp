@@ -40,6 +40,14 @@ struct DisjointSets {
     }
 };
 
+// The pocket each of the first `count` surfaces is in now (0 for a removed one's).
+std::vector<int> surface_pockets(const Hierarchy& h, size_t count) {
+    std::vector<int> out(count, 0);
+    for (size_t s = 0; s < count; ++s)
+        if (!h.surface_dead(int(s))) out[s] = h.nodes[size_t(h.surfaces[s].root)].pocket;
+    return out;
+}
+
 }  // namespace
 
 void Pockets::rays(const Hierarchy& h, const Sight& sight, int s, int count, uint64_t stream, std::vector<Ray>& hits,
@@ -78,9 +86,7 @@ void Pockets::rays(const Hierarchy& h, const Sight& sight, int s, int count, uin
 
 void Pockets::compute(Hierarchy& h, const Sight& sight, const std::vector<Aabb>* changed, const std::vector<char>* moved) {
     const size_t ns = h.surfaces.size();
-    std::vector<int> was(ns, 0);  // each surface's pocket before (label() writes the new ones)
-    for (size_t s = 0; s < ns; ++s)
-        if (!h.surface_dead(int(s))) was[s] = h.nodes[size_t(h.surfaces[s].root)].pocket;
+    const std::vector<int> was = surface_pockets(h, ns);  // before label() writes the new ones
     std::vector<std::vector<Ray>> hits(ns);
     parallel_for(ns, sight.settings.threads, [&](size_t s) {
         if (h.surface_dead(int(s))) return;
@@ -216,9 +222,7 @@ void Pockets::label(Hierarchy& h, const std::vector<size_t>& live, const std::ve
 
 bool Pockets::reseal(Hierarchy& h, const Sight& sight, size_t known, const std::vector<Aabb>* changed,
                      const std::vector<char>* moved) {
-    std::vector<int> was(known, 0);
-    for (size_t s = 0; s < known; ++s)
-        if (!h.surface_dead(int(s))) was[s] = h.nodes[size_t(h.surfaces[s].root)].pocket;
+    const std::vector<int> was = surface_pockets(h, known);
     compute(h, sight, changed, moved);
     for (size_t s = 0; s < h.surfaces.size(); ++s) {
         if (h.surface_dead(int(s))) continue;

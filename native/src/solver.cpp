@@ -167,16 +167,13 @@ bool Solver::link_and_refine() {
         lap("gather");
         light_known_ = true;
         ++stats_.refine_rounds;
-        const size_t links_were = links_.size(), nodes_were = h_.nodes.size();
-        const int64_t elements_were = stats_.element_nodes;
+        const LinkShape was = link_shape();
         bool touched = false;
         const bool lights_split = light_refine();  // solver_lights.cpp: where direct light varies
         const bool more = refinement().refine_active(&touched) || lights_split;
         lap("refine");
         // Nothing judged, split or merged since this round's closure pass and solve: they stand.
-        if (!more)
-            return closure_settled && !touched && links_.size() == links_were && h_.nodes.size() == nodes_were &&
-                   stats_.element_nodes == elements_were;
+        if (!more) return closure_settled && !touched && link_shape() == was;
     }
     return false;
 }
@@ -287,7 +284,6 @@ void Solver::compute_stats() {
     }
     // Elements: leaves of surfaces that light reaches (a back face nothing lights costs none).
     s.elements = 0;
-    std::vector<char> reached(h_.surfaces.size(), 0);
     for (size_t si = 0; si < h_.surfaces.size(); ++si) {
         if (h_.surface_dead(int(si))) continue;  // of a removed object
         const Node& sr = h_.nodes[h_.surfaces[si].root];

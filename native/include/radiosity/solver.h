@@ -218,6 +218,14 @@ private:
     // True when its last pass split nothing (not cut by Settings::closure_refine_passes): a
     // second call on the same links would change nothing.
     bool compute_closure();
+    // What a refinement round can change of the solution's structure: links made, nodes made,
+    // elements split or merged (a link judged and settled in place shows only to the round).
+    struct LinkShape {
+        size_t links, nodes;
+        int64_t elements;
+        bool operator==(const LinkShape& o) const { return links == o.links && nodes == o.nodes && elements == o.elements; }
+    };
+    LinkShape link_shape() const { return {links_.size(), h_.nodes.size(), stats_.element_nodes}; }
     // Whether a node's escape rays find open space (Node::enclosed); with `moved_boxes`, only
     // the rays through them are cast again.
     void escape_rays(const Node& n, std::vector<std::pair<Vec3, Vec3>>& rays) const;

@@ -44,58 +44,107 @@ Visibility::Visibility() {
     rtcSetDeviceMemoryMonitorFunction(device_, monitor, &bytes_);
     top_ = rtcNewScene(device_);
     rtcSetSceneFlags(top_, RTC_SCENE_FLAG_ROBUST);
+    shared_ = rtcNewScene(device_);
+    rtcSetSceneFlags(shared_, RTC_SCENE_FLAG_ROBUST);
 }
 
 Visibility::~Visibility() {
     for (RTCScene s : object_scenes_)
         if (s) rtcReleaseScene(s);
     if (top_) rtcReleaseScene(top_);
+    if (shared_) rtcReleaseScene(shared_);
     if (device_) rtcReleaseDevice(device_);
 }
 
-void Visibility::add_object(int object, const std::vector<Vec3>& tv) {
-    if (object >= int(object_scenes_.size())) {
-        object_scenes_.resize(object + 1, nullptr);
-        instance_geom_.resize(object + 1, -1);
-    }
-    if (tv.empty()) return;
-    RTCScene s = rtcNewScene(device_);
-    rtcSetSceneFlags(s, RTC_SCENE_FLAG_ROBUST);
-    RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-    const size_t nt = tv.size() / 3;
+namespace {
+// A triangle geometry of `count` vertices (three a triangle) written by `put` (float x, y, z
+// per vertex), committed; the caller attaches and releases it.
+template <class Put>
+RTCGeometry triangles(RTCDevice device, size_t count, Put put) {
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                           3 * sizeof(float), tv.size()));
+                                                           3 * sizeof(float), count));
     auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                              3 * sizeof(unsigned), nt));
-    for (size_t i = 0; i < tv.size(); ++i) {
-        vb[3 * i] = float(tv[i].x);
-        vb[3 * i + 1] = float(tv[i].y);
-        vb[3 * i + 2] = float(tv[i].z);
+                                                              3 * sizeof(unsigned), count / 3));
+    for (size_t i = 0; i < count; ++i) {
+        put(i, vb + 3 * i);
         ib[i] = unsigned(i);
     }
     rtcCommitGeometry(g);
-    rtcAttachGeometry(s, g);
-    rtcReleaseGeometry(g);
-    rtcCommitScene(s);
-    check_device(device_, "object build");
-    object_scenes_[object] = s;
+    return g;
+}
 
-    RTCGeometry inst = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+// Attaches g to scene s and records which object it holds in `object_of` (by geometry id:
+// Embree may hand a detached geometry's id to a later one).
+unsigned attach(RTCScene s, RTCGeometry g, int object, std::vector<int>& object_of) {
+    const unsigned id = rtcAttachGeometry(s, g);
+    if (object_of.size() <= id) object_of.resize(id + 1, -1);
+    object_of[id] = object;
+    rtcReleaseGeometry(g);
+    return id;
+}
+
+RTCGeometry instance_of(RTCDevice device, RTCScene s) {
+    RTCGeometry inst = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
     rtcSetGeometryInstancedScene(inst, s);
     const float id[12] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
     rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, id);
     rtcCommitGeometry(inst);
-    instance_geom_[object] = int(rtcAttachGeometry(top_, inst));
-    if (int(geom_object_.size()) <= instance_geom_[object]) geom_object_.resize(instance_geom_[object] + 1, -1);
-    geom_object_[instance_geom_[object]] = object;
-    rtcReleaseGeometry(inst);
+    return inst;
+}
+}  // namespace
+
+void Visibility::fit(int object) {
+    if (object < int(object_scenes_.size())) return;
+    object_scenes_.resize(object + 1, nullptr);
+    instance_geom_.resize(object + 1, -1);
+    shared_geom_.resize(object + 1, -1);
+    vertex_count_.resize(object + 1, 0);
+}
+
+void Visibility::add_object(int object, const std::vector<Vec3>& tv) {
+    fit(object);
+    if (tv.empty()) return;
+    RTCGeometry g = triangles(device_, tv.size(), [&tv](size_t i, float* v) {
+        v[0] = float(tv[i].x), v[1] = float(tv[i].y), v[2] = float(tv[i].z);
+    });
+    shared_geom_[object] = int(attach(shared_, g, object, shared_object_));
+    vertex_count_[size_t(object)] = tv.size();
+    shared_changed_ = true;
+    check_device(device_, "object build");
+}
+
+void Visibility::own_scene(int object) {
+    const unsigned gid = unsigned(shared_geom_[object]);
+    RTCGeometry old = rtcGetGeometry(shared_, gid);
+    const auto* ov = static_cast<const float*>(rtcGetGeometryBufferData(old, RTC_BUFFER_TYPE_VERTEX, 0));
+    RTCScene s = rtcNewScene(device_);
+    rtcSetSceneFlags(s, RTC_SCENE_FLAG_ROBUST);
+    std::vector<int> unused;
+    attach(s, triangles(device_, vertex_count_[size_t(object)], [ov](size_t i, float* v) {
+        v[0] = ov[3 * i], v[1] = ov[3 * i + 1], v[2] = ov[3 * i + 2];
+    }), object, unused);
+    rtcCommitScene(s);
+    rtcDetachGeometry(shared_, gid);
+    shared_object_[gid] = -1;
+    shared_geom_[object] = -1;
+    shared_changed_ = true;
+    object_scenes_[object] = s;
+    instance_geom_[object] = int(attach(top_, instance_of(device_, s), object, geom_object_));
+    check_device(device_, "object build");
 }
 
 void Visibility::remove_object(int object) {
     if (object < 0 || object >= int(instance_geom_.size())) return;
+    if (shared_geom_[object] >= 0) {
+        rtcDetachGeometry(shared_, unsigned(shared_geom_[object]));
+        shared_object_[size_t(shared_geom_[object])] = -1;
+        shared_geom_[object] = -1;
+        shared_changed_ = true;
+    }
     if (instance_geom_[object] >= 0) {
         rtcDetachGeometry(top_, unsigned(instance_geom_[object]));
-        geom_object_[instance_geom_[object]] = -1;  // Embree may hand the id to a later object
+        geom_object_[instance_geom_[object]] = -1;
         instance_geom_[object] = -1;
     }
     if (object_scenes_[object]) {
@@ -106,7 +155,12 @@ void Visibility::remove_object(int object) {
 }
 
 void Visibility::set_object_transform(int object, const Rigid& placement) {
-    if (object < 0 || object >= int(instance_geom_.size()) || instance_geom_[object] < 0) return;
+    if (object < 0 || object >= int(instance_geom_.size())) return;
+    if (shared_geom_[object] >= 0) {
+        if (placement.identity()) return;  // where it was given: stays shared
+        own_scene(object);
+    }
+    if (instance_geom_[object] < 0) return;
     RTCGeometry inst = rtcGetGeometry(top_, unsigned(instance_geom_[object]));
     const std::array<double, 12> m = placement.rows();
     float f[12];
@@ -116,6 +170,15 @@ void Visibility::set_object_transform(int object, const Rigid& placement) {
 }
 
 void Visibility::commit() {
+    if (shared_changed_ || shared_instance_ < 0) {
+        rtcCommitScene(shared_);
+        if (shared_instance_ < 0) {
+            shared_instance_ = int(attach(top_, instance_of(device_, shared_), -1, geom_object_));
+        } else {
+            rtcCommitGeometry(rtcGetGeometry(top_, unsigned(shared_instance_)));  // its bounds changed
+        }
+        shared_changed_ = false;
+    }
     rtcCommitScene(top_);
     check_device(device_, "scene commit");
 }
@@ -177,7 +240,8 @@ int Visibility::hit_object(const Vec3& a, const Vec3& b, double near, Vec3* hit,
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return -1;
     if (hit) *hit = a + d * (double(rh.ray.tfar) / len);
     if (triangle) *triangle = int(rh.hit.primID);
-    unsigned g = rh.hit.instID[0];
+    const unsigned g = rh.hit.instID[0];
+    if (int(g) == shared_instance_) return rh.hit.geomID < shared_object_.size() ? shared_object_[rh.hit.geomID] : -1;
     return g < geom_object_.size() ? geom_object_[g] : -1;
 }
 

@@ -1,5 +1,9 @@
-// Ray-cast visibility between points, on Embree 3. Every object is its own Embree scene,
-// instanced into the top-level scene, so a rigid move only re-transforms one instance.
+// Ray-cast visibility between points, on Embree 3. Objects that never moved share one Embree
+// scene (one BVH over all their triangles, an object a geometry), instanced once into the
+// top-level scene: a ray descends one tree, not one per object whose box it meets (in a
+// furnished room the walls' box holds every other). An object's first placement other than
+// where it was given moves it into a scene of its own, instanced, so a rigid move after that
+// only re-transforms its instance (the shared scene is rebuilt once, without it).
 #pragma once
 #include <array>
 #include <atomic>
@@ -21,12 +25,13 @@ public:
     Visibility(const Visibility&) = delete;
     Visibility& operator=(const Visibility&) = delete;
 
-    // Triangles in world space; an object with no triangle gets no instance.
+    // Triangles in world space (into the shared scene); an object with none is left out.
     void add_object(int object, const std::vector<Vec3>& tri_vertices);
-    // Detaches and releases an object's instance (rays pass where it was); its id is not
-    // reused. Takes effect at the next commit().
+    // Takes an object's triangles out (rays pass where it was); its id is not reused. Takes
+    // effect at the next commit().
     void remove_object(int object);
-    // Placement of an object relative to where its triangles were given.
+    // Placement of an object relative to where its triangles were given. Takes effect at the
+    // next commit().
     void set_object_transform(int object, const Rigid& placement);
     void commit();
     // Offset (scene units) kept from both segment ends, so a ray never hits the surfaces it
@@ -50,9 +55,18 @@ public:
 private:
     RTCDeviceTy* device_ = nullptr;
     RTCSceneTy* top_ = nullptr;
+    RTCSceneTy* shared_ = nullptr;       // the objects never moved
+    int shared_instance_ = -1;           // its instance's geometry id in top_
+    bool shared_changed_ = false;        // ... to rebuild at the next commit()
+    std::vector<int> shared_geom_;       // per object: its geometry id in shared_, -1 if not there
+    std::vector<int> shared_object_;     // per geometry id in shared_: its object
+    std::vector<size_t> vertex_count_;   // per object: its triangles' vertices
     std::vector<RTCSceneTy*> object_scenes_;
     std::vector<int> instance_geom_;  // per object: geometry id in top_, -1 if none
     std::vector<int> geom_object_;    // per geometry id in top_: its object
+    void fit(int object);
+    // An object's triangles moved out of shared_ into a scene of its own, instanced in top_.
+    void own_scene(int object);
     double eps_ = 1e-6;
     // Rays cast, counted in one slot per thread (a slot to a cache line): threads that shared
     // one counter would pass its line between cores on every ray.

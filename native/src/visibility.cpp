@@ -120,10 +120,11 @@ void Visibility::own_scene(int object) {
     const auto* ov = static_cast<const float*>(rtcGetGeometryBufferData(old, RTC_BUFFER_TYPE_VERTEX, 0));
     RTCScene s = rtcNewScene(device_);
     rtcSetSceneFlags(s, RTC_SCENE_FLAG_ROBUST);
-    std::vector<int> unused;
-    attach(s, triangles(device_, vertex_count_[size_t(object)], [ov](size_t i, float* v) {
+    RTCGeometry g = triangles(device_, vertex_count_[size_t(object)], [ov](size_t i, float* v) {
         v[0] = ov[3 * i], v[1] = ov[3 * i + 1], v[2] = ov[3 * i + 2];
-    }), object, unused);
+    });
+    rtcAttachGeometry(s, g);  // its scene's only geometry: hits name the object by instance
+    rtcReleaseGeometry(g);
     rtcCommitScene(s);
     rtcDetachGeometry(shared_, gid);
     shared_object_[gid] = -1;

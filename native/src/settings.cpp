@@ -5,53 +5,58 @@
 
 namespace radiosity {
 
+namespace {
+
+// The fields a preset sets; the others keep Settings' defaults.
+struct PresetRow {
+    const char* name;
+    double error_threshold, threshold_floor, min_area_fraction;
+    int below_floor_levels, rays_per_link;
+    double tolerance;
+    int gather_rays, gather_min_rays;
+    double gather_share;
+};
+
+}  // namespace
+
 Settings Settings::preset(const std::string& name) {
     // Why each value is what it is, with the measurements: docs/decisions.md, "Presets".
-    Settings s;
-    if (name == "DRAFT") {
-        s.error_threshold = 0.2;
-        s.min_area_fraction = 1e-4;
-        s.below_floor_levels = 0;  // the floor holds everywhere: leaves below it cost more than they give
-        s.rays_per_link = 8;
-        s.tolerance = 2e-4;
-        s.gather_rays = 64;
-        s.gather_min_rays = 2;
-        // Corners within 0.3 of a gathered neighbour's reach share its bounced light.
-        s.gather_share = 0.3;
-    } else if (name == "MEDIUM") {
-        // A threshold that follows the receiver's light (threshold_floor) refines what a
-        // viewer sees as wrong -- a dim gap behind a cabinet, a corner in shadow -- and leaves
-        // bright, smooth walls coarse, down to 5 % of the scene's light (where the accuracy
-        // metric's own floor lies). Leaves stop at DRAFT's area floor except where a narrow
-        // gap, an emitter's outline or a lamp's shadow edge needs them finer (oracle.cpp,
-        // lights.cpp): a finer floor everywhere costs links for no better accuracy.
-        s.error_threshold = 0.1;
-        s.threshold_floor = 0.05;
-        s.min_area_fraction = 1e-4;
-        s.rays_per_link = 16;
-        s.tolerance = 1e-4;
-        s.gather_rays = 512;
-        // Every link at least 8 rays: the many small links are the gather's noise.
-        s.gather_min_rays = 8;
-        // Shared gathers within 0.08 of a neighbour's reach (more costs the Cornell box's
-        // corners accuracy).
-        s.gather_share = 0.08;
-    } else if (name == "HIGH") {
-        // Half MEDIUM's threshold, with the visibility and the gather that a cube's foot on a
-        // checker floor needs (tests/blender/test_textures_world.py holds it to 2 %).
-        s.error_threshold = 0.05;
-        s.threshold_floor = 0.05;
-        s.min_area_fraction = 1e-5;
-        // Its floor is fine enough: leaves below it cost links for no better error.
-        s.below_floor_levels = 0;
-        s.rays_per_link = 32;
-        s.tolerance = 1e-5;
-        s.gather_rays = 1024;
-        s.gather_min_rays = 8;
-    } else {
-        throw std::invalid_argument("unknown preset '" + name + "' (DRAFT, MEDIUM or HIGH)");
+    // DRAFT: the area floor holds everywhere (below_floor_levels 0): leaves below it cost more
+    // than they give. Corners within 0.3 of a gathered neighbour's reach share its bounced light.
+    // MEDIUM: a threshold that follows the receiver's light (threshold_floor) refines what a
+    // viewer sees as wrong -- a dim gap behind a cabinet, a corner in shadow -- and leaves
+    // bright, smooth walls coarse, down to 5 % of the scene's light (where the accuracy
+    // metric's own floor lies). Leaves stop at DRAFT's area floor except where a narrow
+    // gap, an emitter's outline or a lamp's shadow edge needs them finer (oracle.cpp,
+    // lights.cpp): a finer floor everywhere costs links for no better accuracy. Every link at
+    // least 8 gather rays: the many small links are the gather's noise. Shared gathers within
+    // 0.08 of a neighbour's reach (more costs the Cornell box's corners accuracy).
+    // HIGH: half MEDIUM's threshold, with the visibility and the gather that a cube's foot on a
+    // checker floor needs (tests/blender/test_textures_world.py holds it to 2 %). Its area
+    // floor is fine enough: leaves below it cost links for no better error.
+    // Each row in PresetRow's order: name, error_threshold, threshold_floor, min_area_fraction,
+    // below_floor_levels, rays_per_link, tolerance, gather_rays, gather_min_rays, gather_share.
+    const Settings d;  // `d.` in a row: that preset keeps the default
+    const PresetRow rows[] = {
+        {"DRAFT",  0.2,  d.threshold_floor, 1e-4, 0,                    8,  2e-4, 64,   2, 0.3},
+        {"MEDIUM", 0.1,  0.05,              1e-4, d.below_floor_levels, 16, 1e-4, 512,  8, 0.08},
+        {"HIGH",   0.05, 0.05,              1e-5, 0,                    32, 1e-5, 1024, 8, d.gather_share},
+    };
+    for (const PresetRow& r : rows) {
+        if (name != r.name) continue;
+        Settings s;
+        s.error_threshold = r.error_threshold;
+        s.threshold_floor = r.threshold_floor;
+        s.min_area_fraction = r.min_area_fraction;
+        s.below_floor_levels = r.below_floor_levels;
+        s.rays_per_link = r.rays_per_link;
+        s.tolerance = r.tolerance;
+        s.gather_rays = r.gather_rays;
+        s.gather_min_rays = r.gather_min_rays;
+        s.gather_share = r.gather_share;
+        return s;
     }
-    return s;
+    throw std::invalid_argument("unknown preset '" + name + "' (DRAFT, MEDIUM or HIGH)");
 }
 
 void Settings::validate() const {

@@ -129,6 +129,17 @@ struct PySolver {
         idle();
         if (!solver->solved()) throw std::runtime_error("no finished solve");
     }
+    // A solve or an update (`step`) on this thread, the GIL released while it runs.
+    void run(void (Solver::*step)(Control*)) {
+        idle();
+        py::gil_scoped_release release;
+        (solver.get()->*step)(nullptr);
+    }
+    // ... or in the background job that running(), progress(), cancel() and wait() follow.
+    void start(void (Solver::*step)(Control*)) {
+        auto s = solver;
+        job.start([s, step](Control& c) { (s.get()->*step)(&c); });
+    }
 };
 
 // (F,3) per polygon or (3,) for all.
@@ -136,6 +147,13 @@ std::vector<Rgb> rgb_list(const Arr<double>& a) {
     if (a.ndim() == 1 && a.shape(0) == 3) return {Rgb{a.data()[0], a.data()[1], a.data()[2]}};
     if (a.ndim() != 2 || a.shape(1) != 3) throw py::value_error("values must be (F,3) or (3,)");
     return rgb_rows(a, "values", size_t(a.shape(0)));
+}
+
+// Interleaved RGB values (r, g, b, r, ...) as an (n,3) array.
+py::array_t<float> rgb_array(const std::vector<float>& v) {
+    py::array_t<float> out({py::ssize_t(v.size() / 3), py::ssize_t(3)});
+    std::copy(v.begin(), v.end(), out.mutable_data());
+    return out;
 }
 
 py::dict stats_dict(const Stats& s) {
@@ -157,6 +175,23 @@ py::dict stats_dict(const Stats& s) {
     for (const auto& p : s.phase_rays) phase_rays[py::str(p.first)] = p.second;
     d["phase_rays"] = phase_rays;
     d["mode"] = s.mode_incremental ? "incremental" : "full";
+#undef F
+    return d;
+}
+
+// A preview's counts and an object's costs as dicts, each field under its own name.
+py::dict preview_counts_dict(const FinalGather::PreviewCounts& k) {
+    py::dict d;
+#define F(x) d[#x] = k.x
+    F(points); F(lamps); F(transfers); F(rays); F(uncovered); F(covered); F(deferred);
+#undef F
+    return d;
+}
+
+py::dict object_cost_dict(const Solver::ObjectCost& c) {
+    py::dict d;
+#define F(x) d[#x] = c.x
+    F(point_rays); F(links); F(link_rays); F(history_links); F(history_link_rays);
 #undef F
     return d;
 }
@@ -250,15 +285,8 @@ PYBIND11_MODULE(radiosity_native, m) {
 
     py::class_<PySolver>(m, "Solver")
         .def(py::init<const SceneDesc&, const Settings&>(), py::arg("scene"), py::arg("settings"))
-        .def("solve", [](PySolver& s) {
-            s.idle();
-            py::gil_scoped_release release;
-            s.solver->solve(nullptr);
-        })
-        .def("start", [](PySolver& s) {
-            auto solver = s.solver;
-            s.job.start([solver](Control& c) { solver->solve(&c); });
-        })
+        .def("solve", [](PySolver& s) { s.run(&Solver::solve); })
+        .def("start", [](PySolver& s) { s.start(&Solver::solve); })
         .def("move_object", [](PySolver& s, int object, const Arr<double>& m) {
             s.idle();
             if (m.ndim() != 2 || m.shape(0) != 4 || m.shape(1) != 4) throw py::value_error("matrix must be 4x4");
@@ -314,15 +342,8 @@ PYBIND11_MODULE(radiosity_native, m) {
             s.idle();
             s.solver->set_light(index, l);
         }, py::arg("index"), py::arg("light"))
-        .def("update", [](PySolver& s) {
-            s.idle();
-            py::gil_scoped_release release;
-            s.solver->update(nullptr);
-        })
-        .def("start_update", [](PySolver& s) {
-            auto solver = s.solver;
-            s.job.start([solver](Control& c) { solver->update(&c); });
-        })
+        .def("update", [](PySolver& s) { s.run(&Solver::update); })
+        .def("start_update", [](PySolver& s) { s.start(&Solver::update); })
         .def("running", [](PySolver& s) { return s.job.running(); })
         .def("progress", [](PySolver& s) { return s.job.progress(); })
         .def("cancel", [](PySolver& s) { s.job.cancel(); })
@@ -332,10 +353,7 @@ PYBIND11_MODULE(radiosity_native, m) {
         }, py::arg("timeout") = -1.0)
         .def("corner_radiance", [](const PySolver& s, int object) {
             s.solved();
-            std::vector<float> v = s.solver->corner_radiance(object);
-            py::array_t<float> out({py::ssize_t(v.size() / 3), py::ssize_t(3)});
-            std::copy(v.begin(), v.end(), out.mutable_data());
-            return out;
+            return rgb_array(s.solver->corner_radiance(object));
         }, py::arg("object_id"))
         // Live drag: with the objects of `moves` ({object_id: 4x4 matrix}, as move_object
         // takes) placed there, direct light re-traced and the rest as solved, the corners that
@@ -358,28 +376,14 @@ PYBIND11_MODULE(radiosity_native, m) {
                 patches = s.solver->preview(mv, &k, work);
             }
             py::dict out;
-            for (const CornerPatch& p : patches) {
-                py::array_t<float> vals({py::ssize_t(p.corners.size()), py::ssize_t(3)});
-                std::copy(p.values.begin(), p.values.end(), vals.mutable_data());
+            for (const CornerPatch& p : patches)  // three values a corner
                 out[py::int_(p.object)] = py::make_tuple(
-                    py::array_t<int32_t>(py::ssize_t(p.corners.size()), p.corners.data()), vals);
-            }
-            py::dict d;
-            d["points"] = k.points;
-            d["lamps"] = k.lamps;
-            d["transfers"] = k.transfers;
-            d["rays"] = k.rays;
-            d["uncovered"] = k.uncovered;
-            d["covered"] = k.covered;
-            d["deferred"] = k.deferred;
-            return py::make_tuple(out, d);
+                    py::array_t<int32_t>(py::ssize_t(p.corners.size()), p.corners.data()), rgb_array(p.values));
+            return py::make_tuple(out, preview_counts_dict(k));
         }, py::arg("moves"), py::arg("work") = -1)
         .def("corner_irradiance", [](const PySolver& s, int object) {
             s.solved();
-            std::vector<float> v = s.solver->corner_irradiance(object);
-            py::array_t<float> out({py::ssize_t(v.size() / 3), py::ssize_t(3)});
-            std::copy(v.begin(), v.end(), out.mutable_data());
-            return out;
+            return rgb_array(s.solver->corner_irradiance(object));
         }, py::arg("object_id"))
         .def("leaf_mesh", [](const PySolver& s, int object, bool lighting_only) {
             s.solved();
@@ -410,15 +414,7 @@ PYBIND11_MODULE(radiosity_native, m) {
         .def("object_costs", [](const PySolver& s) {
             s.solved();
             py::list out;
-            for (const Solver::ObjectCost& c : s.solver->object_costs()) {
-                py::dict d;
-                d["point_rays"] = c.point_rays;
-                d["links"] = c.links;
-                d["link_rays"] = c.link_rays;
-                d["history_links"] = c.history_links;
-                d["history_link_rays"] = c.history_link_rays;
-                out.append(d);
-            }
+            for (const Solver::ObjectCost& c : s.solver->object_costs()) out.append(object_cost_dict(c));
             return out;
         });
 }

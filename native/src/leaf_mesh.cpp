@@ -8,6 +8,7 @@
 // that already has T-junctions keeps them.
 #include <map>
 
+#include "radiosity/front_leaves.h"
 #include "radiosity/solver.h"
 
 namespace radiosity {
@@ -22,22 +23,8 @@ LeafMesh Solver::leaf_mesh(int object, bool lighting_only) const {
     settle_preview();
     if (object < 0 || object >= int(scene_.objects().size()))
         throw std::out_of_range("unknown object " + std::to_string(object));
-    // Leaves in input-face order, each quadtree depth first in child order (deterministic).
-    std::vector<std::pair<int, int>> leaves;  // (node, face)
-    for (const Primitive& p : h_.prims) {
-        if (p.object != object || p.front < 0) continue;
-        std::vector<int> stack{h_.surfaces[p.front].root};
-        while (!stack.empty()) {
-            int id = stack.back();
-            stack.pop_back();
-            const Node& n = h_.nodes[id];
-            if (n.children.empty()) {
-                leaves.push_back({id, p.face});
-                continue;
-            }
-            for (auto it = n.children.rbegin(); it != n.children.rend(); ++it) stack.push_back(*it);
-        }
-    }
+    std::vector<std::pair<int, int>> leaves;  // (node, face), in for_each_front_leaf's order
+    for_each_front_leaf(h_, object, [&](int id, const Primitive& p) { leaves.push_back({id, p.face}); });
     LeafMesh m;
     std::map<VKey, int> index;
     auto vertex = [&](const Vec3& p) {

@@ -8,6 +8,7 @@
 #include "radiosity/builtin_scenes.h"
 #include "radiosity/geometry.h"
 #include "radiosity/compare.h"
+#include "radiosity/front_leaves.h"
 #include "radiosity/solver.h"
 
 namespace radiosity::testing {
@@ -79,20 +80,11 @@ inline Rgb object_front_radiance(const Solver& s, int object) {
     return acc / a;
 }
 
-// The ids of an object's front leaves (the elements its polygons' fronts end in).
+// The ids of an object's front leaves (the elements its polygons' fronts end in), in
+// for_each_front_leaf's order.
 inline std::vector<int> front_leaf_ids(const Solver& s, int object) {
-    const Hierarchy& h = s.hierarchy();
     std::vector<int> out;
-    for (const Primitive& p : h.prims) {
-        if (p.object != object || p.front < 0) continue;
-        std::vector<int> st{h.surfaces[p.front].root};
-        while (!st.empty()) {
-            int id = st.back();
-            st.pop_back();
-            if (h.nodes[id].children.empty()) out.push_back(id);
-            for (int c : h.nodes[id].children) st.push_back(c);
-        }
-    }
+    for_each_front_leaf(s.hierarchy(), object, [&](int id, const Primitive&) { out.push_back(id); });
     return out;
 }
 

@@ -11,10 +11,10 @@ import os
 import time
 
 import bpy
-import numpy as np
 
 import rt_common as rt
 import ui_steps as ui
+from ui_moves import move, when_live_job
 from ui_steps import out
 
 EXAMPLE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..",
@@ -97,26 +97,7 @@ def live_on():
     out["stats_baked"] = rt.last_stats()
 
 
-def move(obj_name, goal):
-    def step():
-        obj = bpy.data.objects[obj_name]
-        for o in bpy.context.view_layer.objects:
-            o.select_set(o == obj)
-        bpy.context.view_layer.objects.active = obj
-        S["runs"] = ui.live_runs()
-        g = np.array(goal() if callable(goal) else goal, dtype=float)
-        op(bpy.ops.transform.translate, value=tuple(g - np.array(obj.location)))
-        op(bpy.ops.ed.undo_push, message="Move")     # as the user's drag would
-    return step
-
-
-def live_running():
-    st = ui.live_state()
-    if st.job is None:
-        if ui.live_runs() > S["runs"]:
-            out["live_too_fast"] = True
-            return None
-        return ui.WAIT_STEP
+def live_running(st):
     if "job_seen" not in S:
         S["job_seen"] = time.monotonic()
         # The move was previewed before the debounced update began (by the preview timer, or by
@@ -177,9 +158,10 @@ ui.run(
     setup, prepare, ui.open_sidebar, ui.click_radiosity_tab, idle_shot,
     bake_button, bake_running, modal_compare,
     ui.Waiter(quiet, 60, "quiet"), live_on,
-    move("Box1", lambda: scene()["radiosity_move"]["location"]), live_running,
+    move(lambda: bpy.data.objects["Box1"], lambda: scene()["radiosity_move"]["location"], S),
+    when_live_job(live_running, S, "live_too_fast"),
     ui.Waiter(lambda: ui.live_runs() > S["runs"] and quiet(), 300, "the live re-bake"),
     live_done,
-    pocket_scene, move("Cube", (0.8, 0.8, 0.2)),
+    pocket_scene, move(lambda: bpy.data.objects["Cube"], lambda: (0.8, 0.8, 0.2), S),
     ui.Waiter(lambda: ui.live_runs() > S["runs"] and quiet(), 120, "the live re-bake"),
     pocket_done, ui.finish)

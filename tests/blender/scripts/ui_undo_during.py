@@ -4,12 +4,12 @@ box. box_room.blend at MEDIUM, so that the update takes seconds."""
 import os
 
 import bpy
-import numpy as np
 
 import rt_common as rt
 import ui_steps as ui
+from ui_moves import move, when_live_job
 from ui_steps import out
-from ui_undo import EXAMPLE, S, bake_button, bake_done, box, kept, op, push, quiet, settle_step
+from ui_undo import EXAMPLE, S, bake_button, bake_done, box, kept, op, quiet, settle_step
 
 
 
@@ -24,23 +24,7 @@ def baked():
     S["C0"], S["P0"] = ui.colours(), tuple(box().location)
 
 
-def move():
-    for o in bpy.context.view_layer.objects:
-        o.select_set(o == box())
-    bpy.context.view_layer.objects.active = box()
-    S["runs"] = ui.live_runs()
-    goal = np.array(bpy.context.scene["radiosity_move"]["location"], dtype=float)
-    op(bpy.ops.transform.translate, value=tuple(goal - np.array(box().location)))
-    push("Move")
-
-
-def undo_while_running():
-    st = ui.live_state()
-    if st.job is None:
-        if ui.live_runs() > S["runs"]:
-            out["too_fast"] = True
-            return None
-        return ui.WAIT_STEP
+def undo_while_running(st):
     out["undo"] = op(bpy.ops.ed.undo)
     out["job_running_at_undo"] = ui.live_state().job is not None
     return None
@@ -56,7 +40,8 @@ def record():
     ui.screenshot("undo_during_live")
 
 
-ui.run(setup, bake_button, ui.Waiter(bake_done, 300, "the bake"), baked, move,
-       undo_while_running, settle_step(),
+ui.run(setup, bake_button, ui.Waiter(bake_done, 300, "the bake"), baked,
+       move(box, lambda: bpy.context.scene["radiosity_move"]["location"], S),
+       when_live_job(undo_while_running, S, "too_fast"), settle_step(),
        ui.Waiter(lambda: ui.live_runs() > S["runs"] and quiet(), 300, "live re-bakes"),
        settle_step(), record, ui.finish)

@@ -337,6 +337,7 @@ bool Solver::update_adjust(UpdateRun& u, Control* control) {
                                           : "a move changed a closed pocket: solved in full");
         return false;
     }
+    measure_tables();
     lap("pockets");
     if (u.topology) {
         // Area and emission changed: the reference radiance, and with it the oracle's

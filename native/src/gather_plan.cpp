@@ -1,6 +1,7 @@
 // The gather plan (gather_plan.h): building it from the hierarchy and links, one Jacobi sweep
 // over it (gathering, push-pull), and copying the radiances back.
 #include "radiosity/gather_plan.h"
+#include "radiosity/held_bytes.h"
 
 #include <algorithm>
 #include <atomic>
@@ -579,6 +580,26 @@ void GatherPlan::write_back(Hierarchy& h, LinkStore& links, int threads) {
     // Clusters receive through their links' values; their G stays zero.
     for (int id : cr_node_) h.nodes[size_t(id)].G = Rgb{};
     for (size_t k = 0; k < cvalue_.size(); ++k) links[size_t(plink_id_[size_t(cluster_links_from_) + k])].value = cvalue_[k];
+}
+
+double GatherPlan::bytes(size_t links, size_t nodes) const {
+    double b = held_bytes(slot_) + held_bytes(slot_node_) + held_bytes(L_) + held_bytes(e_child_) +
+               held_bytes(e_nchild_) + held_bytes(e_rcv_) + held_bytes(e_area_) + held_bytes(e_child_area_) +
+               held_bytes(e_emission_) + held_bytes(e_rho_) + held_bytes(e_direct_) + held_bytes(e_closure_) +
+               held_bytes(e_closure_own_) + held_bytes(e_fill_) + held_bytes(G_) + held_bytes(acc_) + held_bytes(lo_) +
+               held_bytes(hi_) + held_bytes(s_begin_) + held_bytes(s_group_) + held_bytes(g_begin_) + held_bytes(flux_) +
+               held_bytes(g_flux_) + held_bytes(c_begin_) + held_bytes(c_children_) + held_bytes(S_) +
+               held_bytes(r_entry_) + held_bytes(r_begin_) + held_bytes(cr_node_) + held_bytes(cvalue_) +
+               held_bytes(plinks_) + held_bytes(plink_id_) + held_bytes(send_at_) + held_bytes(sends_) +
+               held_bytes(samples_);
+    // Links and nodes beyond those of the last build (all of them before the first) at what
+    // plans hold for each: a node's radiances, materials and tree entry, and a stored link's
+    // record with its flux terms (history links included, which the plan leaves out), as
+    // furnished rooms' plans measure (docs/decisions.md, "Memory").
+    constexpr double kBytesPerNode = 256.0, kBytesPerLink = 64.0;
+    if (links > built_links_) b += kBytesPerLink * double(links - built_links_);
+    if (nodes > built_nodes_) b += kBytesPerNode * double(nodes - built_nodes_);
+    return b;
 }
 
 }  // namespace radiosity

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "radiosity/held_bytes.h"
 #include "radiosity/parallel.h"
 
 namespace radiosity {
@@ -26,6 +27,8 @@ void Gathering::collect(const Hierarchy& h) {
     }
     plan_.invalidate();  // links, nodes or materials may have changed since it was built
 }
+
+double Gathering::bytes(size_t links, size_t nodes) const { return held_bytes(leaves_) + plan_.bytes(links, nodes); }
 
 void Gathering::ensure_plan(const Context& c, bool radiometry) {
     const bool valid = plan_.valid(c.links.size(), c.h.nodes.size());

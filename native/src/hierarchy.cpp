@@ -6,6 +6,7 @@
 #include <map>
 #include <string>
 
+#include "radiosity/held_bytes.h"
 #include "radiosity/parallel.h"
 
 namespace radiosity {
@@ -673,6 +674,16 @@ std::vector<int> Hierarchy::clusters_above(int object) const {
     const int top = object_node[size_t(object)];
     for (int a = top >= 0 ? nodes[size_t(top)].parent : root; a >= 0; a = nodes[size_t(a)].parent) up.push_back(a);
     return up;
+}
+
+double Hierarchy::tables_bytes() const {
+    double b = held_bytes(prims) + held_bytes(prim_pieces) + held_bytes(surfaces) + held_bytes(surface_order) +
+               held_bytes(surface_geom) + held_bytes(area_prefix) + held_bytes(sampler_children) +
+               held_bytes(sampler_first) + held_bytes(pocket_sets) + held_bytes(object_node) + held_bytes(cluster_node) +
+               held_bytes(object_of_env) + held_bytes(object_occludes) + held_bytes(emits_) +
+               held_bytes(surface_ancestors_) + held_bytes(object_keys_) + held_bytes(facing_summary);
+    for (const FacingSummary& f : facing_summary) b += held_bytes(f.groups);
+    return b;
 }
 
 Aabb Hierarchy::object_box(int object, const std::vector<int>* own) const {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "radiosity/final_gather.h"
+#include "radiosity/held_bytes.h"
 #include "radiosity/solver.h"
 
 namespace radiosity {
@@ -23,6 +24,7 @@ double Solver::memory_estimate(size_t more_links, size_t more_nodes) const {
                links_.bytes(more_links) +
                double(links_.size() + more_links) * link_samples;
     if (vis_) b += double(std::max<int64_t>(0, vis_->bytes()));
+    b += tables_bytes_ + gathering_.bytes(links_.size() + more_links, h_.nodes.size() + more_nodes);
     b += direct_light_.bytes(scene_, settings_.rays_per_link);
     if (output_.traced()) {
         b += double(output_.bytes());
@@ -34,6 +36,15 @@ double Solver::memory_estimate(size_t more_links, size_t more_nodes) const {
         b += output_forecast_ * std::max(1.0, grown);
     }
     return b;
+}
+
+void Solver::measure_tables() {
+    double b = h_.tables_bytes() + held_bytes(tri_prim_) + held_bytes(pockets_.records());
+    for (const ObjectDesc& o : scene_.objects())
+        b += held_bytes(o.vertices) + held_bytes(o.loop_starts) + held_bytes(o.loop_totals) + held_bytes(o.corner_verts) +
+             held_bytes(o.reflectance) + held_bytes(o.emission) + held_bytes(o.corner_reflectance) +
+             held_bytes(o.corner_emission) + held_bytes(o.pieces) + held_bytes(o.two_sided) + held_bytes(o.written_corners);
+    tables_bytes_ = b;
 }
 
 namespace {

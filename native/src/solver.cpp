@@ -132,6 +132,7 @@ void Solver::build_scene() {
     for (const auto& [o, p] : placed) vis_->set_object_transform(o, p);
     vis_->commit();
     pockets_.compute(h_, pocket_sight());
+    measure_tables();
     compute_reference();
 }
 

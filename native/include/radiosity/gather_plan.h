@@ -86,6 +86,9 @@ public:
     bool has_radiometry() const { return radiometry_; }
     void invalidate() { valid_ = radiometry_ = false; }
     int64_t link_count() const { return int64_t(plinks_.size()); }
+    // Heap bytes the plan holds (kept while invalid: a rebuild reuses them), and a forecast
+    // of what a build from `links` stored links and `nodes` nodes adds to it.
+    double bytes(size_t links, size_t nodes) const;
 
     // One Jacobi sweep on the plan's own radiances. unit: every sender counts as radiance 1 and
     // each leaf's coupling sums go to *sums; returns 0. Otherwise (needs prepare_radiometry)

@@ -34,6 +34,9 @@ public:
     void collect(const Hierarchy& h);
     // The leaf elements at the last collect().
     const std::vector<int>& leaves() const { return leaves_; }
+    // Heap bytes held: the leaf list and the plan (GatherPlan::bytes, at `links` stored links
+    // and `nodes` nodes).
+    double bytes(size_t links, size_t nodes) const;
 
     // One sweep, its radiances copied back to the nodes at once.
     void sweep(const Context& c);

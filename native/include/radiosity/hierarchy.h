@@ -204,6 +204,9 @@ public:
     int leaf_at(int id, const Vec3& x) const;
     // Node ids of the clusters strictly above a surface root, root first.
     const std::vector<int>& ancestors_of_surface(int s) const { return surface_ancestors_[s]; }
+    // Heap bytes of everything but the nodes (primitives, surfaces and their tables, the
+    // samplers' tree, pockets' sets): what the build made, for the memory estimate.
+    double tables_bytes() const;
 
     Chunked<Node, 12> nodes;  // in chunks that never move (chunked.h)
     std::vector<Primitive> prims;

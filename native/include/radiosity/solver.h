@@ -190,9 +190,15 @@ private:
     Refinement refinement() { return Refinement(refinement_context()); }
     LinkEvaluator link_evaluator() const { return {h_, *vis_, settings_, oracle(), replay_boxes()}; }
     // memory.cpp. Estimated bytes the solve holds with `more` links and nodes: nodes and
-    // links in their chunks, Embree's BVHs, and the final gather's trace (the one made, or
-    // the forecast of the next); compared with memory_limit_ before refining.
+    // links in their chunks, Embree's BVHs, the gather plan, the scene and the hierarchy's
+    // tables (measure_tables), and the final gather's trace (the one made, or the forecast of
+    // the next); compared with memory_limit_ before refining.
     double memory_estimate(size_t more_links = 0, size_t more_nodes = 0) const;
+    // The scene's arrays, the hierarchy's tables but its nodes, pockets' rays and the Embree
+    // triangle map, into tables_bytes_: measured after a build or an update (they change only
+    // then), since memory_estimate runs at every split.
+    void measure_tables();
+    double tables_bytes_ = 0;
     // The final gather's trace for the links as they stand, forecast from the output points'
     // leaves and the links that reach them; kept in output_forecast_ (per active link in
     // output_forecast_links_) for memory_estimate.

@@ -44,12 +44,6 @@ int clip_to_box(const Poly& p, const Aabb& b, Vec3* out) {
     return n >= 3 ? n : 0;
 }
 
-// Rays a nested gather gives each link it gathers: a quarter of the gather's least, at least
-// two. Each s* is one of several averaged, so a link's visibility there needs few rays; the
-// links and the s* themselves are what the average needs many of (docs/decisions.md, "The
-// near field's nested gathers").
-int nested_rays(const Config& c) { return std::max(2, c.min_rays / 4); }
-
 }  // namespace
 
 Rgb radiance_at(const Run& run, int m_id, const Vec3& sp, uint64_t seed, Counts& counts, NearScratch& scratch,
@@ -107,7 +101,7 @@ Rgb radiance_at(const Run& run, int m_id, const Vec3& sp, uint64_t seed, Counts&
         if (q < 1.0 && !(Rng(Hierarchy::mix(lseed, 0x7217u)).next() < q)) continue;
         nested.clear();
         PointRayStream rs(s.vis);
-        const PointTransfer tr = point_transfer(h, rs, l.src, sp, m.normal, m_id, nested_rays(c), lseed, nested);
+        const PointTransfer tr = point_transfer(h, rs, l.src, sp, m.normal, m_id, std::max(2, c.min_rays / 2), lseed, nested);
         counts.rays += rs.cast;
         const double inv_q = 1.0 / q;
         for (auto& sm : nested) sm.second = float(double(sm.second) * inv_q);

@@ -205,7 +205,10 @@ Rgb DirectVariation::direct_at(int leaf, const Vec3& q, uint64_t seed) {
     // exact (taking only the emitters' light would read the cube's corners a little bright:
     // the other wall there is an emitter a hair away, seen more from some spots).
     const Hierarchy& h = s_.h;
-    const PointLight lamp = direct_light_at(s_.scene, h, s_.vis, q, n_, false, std::max(4, c_.light_samples / 4), seed);
+    // An eighth of the gather's lamp samples a cell: each cell's value is spent over many
+    // directions from many s*, so its noise averages out (docs/decisions.md, "The lamps'
+    // variation at a contact: fewer samples a cell").
+    const PointLight lamp = direct_light_at(s_.scene, h, s_.vis, q, n_, false, std::max(4, c_.light_samples / 8), seed);
     counts_.rays += lamp.rays;
     Rgb D = lamp.E;
     for (int src : active_) {

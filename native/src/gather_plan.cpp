@@ -595,7 +595,8 @@ double GatherPlan::bytes(size_t links, size_t nodes) const {
     // Links and nodes beyond those of the last build (all of them before the first) at what
     // plans hold for each: a node's radiances, materials and tree entry, and a stored link's
     // record with its flux terms (history links included, which the plan leaves out), as
-    // furnished rooms' plans measure (docs/decisions.md, "Memory").
+    // furnished rooms' plans measure (docs/decisions.md, "The memory estimate counts the gather
+    // plan").
     constexpr double kBytesPerNode = 256.0, kBytesPerLink = 64.0;
     if (links > built_links_) b += kBytesPerLink * double(links - built_links_);
     if (nodes > built_nodes_) b += kBytesPerNode * double(nodes - built_nodes_);

@@ -40,10 +40,7 @@ double Solver::memory_estimate(size_t more_links, size_t more_nodes) const {
 
 void Solver::measure_tables() {
     double b = h_.tables_bytes() + held_bytes(tri_prim_) + held_bytes(pockets_.records());
-    for (const ObjectDesc& o : scene_.objects())
-        b += held_bytes(o.vertices) + held_bytes(o.loop_starts) + held_bytes(o.loop_totals) + held_bytes(o.corner_verts) +
-             held_bytes(o.reflectance) + held_bytes(o.emission) + held_bytes(o.corner_reflectance) +
-             held_bytes(o.corner_emission) + held_bytes(o.pieces) + held_bytes(o.two_sided) + held_bytes(o.written_corners);
+    for (const ObjectDesc& o : scene_.objects()) b += o.bytes();
     tables_bytes_ = b;
 }
 

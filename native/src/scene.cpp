@@ -1,4 +1,5 @@
 #include "radiosity/scene.h"
+#include "radiosity/held_bytes.h"
 
 #include <algorithm>
 #include <cmath>
@@ -19,6 +20,12 @@ namespace {
 }
 std::string poly_str(size_t f) { return "polygon " + std::to_string(f); }
 }  // namespace
+
+double ObjectDesc::bytes() const {
+    return held_bytes(vertices) + held_bytes(loop_starts) + held_bytes(loop_totals) + held_bytes(corner_verts) +
+           held_bytes(reflectance) + held_bytes(emission) + held_bytes(corner_reflectance) + held_bytes(corner_emission) +
+           held_bytes(pieces) + held_bytes(two_sided) + held_bytes(written_corners);
+}
 
 std::vector<int> ObjectDesc::corner_polygons() const {
     std::vector<int> out(corner_count(), -1);

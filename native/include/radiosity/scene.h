@@ -72,6 +72,8 @@ struct ObjectDesc {
     bool textured() const { return !corner_reflectance.empty() || !corner_emission.empty(); }
     // Per corner, its polygon.
     std::vector<int> corner_polygons() const;
+    // Heap bytes of its arrays (the solver's memory estimate).
+    double bytes() const;
     // What corner c of polygon f leaves when `irradiance` (/ pi) arrives there: its own
     // reflectance and emission where the object is textured, else its polygon's.
     Rgb corner_shading(size_t f, size_t c, const Rgb& irradiance) const {

@@ -1,11 +1,13 @@
 #!/usr/bin/env python3
-"""Check the tracked sources, the READMEs and docs/*.md for two kinds of stale text.
+"""Check tracked sources, READMEs, docs/*.md and bench/results/*.md for two kinds of stale text.
 
 1. Session or issue numbers ("session N", "session-N", "issue N.M", "issues N and M", also
    split over a line break): they point at a planning history the reader does not have; a
    comment should say what and why.
 2. Repository paths (native/..., tests/..., scripts/... ending in a file suffix) that do not
-   exist: a citation of a moved or deleted file sends the reader nowhere.
+   exist: a citation of a moved or deleted file sends the reader nowhere. Not checked in
+   bench/results/*.md, which record measurements at a named commit and may cite a file as it
+   was then.
 
 Prints each finding as `path:line: message`, then a one-line summary; exits 1 on any finding.
 Run from anywhere inside the repository (scripts/test.sh runs it first).
@@ -45,8 +47,17 @@ def repo_root():
     return out.stdout.strip()
 
 
+def is_result_page(path):
+    """bench/results/*.md: checked for numbers only (their paths are as of the commit measured)."""
+    return (path.startswith("bench/results/") and path.count("/") == 2
+            and path.endswith(".md"))
+
+
 def is_excluded(path):
     parts = path.split("/")
+    if is_result_page(path):
+        return False
+    # bench/results' data files and fuzz seeds are recorded output, not prose.
     if path.startswith("bench/results/") or path.startswith("fuzz/seeds/"):
         return True
     # Test data (tests/**/data) holds recorded inputs and references, not prose.
@@ -70,9 +81,11 @@ def files_to_scan(root):
         if not path or is_excluded(path) or not os.path.isfile(os.path.join(root, path)):
             continue
         name = os.path.basename(path)
-        # Every README (the top one and those of add-on, bench and example folders) and docs/*.md.
+        # Every README (the top one and those of add-on, bench and example folders), docs/*.md
+        # and bench/results/*.md.
         if (path.endswith(SUFFIXES) or name in ("CMakeLists.txt", "README.md")
-                or (path.startswith("docs/") and path.count("/") == 1 and name.endswith(".md"))):
+                or (path.startswith("docs/") and path.count("/") == 1 and name.endswith(".md"))
+                or is_result_page(path)):
             picked.append(path)
         elif "." not in name and is_shell_script(root, path):
             # Extensionless shell scripts such as .ci/run.
@@ -109,6 +122,8 @@ def check_file(root, path):
             what = end.group(1).lower().rstrip("s")
             findings.append(("number", f"{path}:{number}: {what} number across the line break: "
                                        f"'{end.group(1)}' + '{lines[number].strip()[:20]}'"))
+        if is_result_page(path):
+            continue
         for cited in cited_paths(line):
             if not any(os.path.exists(os.path.join(base, cited)) for base in bases):
                 findings.append(("path", f"{path}:{number}: cites a missing path: {cited}"))

@@ -44,10 +44,9 @@ Rigid Solver::pose_of(int object, const double m[16]) const {
     if (det < 0) throw InputError("object '" + name + "': the move mirrors the object; bake in full");
     // World p = R p0 + m_t; internal p_i = (p - o) / u, so p_i = R p0_i + (R o + m_t - o) / u.
     const Vec3 o = h_.origin, mt{m[3], m[7], m[11]};
-    Vec3 Ro{R[0] * o.x + R[1] * o.y + R[2] * o.z, R[3] * o.x + R[4] * o.y + R[5] * o.z, R[6] * o.x + R[7] * o.y + R[8] * o.z};
     Rigid p;
     std::copy(R, R + 9, p.R.begin());
-    p.t = (Ro + mt - o) / h_.unit;
+    p.t = (p.dir(o) + mt - o) / h_.unit;
     // Beyond 1e12 scene diagonals rays to it leave float range, and Embree refuses them.
     for (int k = 0; k < 3; ++k)
         if (!(std::fabs(p.t[k]) <= 1e12))

@@ -9,6 +9,7 @@
 #include <map>
 
 #include "radiosity/front_leaves.h"
+#include "radiosity/leaf_mesh.h"
 #include "radiosity/solver.h"
 
 namespace radiosity {

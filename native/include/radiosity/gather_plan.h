@@ -16,6 +16,11 @@
 // Built in two steps, both lazily: the structure (trees, links, flux groups) is all a unit
 // sweep needs; a radiometric sweep also needs materials, radiances and the cluster senders'
 // samples. The plan owns copies of everything it reads (no pointer into links or nodes).
+//
+// Also here, as the sweeps and the output both use them: CouplingSums (a leaf's couplings
+// from unit senders, added up by a unit sweep or by coupling_sums()), ClosureFactors (the
+// closure correction those sums give a leaf or an output point, from closure_factors()) and
+// closure_gathered(), what a receiver gathers once corrected.
 #pragma once
 #include <cstdint>
 #include <functional>

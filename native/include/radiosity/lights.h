@@ -92,14 +92,4 @@ PointLight direct_light_replay(const SceneDesc& scene, const Hierarchy& h, const
                                const Vec3& n, int m, uint64_t seed, const LampRays* old,
                                const std::vector<Aabb>* changed, LampRays& out);
 
-// A mesh of leaf elements (adaptive-mesh output): world-space vertices, Blender's polygon
-// layout, one value per polygon. T-vertex free: a vertex of a finer neighbour that lies on a
-// coarser element's edge is inserted into that element's boundary (an n-gon).
-struct LeafMesh {
-    std::vector<Vec3> vertices;
-    std::vector<int32_t> loop_totals, corner_verts;
-    std::vector<Rgb> values;       // per polygon
-    std::vector<int32_t> source_face;  // per polygon: the input polygon it subdivides
-};
-
 }  // namespace radiosity

@@ -4,6 +4,8 @@
 // history links back where the oracle accepts them again (3.4). It owns nothing: the hierarchy,
 // links, visibility, settings, stats and threshold state are the solver's, handed in a Context
 // for one step, with the solver's cancellation, memory cap and first-bounce judging as callbacks.
+// Also here: LinkEvaluator, how any link is evaluated (its rays seeded by its two ends), which
+// the refinement, the update's adjust system and the solver's own re-evaluations all share.
 #pragma once
 #include <cstdint>
 #include <functional>

@@ -18,6 +18,7 @@
 #include "radiosity/final_gather.h"
 #include "radiosity/gathering.h"
 #include "radiosity/hierarchy.h"
+#include "radiosity/leaf_mesh.h"
 #include "radiosity/lights.h"
 #include "radiosity/link.h"
 #include "radiosity/link_store.h"

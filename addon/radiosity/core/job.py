@@ -362,8 +362,11 @@ class SolveJob:
             self.solver.cancel()
             try:
                 self.solver.wait(-1.0)
-            except Exception:
-                pass        # a cancelled job may report its interruption as an error
+            except Exception as exc:
+                # wait() re-raises how the job ended: Cancelled, as asked, or a failure that
+                # came first, which is kept like any other for the caller to report.
+                if not isinstance(exc, getattr(self.native, "Cancelled", ())):
+                    self.error = exc
         if self.state in (RUNNING, IDLE):
             self.state = CANCELLED
             self._release(False)

@@ -223,6 +223,22 @@ def _apply(o, slots, mi, values):
         setattr(o, "corner_" + name, clamp(per_corner))
 
 
+class _Scratch:
+    """What an evaluation makes in bpy.data (a scene, objects, meshes), removed by free()."""
+
+    def __init__(self):
+        self.scene = None
+        self.objects, self.meshes = [], []
+
+    def free(self):
+        for o in self.objects:
+            bpy.data.objects.remove(o, do_unlink=True)
+        for me in self.meshes:
+            bpy.data.meshes.remove(me, do_unlink=True)
+        if self.scene is not None:
+            bpy.data.scenes.remove(self.scene, do_unlink=True)
+
+
 def evaluate(si, requests, depsgraph, materials, warnings):
     """Fill corner_reflectance / corner_emission and the textured polygons' area means of the
     objects in `requests` (SceneInput indices). Returns stats {"textured_objects",
@@ -234,107 +250,139 @@ def evaluate(si, requests, depsgraph, materials, warnings):
     t0 = time.perf_counter()
     props = getattr(depsgraph.scene, "radiosity", None)
     exclude = getattr(props, "attribute_name", "Radiosity") or "Radiosity"
-    tmp = None
-    made_objects, made_meshes = [], []
+    scratch = _Scratch()
     pieces = 0
-    todo = []
-    # Requests whose key one in `todo` has too (the same mesh and materials: a room's floor
-    # and its copy in the next room) take that one's values: baked once, and what a later
-    # bake reads from the cache is what this one used.
-    same = []
-    baked = {}
     try:
-        for r in requests:
-            obj_eval = r.obj.evaluated_get(depsgraph)
-            key = _request_key(r, obj_eval, exclude)
-            hit = eval_cache.get(key)
-            if hit is not None and len(hit[0]) == si.objects[r.index].polygon_count:
-                _apply(si.objects[r.index], r.slots, hit[0], hit[1])
-            elif any(k == key for _, _, k in todo):
-                same.append((r, key))
-            else:
-                todo.append((r, obj_eval, key))
+        todo, same = _from_cache(si, requests, depsgraph, exclude)
         if todo:
-            total_faces = sum(si.objects[r.index].polygon_count for r, _, _ in todo)
-            k = int(np.sqrt(PIECE_BUDGET / max(total_faces, 1)))
-            cuts = int(np.clip(k - 1, 0, MAX_CUTS))
-            tmp = bpy.data.scenes.new("radiosity_textures_tmp")
-            set_cycles(tmp)
-            view_layer = tmp.view_layers[0]
-            plain, cut, emit = [], [], False
-            for r, obj_eval, _ in todo:
-                me = bpy.data.meshes.new_from_object(obj_eval, preserve_all_data_layers=True,
-                                                     depsgraph=depsgraph)
-                made_meshes.append(me)
-                # The object's effective materials (object-linked slots included) on the copy.
-                me.materials.clear()
-                for slot in obj_eval.material_slots:
-                    me.materials.append(slot.material)
-                    if slot.material is not None and slot.material.node_tree is not None:
-                        emit = emit or _emits(slot.material.node_tree)
-                if len(me.loops) != si.objects[r.index].corner_count:
-                    raise RuntimeError(f"object '{r.obj.name}': the evaluated mesh changed while "
-                                       f"baking its textures")
-                pairs = [(me, plain)]
-                if cuts > 0:
-                    me2 = me.copy()
-                    made_meshes.append(me2)
-                    _cut(me2, cuts)
-                    pieces += len(me2.polygons)
-                    pairs.append((me2, cut))
-                else:
-                    pieces += len(me.polygons)     # big meshes: the corners' mean is the mean
-                for mesh, dst in pairs:
-                    o = bpy.data.objects.new("radiosity_textures_tmp", mesh)
-                    made_objects.append(o)
-                    o.matrix_world = obj_eval.matrix_world
-                    tmp.collection.objects.link(o)
-                    dst.append(o)
-            kinds = ["DIFFUSE"] + (["EMIT"] if emit else [])
-            for kind in kinds:
-                bake(tmp, view_layer, plain + cut, kind)
-            for n, (r, _, key) in enumerate(todo):
-                o = si.objects[r.index]
-                a = plain[n]
-                values = {}
-                per_piece = {}
-                if cut:
-                    orig, centroid, areas, piece_mean = _pieces(cut[n].data)
-                for kind in kinds:
-                    corners = colours(a.data, ATTR + kind)
-                    if cut:
-                        per_piece[kind] = piece_mean(colours(cut[n].data, ATTR + kind))
-                        means = _face_means(orig, areas, per_piece[kind], o.polygon_count)
-                    else:
-                        means = np.add.reduceat(corners, o.loop_starts, axis=0) \
-                            / o.loop_totals[:, None]
-                    values[kind] = (corners, means)
-                if cut:
-                    values["pieces"] = (orig, centroid, areas, per_piece["DIFFUSE"], per_piece.get("EMIT"))
-                mi = _material_index(a.data)
-                eval_cache.put(key, (mi, values))
-                baked[key] = (mi, values)
-                _apply(o, r.slots, mi, values)
-            for r, key in same:
-                _apply(si.objects[r.index], r.slots, *baked[key])
+            pieces = _bake_todo(si, todo, same, depsgraph, scratch)
     except Exception as exc:  # noqa: BLE001  (any failure of Blender's bake: fall back, warn)
-        for why in materials.textured.values():
-            warnings.append(why)
-        warnings.append(f"textured materials could not be evaluated by Cycles ({exc}); their "
-                        f"viewport colours are used")
-        for r in requests:
-            o = si.objects[r.index]
-            o.corner_reflectance = o.corner_emission = o.texture_pieces = None
+        _fall_back(si, requests, materials, warnings, exc)
         return {}
     finally:
-        for o in made_objects:
-            bpy.data.objects.remove(o, do_unlink=True)
-        for me in made_meshes:
-            bpy.data.meshes.remove(me, do_unlink=True)
-        if tmp is not None:
-            bpy.data.scenes.remove(tmp, do_unlink=True)
+        scratch.free()
     return {"textured_objects": len(requests), "textures_baked": len(todo),
             "texture_pieces": pieces, "texture_seconds": round(time.perf_counter() - t0, 4)}
+
+
+def _from_cache(si, requests, depsgraph, exclude):
+    """Applies the kept evaluations; returns the requests left to bake, `todo` [(request,
+    evaluated object, key)], and `same` [(request, key)]: those whose key one in `todo` has
+    too (the same mesh and materials: a room's floor and its copy in the next room) take that
+    one's values, baked once, so what a later bake reads from the cache is what this one used."""
+    todo, same = [], []
+    for r in requests:
+        obj_eval = r.obj.evaluated_get(depsgraph)
+        key = _request_key(r, obj_eval, exclude)
+        hit = eval_cache.get(key)
+        if hit is not None and len(hit[0]) == si.objects[r.index].polygon_count:
+            _apply(si.objects[r.index], r.slots, hit[0], hit[1])
+        elif any(k == key for _, _, k in todo):
+            same.append((r, key))
+        else:
+            todo.append((r, obj_eval, key))
+    return todo, same
+
+
+def _bake_todo(si, todo, same, depsgraph, scratch):
+    """Bakes the objects of `todo` in a scratch scene, keeps and applies their values (and
+    those of `same`); returns how many pieces were baked."""
+    total_faces = sum(si.objects[r.index].polygon_count for r, _, _ in todo)
+    k = int(np.sqrt(PIECE_BUDGET / max(total_faces, 1)))
+    cuts = int(np.clip(k - 1, 0, MAX_CUTS))
+    scratch.scene = bpy.data.scenes.new("radiosity_textures_tmp")
+    set_cycles(scratch.scene)
+    view_layer = scratch.scene.view_layers[0]
+    plain, cut, emit, pieces = _copies(si, todo, depsgraph, scratch, cuts)
+    kinds = ["DIFFUSE"] + (["EMIT"] if emit else [])
+    for kind in kinds:
+        bake(scratch.scene, view_layer, plain + cut, kind)
+    baked = {}
+    for n, (r, _, key) in enumerate(todo):
+        o = si.objects[r.index]
+        mi, values = _baked_values(o, plain[n], cut[n] if cut else None, kinds)
+        eval_cache.put(key, (mi, values))
+        baked[key] = (mi, values)
+        _apply(o, r.slots, mi, values)
+    for r, key in same:
+        _apply(si.objects[r.index], r.slots, *baked[key])
+    return pieces
+
+
+def _copies(si, todo, depsgraph, scratch, cuts):
+    """Per object of `todo` a copy of its evaluated mesh in the scratch scene (`plain`) and,
+    with cuts, one more cut into pieces (`cut`); also whether any of their materials may emit
+    and how many pieces there are."""
+    plain, cut, emit, pieces = [], [], False, 0
+    for r, obj_eval, _ in todo:
+        me, emits = _mesh_copy(obj_eval, depsgraph, scratch)
+        emit = emit or emits
+        if len(me.loops) != si.objects[r.index].corner_count:
+            raise RuntimeError(f"object '{r.obj.name}': the evaluated mesh changed while "
+                               f"baking its textures")
+        pairs = [(me, plain)]
+        if cuts > 0:
+            me2 = me.copy()
+            scratch.meshes.append(me2)
+            _cut(me2, cuts)
+            pieces += len(me2.polygons)
+            pairs.append((me2, cut))
+        else:
+            pieces += len(me.polygons)     # big meshes: the corners' mean is the mean
+        for mesh, dst in pairs:
+            o = bpy.data.objects.new("radiosity_textures_tmp", mesh)
+            scratch.objects.append(o)
+            o.matrix_world = obj_eval.matrix_world
+            scratch.scene.collection.objects.link(o)
+            dst.append(o)
+    return plain, cut, emit, pieces
+
+
+def _mesh_copy(obj_eval, depsgraph, scratch):
+    """A new mesh of the evaluated object with its effective materials (object-linked slots
+    included), and whether any of those may emit."""
+    me = bpy.data.meshes.new_from_object(obj_eval, preserve_all_data_layers=True,
+                                         depsgraph=depsgraph)
+    scratch.meshes.append(me)
+    me.materials.clear()
+    emit = False
+    for slot in obj_eval.material_slots:
+        me.materials.append(slot.material)
+        if slot.material is not None and slot.material.node_tree is not None:
+            emit = emit or _emits(slot.material.node_tree)
+    return me, emit
+
+
+def _baked_values(o, plain, cut, kinds):
+    """One object's material indices and baked values {kind: (corners (C,3), means (F,3))},
+    with "pieces" from its cut copy `cut` (None: no cut copy, the means are the corners')."""
+    values = {}
+    per_piece = {}
+    if cut is not None:
+        orig, centroid, areas, piece_mean = _pieces(cut.data)
+    for kind in kinds:
+        corners = colours(plain.data, ATTR + kind)
+        if cut is not None:
+            per_piece[kind] = piece_mean(colours(cut.data, ATTR + kind))
+            means = _face_means(orig, areas, per_piece[kind], o.polygon_count)
+        else:
+            means = np.add.reduceat(corners, o.loop_starts, axis=0) / o.loop_totals[:, None]
+        values[kind] = (corners, means)
+    if cut is not None:
+        values["pieces"] = (orig, centroid, areas, per_piece["DIFFUSE"], per_piece.get("EMIT"))
+    return _material_index(plain.data), values
+
+
+def _fall_back(si, requests, materials, warnings, exc):
+    """After a failed evaluation: a warning per textured material and one saying why, and the
+    requested objects keep their viewport colours."""
+    for why in materials.textured.values():
+        warnings.append(why)
+    warnings.append(f"textured materials could not be evaluated by Cycles ({exc}); their "
+                    f"viewport colours are used")
+    for r in requests:
+        o = si.objects[r.index]
+        o.corner_reflectance = o.corner_emission = o.texture_pieces = None
 
 
 def _material_index(me):

@@ -50,6 +50,29 @@ class CachedSolution:
     bake_stats: dict = None  # stats.summary of the bake that solved `radiance` (the panel)
 
 
+@dataclass
+class _Edit:
+    """What an incremental bake hands the kept solver, worked out before it touches it."""
+    names: list = field(default_factory=list)           # the objects' names now, in order
+    added: list = field(default_factory=list)           # ObjectInput, new since the last bake
+    removed: list = field(default_factory=list)         # names gone since
+    changed: list = field(default_factory=list)         # names to replace (removed, added anew)
+    moves: list = field(default_factory=list)           # (native id, relative move)
+    emissions: list = field(default_factory=list)       # (native id, (F,3) float64)
+    reflectances: list = field(default_factory=list)    # (native id, (F,3) float64)
+    corner_changes: list = field(default_factory=list)  # (native id, ObjectInput): textures
+    light_changes: list = field(default_factory=list)   # indices of lights changed in place
+
+    def replaced(self, scene_input):
+        """The ObjectInput of each object to replace."""
+        by_name = {o.name: o for o in scene_input.objects}
+        return [by_name[n] for n in self.changed]
+
+    def empty(self):
+        return not (self.moves or self.emissions or self.reflectances or self.corner_changes
+                    or self.light_changes or self.added or self.removed or self.changed)
+
+
 class SolveJob:
     def __init__(self, native, scene_input, settings, settings_key, cache_key=None,
                  use_cache=True):
@@ -108,78 +131,15 @@ class SolveJob:
     # -- incremental ---------------------------------------------------------------------------
     def _try_incremental(self, hit):
         """Queue the changes on the kept solver; returns None, or why a full solve is needed."""
-        if not hasattr(hit.solver, "update"):
-            return "the native module has no dynamic update"
-        if hit.in_use:
-            return "the kept solution is being updated by another bake"
-        if hit.settings_key != self.settings_key:
-            return "settings changed"
-        names = [o.name for o in self.scene_input.objects]
-        if len(names) != len(set(names)):
-            return "duplicate object names"
-        # Objects added or deleted since the last bake are linked in / taken out by the kept
-        # solver (a deletion: hidden, excluded, or gone from the view layer).
-        added = [o for o in self.scene_input.objects if o.name not in hit.object_ids]
-        removed = sorted(set(hit.object_ids) - set(names))
-        if (added or removed) and not hasattr(hit.solver, "add_object"):
-            parts = []
-            if added:
-                parts.append("added: " + ", ".join(o.name for o in added))
-            if removed:
-                parts.append("removed: " + ", ".join(removed))
-            return ("objects added or removed since the last bake (" + "; ".join(parts)
-                    + "); the native module cannot add or remove objects")
-        # An object whose mesh (modifiers included) or collection changed, or that was scaled,
-        # sheared or mirrored, is replaced: removed and added again under its name.
-        can_replace = hasattr(hit.solver, "add_object")
-        changed = [n for n in names if n in hit.shapes and self.shapes[n] != hit.shapes[n]]
-        if changed and not can_replace:
-            return ("geometry, modifiers or collection changed: " + ", ".join(changed[:5])
-                    + (" …" if len(changed) > 5 else ""))
-        # Work out every change before touching the kept solver.
-        moves, emissions, reflectances, corner_changes = [], [], [], []
-        for o in self.scene_input.objects:
-            if o.name not in hit.object_ids or o.name in changed:
-                continue        # added or replaced: given as it is now
-            oid = hit.object_ids[o.name]
-            rel = scene_data.relative_move(scene_data.object_matrix(o), hit.matrices[o.name],
-                                           hit.build_matrices[o.name])
-            if rel is not None:
-                if not scene_data.is_rigid(rel):
-                    if not can_replace:
-                        return f"'{o.name}' was scaled, sheared or mirrored (not a rigid move)"
-                    changed.append(o.name)
-                    continue
-                moves.append((oid, rel))
-            if not np.array_equal(o.emission, hit.emission[o.name]):
-                emissions.append((oid, np.ascontiguousarray(o.emission, dtype=np.float64)))
-            if not np.array_equal(o.reflectance, hit.reflectance[o.name]):
-                reflectances.append((oid, np.ascontiguousarray(o.reflectance, dtype=np.float64)))
-            # A texture's values at the corners (textures.py): the output's, not the solve's.
-            old = hit.corner_materials.get(o.name, (None, None))
-            if any((a is None) != (b is None) or (a is not None and not np.array_equal(a, b))
-                   for a, b in zip((o.corner_reflectance, o.corner_emission), old)):
-                if not hasattr(hit.solver, "set_corner_materials"):
-                    return "the native module cannot change textured materials"
-                corner_changes.append((oid, o))
-        # Replacing most of the scene costs more than solving it afresh.
-        polygons = {o.name: o.polygon_count for o in self.scene_input.objects}
-        if changed and 2 * sum(polygons[n] for n in changed) > self.scene_input.polygon_count:
-            return ("most of the scene changed shape, collection or scale: "
-                    + ", ".join(changed[:5]) + (" …" if len(changed) > 5 else ""))
-        by_name = {o.name: o for o in self.scene_input.objects}
-        replaced = [by_name[n] for n in changed]
-        # Point/spot/sun lights and the world: the same lights (by name and kind, in order) are
-        # updated in place; any other change of the light list needs a full solve.
-        new_keys = [li.key() for li in self.scene_input.lights]
-        if [k[:2] for k in new_keys] != [k[:2] for k in hit.lights]:
-            return "lights added, removed or changed type since the last bake"
-        light_changes = [i for i, (a, b) in enumerate(zip(new_keys, hit.lights)) if a != b]
-        if light_changes and not hasattr(hit.solver, "set_light"):
-            return "the native module cannot change lights"
-        if not (moves or emissions or reflectances or corner_changes or light_changes or added
-                or removed or replaced) \
-                and names == hit.names:
+        edit = _Edit()
+        # Every change is worked out, and every reason to solve in full found, before the kept
+        # solver is touched.
+        for step in (self._check_kept, self._find_objects, self._find_edits,
+                     self._check_replaced_share, self._find_light_changes):
+            why = step(hit, edit)
+            if why is not None:
+                return why
+        if edit.empty() and edit.names == hit.names:
             # Only something that does not affect the solve differs (e.g. which meshes can be
             # written): the kept radiance is still the answer.
             hit.fingerprint = self.fingerprint
@@ -188,49 +148,145 @@ class SolveJob:
         # From here on the kept solver no longer matches hit.fingerprint.
         hit.fingerprint = None
         try:
-            for name in removed + changed:
-                hit.solver.remove_object(hit.object_ids[name])
-                for d in (hit.object_ids, hit.shapes, hit.build_matrices):
-                    d.pop(name, None)
-            paths = scene_data.cluster_paths(self.scene_input)
-            for o in added + replaced:
-                cid = self._native_cluster(hit, o.cluster, paths)
-                hit.object_ids[o.name] = scene_data.add_native_object(hit.solver, o, cid)
-                hit.shapes[o.name] = self.shapes[o.name]
-                # Later moves are relative to the placement it was added with.
-                hit.build_matrices[o.name] = scene_data.object_matrix(o)
-            for oid, rel in moves:
-                hit.solver.move_object(oid, rel)
-            for oid, e in emissions:
-                hit.solver.set_emission(oid, e)
-            for oid, r in reflectances:
-                hit.solver.set_reflectance(oid, r)
-            for oid, o in corner_changes:
-                rho, emission = scene_data.corner_materials(o)
-                pieces = scene_data.native_texture_pieces(o)
-                if pieces is None:
-                    hit.solver.set_corner_materials(oid, rho, emission)
-                else:
-                    hit.solver.set_corner_materials(oid, rho, emission, pieces=pieces)
-            if light_changes:
-                from . import lights as core_lights
-                for i in light_changes:
-                    hit.solver.set_light(i, core_lights.to_native(self.native,
-                                                                  self.scene_input.lights[i]))
+            self._apply_edit(hit, edit)
         except ValueError as exc:
             session.forget_kept(self.cache_key)
             return f"the solver refused the change ({exc})"
+        self._adopt(hit, edit)
+        return None
+
+    def _check_kept(self, hit, edit):
+        """Whether the kept solver can be updated for these settings at all."""
+        if not hasattr(hit.solver, "update"):
+            return "the native module has no dynamic update"
+        if hit.in_use:
+            return "the kept solution is being updated by another bake"
+        if hit.settings_key != self.settings_key:
+            return "settings changed"
+        return None
+
+    def _find_objects(self, hit, edit):
+        """The objects added, removed and replaced since the last bake."""
+        edit.names = [o.name for o in self.scene_input.objects]
+        if len(edit.names) != len(set(edit.names)):
+            return "duplicate object names"
+        # Objects added or deleted since the last bake are linked in / taken out by the kept
+        # solver (a deletion: hidden, excluded, or gone from the view layer).
+        edit.added = [o for o in self.scene_input.objects if o.name not in hit.object_ids]
+        edit.removed = sorted(set(hit.object_ids) - set(edit.names))
+        can_replace = hasattr(hit.solver, "add_object")
+        if (edit.added or edit.removed) and not can_replace:
+            parts = []
+            if edit.added:
+                parts.append("added: " + ", ".join(o.name for o in edit.added))
+            if edit.removed:
+                parts.append("removed: " + ", ".join(edit.removed))
+            return ("objects added or removed since the last bake (" + "; ".join(parts)
+                    + "); the native module cannot add or remove objects")
+        # An object whose mesh (modifiers included) or collection changed, or that was scaled,
+        # sheared or mirrored, is replaced: removed and added again under its name.
+        edit.changed = [n for n in edit.names
+                        if n in hit.shapes and self.shapes[n] != hit.shapes[n]]
+        if edit.changed and not can_replace:
+            return ("geometry, modifiers or collection changed: " + ", ".join(edit.changed[:5])
+                    + (" …" if len(edit.changed) > 5 else ""))
+        return None
+
+    def _find_edits(self, hit, edit):
+        """The moves and material changes of the objects kept as they are; an object that was
+        not moved rigidly joins the replaced ones."""
+        can_replace = hasattr(hit.solver, "add_object")
+        for o in self.scene_input.objects:
+            if o.name not in hit.object_ids or o.name in edit.changed:
+                continue        # added or replaced: given as it is now
+            oid = hit.object_ids[o.name]
+            rel = scene_data.relative_move(scene_data.object_matrix(o), hit.matrices[o.name],
+                                           hit.build_matrices[o.name])
+            if rel is not None:
+                if not scene_data.is_rigid(rel):
+                    if not can_replace:
+                        return f"'{o.name}' was scaled, sheared or mirrored (not a rigid move)"
+                    edit.changed.append(o.name)
+                    continue
+                edit.moves.append((oid, rel))
+            if not np.array_equal(o.emission, hit.emission[o.name]):
+                edit.emissions.append((oid, np.ascontiguousarray(o.emission, dtype=np.float64)))
+            if not np.array_equal(o.reflectance, hit.reflectance[o.name]):
+                edit.reflectances.append(
+                    (oid, np.ascontiguousarray(o.reflectance, dtype=np.float64)))
+            # A texture's values at the corners (textures.py): the output's, not the solve's.
+            old = hit.corner_materials.get(o.name, (None, None))
+            if any((a is None) != (b is None) or (a is not None and not np.array_equal(a, b))
+                   for a, b in zip((o.corner_reflectance, o.corner_emission), old)):
+                if not hasattr(hit.solver, "set_corner_materials"):
+                    return "the native module cannot change textured materials"
+                edit.corner_changes.append((oid, o))
+        return None
+
+    def _check_replaced_share(self, hit, edit):
+        """Replacing most of the scene costs more than solving it afresh."""
+        polygons = {o.name: o.polygon_count for o in self.scene_input.objects}
+        if (edit.changed
+                and 2 * sum(polygons[n] for n in edit.changed) > self.scene_input.polygon_count):
+            return ("most of the scene changed shape, collection or scale: "
+                    + ", ".join(edit.changed[:5]) + (" …" if len(edit.changed) > 5 else ""))
+        return None
+
+    def _find_light_changes(self, hit, edit):
+        """Point/spot/sun lights and the world: the same lights (by name and kind, in order)
+        are updated in place; any other change of the light list needs a full solve."""
+        new_keys = [li.key() for li in self.scene_input.lights]
+        if [k[:2] for k in new_keys] != [k[:2] for k in hit.lights]:
+            return "lights added, removed or changed type since the last bake"
+        edit.light_changes = [i for i, (a, b) in enumerate(zip(new_keys, hit.lights)) if a != b]
+        if edit.light_changes and not hasattr(hit.solver, "set_light"):
+            return "the native module cannot change lights"
+        return None
+
+    def _apply_edit(self, hit, edit):
+        """Hands `edit` to the kept solver (which raises ValueError on a change it refuses)."""
+        for name in edit.removed + edit.changed:
+            hit.solver.remove_object(hit.object_ids[name])
+            for d in (hit.object_ids, hit.shapes, hit.build_matrices):
+                d.pop(name, None)
+        paths = scene_data.cluster_paths(self.scene_input)
+        for o in edit.added + edit.replaced(self.scene_input):
+            cid = self._native_cluster(hit, o.cluster, paths)
+            hit.object_ids[o.name] = scene_data.add_native_object(hit.solver, o, cid)
+            hit.shapes[o.name] = self.shapes[o.name]
+            # Later moves are relative to the placement it was added with.
+            hit.build_matrices[o.name] = scene_data.object_matrix(o)
+        for oid, rel in edit.moves:
+            hit.solver.move_object(oid, rel)
+        for oid, e in edit.emissions:
+            hit.solver.set_emission(oid, e)
+        for oid, r in edit.reflectances:
+            hit.solver.set_reflectance(oid, r)
+        for oid, o in edit.corner_changes:
+            rho, emission = scene_data.corner_materials(o)
+            pieces = scene_data.native_texture_pieces(o)
+            if pieces is None:
+                hit.solver.set_corner_materials(oid, rho, emission)
+            else:
+                hit.solver.set_corner_materials(oid, rho, emission, pieces=pieces)
+        if edit.light_changes:
+            from . import lights as core_lights
+            for i in edit.light_changes:
+                hit.solver.set_light(i, core_lights.to_native(self.native,
+                                                              self.scene_input.lights[i]))
+
+    def _adopt(self, hit, edit):
+        """This job now runs the kept solver's update and owns it until it ends."""
         hit.in_use = True
         self.incremental = hit
-        self.changes = {"moved": len(moves), "emission_changed": len(emissions),
-                        "reflectance_changed": len(reflectances),
-                        "texture_changed": len(corner_changes),
-                        "lights_changed": len(light_changes),
-                        "added": len(added), "removed": len(removed),
-                        "replaced": len(replaced)}
+        self.changes = {"moved": len(edit.moves), "emission_changed": len(edit.emissions),
+                        "reflectance_changed": len(edit.reflectances),
+                        "texture_changed": len(edit.corner_changes),
+                        "lights_changed": len(edit.light_changes),
+                        "added": len(edit.added), "removed": len(edit.removed),
+                        "replaced": len(edit.changed)}
         self.scene, self.solver = hit.scene, hit.solver
-        self.object_ids = [hit.object_ids[n] for n in names]
-        return None
+        self.object_ids = [hit.object_ids[n] for n in edit.names]
 
     def _native_cluster(self, hit, index, paths):
         """Native id of SceneInput cluster `index` in the kept solver (-1: the root), made with

@@ -10,6 +10,7 @@ Two flavours, as in tests/blender/conftest.py:
            so the references and the competitor are made there.
 Both get private Blender user dirs (installing the add-on never touches the developer's config).
 """
+import argparse
 import json
 import os
 import shutil
@@ -20,6 +21,15 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
+
+
+def driver_parser(prog):
+    """The argument parser of a run_NAME.py driver, holding the two options results_dir reads:
+    --quick (a smoke run) and --out-dir; the driver adds its own."""
+    p = argparse.ArgumentParser(prog=prog)
+    p.add_argument("--quick", action="store_true")
+    p.add_argument("--out-dir")
+    return p
 
 
 def results_dir(given, quick, name):

@@ -8,7 +8,6 @@ the log-log exponents; this wrapper saves its output as OUT/scaling.md (with the
 raw rows as OUT/scaling_data.jsonl and plots OUT/scaling.png (matplotlib). --quick: 1k and 2k
 triangles only, output to a temporary directory unless --out-dir is given (CI smoke run).
 """
-import argparse
 import json
 import os
 import subprocess
@@ -82,15 +81,13 @@ def table(rows):
 
 
 def main():
-    p = argparse.ArgumentParser(prog="run_scaling.py")
-    p.add_argument("--quick", action="store_true")
+    p = bt_run.driver_parser("run_scaling.py")
     p.add_argument("--preset", default="DRAFT")
     p.add_argument("--timeout", type=int, default=600)
     p.add_argument("--max-mb", type=int, default=12000)
     p.add_argument("--sizes")
     p.add_argument("--families")
     p.add_argument("--exe", default=os.path.join(REPO, "build", "bench", "bench_scaling"))
-    p.add_argument("--out-dir")
     p.add_argument("--from-jsonl", nargs="*",
                    help="no run: merge the rows of earlier runs' JSONL files (later rows of the "
                         "same family and size win), refit, rewrite the table and plot")

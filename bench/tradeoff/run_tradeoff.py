@@ -22,7 +22,6 @@ run, the cached reference as it is (never re-made nor extended: a stale one fail
 a 256-spp one (2 parts) in the temporary directory when there is none; everything goes to a temporary
 directory (or --out-dir), never over the committed results or references.
 """
-import argparse
 import os
 import subprocess
 import sys
@@ -43,15 +42,13 @@ EPS = {"cornell_box": [0.2, 0.05, 0.02], "box_room": [0.2, 0.05, 0.03],
 
 
 def main():
-    p = argparse.ArgumentParser(prog="run_tradeoff.py")
-    p.add_argument("--quick", action="store_true")
+    p = bt_run.driver_parser("run_tradeoff.py")
     p.add_argument("--scenes", nargs="*")
     p.add_argument("--runs", type=int, default=3)
     p.add_argument("--once-above", type=float, default=40.0)
     p.add_argument("--ref-spp", type=int, default=16384)
     p.add_argument("--part-spp", type=int, default=4096)
     p.add_argument("--zip", default=os.path.join(REPO, "build", "radiosity.zip"))
-    p.add_argument("--out-dir")
     p.add_argument("--ref-dir", default=os.path.join(HERE, "refs"))
     p.add_argument("--report-only", action="store_true")
     p.add_argument("--presets", nargs="*", help="override: our presets")

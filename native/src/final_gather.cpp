@@ -130,8 +130,12 @@ void trace_lamps(const Run& run, Point& pt, const Point* old, Counts& counts) {
     // segment hull from the point missing the boxes), the lamps are not even re-sampled.
     const bool replay = old != nullptr && !old->sealed && !moves->cast_all && !moves->lights_changed &&
                         old->lamp_rays.count > 0;
+    // Every shadow ray leaves the point's plane upward: all that moved below it shades none.
+    bool below = replay;
+    if (replay)
+        for (const Aabb& b : moves->clips) below = below && b.max_along(n) < dot(n, x);
     bool lamps_kept = replay;
-    if (replay) {
+    if (replay && !below) {
         for (const LightDesc& d : s.scene.lights()) {
             if (d.intensity.max() <= 0) continue;
             if (d.type == LightDesc::Type::Sun || d.type == LightDesc::Type::Sky) { lamps_kept = false; break; }

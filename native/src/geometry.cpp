@@ -305,4 +305,35 @@ bool can_face(const Poly& src, const Vec3& src_n, const Poly& rcv, const Vec3& r
     return rcv_front && src_front;
 }
 
+CosineWindow::CosineWindow(const Aabb& box, const Vec3& c, double r, const Vec3& nu, const Vec3& nv, const Vec3& n) {
+    all_ = false;
+    if (box.empty()) {  // nothing to meet
+        none_ = true;
+        return;
+    }
+    const Vec3 v = box.center() - c;
+    const double L = length(v);
+    // (A margin far above the rounding of a sample's direction and of a segment's box test.)
+    const double R = (0.5 * box.diagonal() + r) * (1 + 1e-6) + 1e-12 * L;
+    if (!(L > R)) {  // the origins reach into the ball: every direction
+        all_ = true;
+        return;
+    }
+    // Directions within alpha of the axis toward the ball's centre: polar angles th0 +- alpha,
+    // and, when no pole lies inside, azimuths within asin(sin alpha / sin th0) of the axis'.
+    const double alpha = std::asin(R / L), th0 = std::acos(std::clamp(dot(v, n) / L, -1.0, 1.0));
+    const double lo = th0 - alpha, hi = th0 + alpha, quarter = 0.5 * kPi, eps = 1e-9;
+    if (lo >= quarter) {  // wholly below the horizon
+        none_ = true;
+        return;
+    }
+    r2_lo_ = lo <= 0 ? 0.0 : std::sin(lo) * std::sin(lo) - eps;
+    r2_hi_ = hi >= quarter ? 1.0 : std::sin(hi) * std::sin(hi) + eps;
+    const double s = std::sin(alpha) / std::sin(th0);
+    if (lo <= 0 || hi >= kPi || s >= 1) return;  // every azimuth
+    r1_half_ = std::asin(s) / (2 * kPi) + eps;
+    r1_mid_ = std::atan2(dot(v, nv), dot(v, nu)) / (2 * kPi);
+    if (r1_mid_ < 0) r1_mid_ += 1;
+}
+
 }  // namespace radiosity

@@ -159,12 +159,67 @@ bool sky_map_sample(const ILight& l, const SampleFrames& fr, int i, Rays& vis, L
     return true;
 }
 
+// A point's or an element's shadow rays, replayed (ReplayedRays) from the same record (same
+// seed and lights) where they meet no moved box. With the ball its rays start from, the
+// uniform sky's samples outside the boxes' window keep their outcome unmade (sky_kept).
+struct LampRayStream : ReplayedRays<LampRays> {
+    using ReplayedRays::ReplayedRays;
+    bool occluded(const Vec3& a, const Vec3& b) { return take(a, b, -1); }
+    bool occluded(const Vec3& a, const Vec3& b, double near) { return take(a, b, near); }
+    bool take(const Vec3& a, const Vec3& b, double near) {
+        const int k = out.count;
+        if (old && k < old->count && !changed.meets(a, b)) return keep();
+        ++out.count;
+        const bool blocked = near < 0 ? vis.occluded(a, b) : vis.occluded(a, b, near);
+        ++cast;
+        record(k, blocked);
+        return blocked;
+    }
+    // The next ray's recorded outcome, kept.
+    bool keep() {
+        const int k = out.count++;
+        const bool blocked = (old->blocked[size_t(k) >> 6] >> (k & 63)) & 1;
+        record(k, blocked);
+        return blocked;
+    }
+    void record(int k, bool blocked) {
+        if ((size_t(k) >> 6) >= out.blocked.size()) out.blocked.push_back(0);
+        if (blocked) out.blocked[size_t(k) >> 6] |= uint64_t(1) << (k & 63);
+    }
+    void set_origins(const Vec3& c, double r) { origin = c, origin_r = r; }
+    Vec3 origin;
+    double origin_r = -1;  // < 0: the origins unknown, every sample made
+    CosineWindow sky;
+};
+
+// For the uniform sky's samples of one light from a plane (frame nu, nv, n): the window of
+// those a replay must make (a fresh trace makes them all).
+template <class Rays>
+void aim_sky(Rays&, const Vec3&, const Vec3&, const Vec3&) {}
+void aim_sky(LampRayStream& rs, const Vec3& nu, const Vec3& nv, const Vec3& n) {
+    rs.sky = rs.old && rs.origin_r >= 0 ? CosineWindow(rs.changed.all, rs.origin, rs.origin_r, nu, nv, n) : CosineWindow();
+}
+// Whether the sample (a, b) keeps its recorded outcome (`blocked`) without its ray.
+template <class Rays>
+bool sky_kept(Rays&, double, double, bool&) { return false; }
+bool sky_kept(LampRayStream& rs, double a, double b, bool& blocked) {
+    if (!rs.old || rs.out.count >= rs.old->count || rs.sky.may_meet(a, b)) return false;
+    blocked = rs.keep();
+    return true;
+}
+
 // A uniform world: a cosine-weighted direction, so the estimator of E/pi is L_sky x visibility.
 template <class Rays>
 void sky_sample(const SampleFrames& fr, Rays& vis, LightSample& s) {
-    Vec3 d = cosine_direction(fr.nu, fr.nv, s.n, s.a, s.b);
     s.u = 1.0;
-    if (!s.touching && !vis.occluded(s.o, s.o + d * s.far, 0.0)) s.f = 1.0;
+    if (s.touching) return;
+    bool blocked = false;
+    if (sky_kept(vis, s.a, s.b, blocked)) {
+        if (!blocked) s.f = 1.0;
+        return;
+    }
+    const Vec3 d = cosine_direction(fr.nu, fr.nv, s.n, s.a, s.b);
+    if (!vis.occluded(s.o, s.o + d * s.far, 0.0)) s.f = 1.0;
 }
 
 // A sun: a direction uniform on its cap of directions (toward the sun).
@@ -214,6 +269,7 @@ Sampled estimate(const ILight& l, const Where& where, const Vec3& n, int m, Rng&
     double s2 = 0, s_unocc = 0;
     int seen = 0, hidden = 0;
     const SampleFrames fr(l, n);
+    if (l.type == LightDesc::Type::Sky && !l.env) aim_sky(vis, fr.nu, fr.nv, n);
     // A map: the samples estimate only what occluders take away from the unoccluded
     // irradiance, known in closed form (a control variate: an open floor under a sun gets its
     // exact light, not the noise of a few samples of a bright spot).
@@ -261,27 +317,6 @@ Sampled estimate(const ILight& l, const Where& where, const Vec3& n, int m, Rng&
     return r;
 }
 
-// A point's shadow rays, replayed (ReplayedRays) from the same point's record (same seed and
-// lights) where they meet no moved box.
-struct LampRayStream : ReplayedRays<LampRays> {
-    using ReplayedRays::ReplayedRays;
-    bool occluded(const Vec3& a, const Vec3& b) { return take(a, b, -1); }
-    bool occluded(const Vec3& a, const Vec3& b, double near) { return take(a, b, near); }
-    bool take(const Vec3& a, const Vec3& b, double near) {
-        const int k = out.count++;
-        bool blocked;
-        if (old && k < old->count && !changed.meets(a, b)) {
-            blocked = (old->blocked[size_t(k) >> 6] >> (k & 63)) & 1;
-        } else {
-            blocked = near < 0 ? vis.occluded(a, b) : vis.occluded(a, b, near);
-            ++cast;
-        }
-        if ((size_t(k) >> 6) >= out.blocked.size()) out.blocked.push_back(0);
-        if (blocked) out.blocked[size_t(k) >> 6] |= uint64_t(1) << (k & 63);
-        return blocked;
-    }
-};
-
 template <class Rays>
 PointLight direct_light_with(const SceneDesc& scene, const Hierarchy& h, Rays& vis, const Vec3& x, const Vec3& n,
                              bool covered, int m, uint64_t seed) {
@@ -313,6 +348,7 @@ PointLight direct_light_replay(const SceneDesc& scene, const Hierarchy& h, const
                                const Vec3& n, int m, uint64_t seed, const LampRays* old,
                                const std::vector<Aabb>* changed, LampRays& out) {
     LampRayStream rs(vis, old, changed);
+    rs.set_origins(x, 2e-5 * h.scene_diag);  // (direct_light_with lifts them 1e-5 of it off the plane)
     PointLight r = direct_light_with(scene, h, rs, x, n, false, m, seed);
     r.rays = int(rs.cast);
     out = std::move(rs.out);
@@ -529,12 +565,27 @@ void DirectLight::compute(const Hierarchy& h, const Sight& sight, const std::vec
     const std::vector<ILight> ls = internal_lights(sight.scene, h);
     const double far = 4.0 * h.scene_diag, lift = 1e-5 * h.scene_diag;
     if (rays_.size() < h.nodes.size()) rays_.resize(h.nodes.size());
+    Aabb moved;
+    for (const Aabb& b : clips_) moved.grow(b);
     parallel_for(ids.size(), sight.settings.threads, [&](size_t i) {
         const int id = ids[i];
         const Node& n = h.nodes[id];
-        // Its shadow rays, replayed where a move left the node stale (invalidate).
+        // Its shadow rays, replayed where a move left the node stale (invalidate). Every one
+        // leaves the element's plane upward: with all that moved below its lowest corner, the
+        // node is lit as it was.
         const bool stale = have_[id] == kStale;
+        double lowest = 1e300, reach = 0;
+        const Vec3 centre = n.poly.centroid();
+        for (int v = 0; v < n.poly.n; ++v) {
+            lowest = std::min(lowest, dot(n.normal, n.poly.v[size_t(v)]));
+            reach = std::max(reach, length(n.poly.v[size_t(v)] - centre));
+        }
+        if (stale && moved.max_along(n.normal) < lowest) {
+            have_[id] = kLit;
+            return;
+        }
         LampRayStream rs(sight.vis, stale ? &rays_[id] : nullptr, stale ? &clips_ : nullptr);
+        rs.set_origins(centre, reach + 2 * lift);
         Rgb sum, lo = Rgb::all(1e300), hi = Rgb::all(-1e300);
         double area = 0, var_max = 0, edge = 0;
         for (int k = 0; k < 4; ++k) {

@@ -2,10 +2,11 @@
 // every way a plane can cross a triangle, a planar quad and a warped quad (Bevel and
 // Subdivision Surface make quads that are planar only to about 1e-4 of their size, and a plane
 // nearly containing one crosses it four times). Also the stratified cosine directions of
-// CosineStrata, draw for draw.
+// CosineStrata, draw for draw, and the window of them that may meet a box (CosineWindow).
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include "test_util.h"
@@ -256,4 +257,46 @@ TEST(CosineStrata, DrawsTheAzimuthThenThePolarNumberOfEachStratum) {
             EXPECT_GE(dot(d, n), 0.0);
         }
     }
+}
+
+TEST(CosineWindow, HoldsEveryDirectionWhoseRayMeetsTheBox) {
+    // A replay keeps a uniform sky's sample outside the window without making its ray: every
+    // ray from the ball of origins that meets the box must lie inside. Random boxes, balls and
+    // planes, near (boxes over the pole, at the horizon, around the origins) and far.
+    std::mt19937_64 g(5);
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    auto uvec = [&](double s) { return Vec3{U(g) - 0.5, U(g) - 0.5, U(g) - 0.5} * (2 * s); };
+    int met = 0, outside = 0, samples = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        const Vec3 n = normalize(uvec(1.0) + Vec3{0, 0, 1e-3});
+        Vec3 nu, nv;
+        frame(n, nu, nv);
+        const Vec3 c = uvec(1.0);
+        const double r = trial % 3 == 0 ? 0.0 : 0.3 * U(g);
+        Aabb box;
+        const double far = trial % 2 ? 1.0 : 20.0;
+        const Vec3 b0 = c + uvec(far);
+        box.grow(b0);
+        box.grow(b0 + Vec3{U(g), U(g), U(g)} * (0.2 + far * 0.1));
+        const CosineWindow w(box, c, r, nu, nv, n);
+        for (int k = 0; k < 3000; ++k) {
+            const double r1 = U(g), r2 = U(g);
+            const Vec3 d = cosine_direction(nu, nv, n, r1, r2);
+            const Vec3 o = c + uvec(r) * (1.0 / std::sqrt(3.0));  // within the ball
+            const bool meets = box.meets_segment(o, o + d * 100.0);
+            ++samples;
+            met += meets;
+            if (!w.may_meet(r1, r2)) {
+                ++outside;
+                ASSERT_FALSE(meets) << "trial " << trial << " sample " << k;
+            }
+        }
+    }
+    // The window is a test worth making: most samples of a small, far box fall outside it.
+    EXPECT_GT(met, 1000);
+    EXPECT_GT(outside, samples / 2);
+    std::printf("[ figure ] %d of %d samples outside their window, %d rays met the box\n", outside, samples, met);
+    // Nothing moved: every sample keeps its outcome; no box: CosineWindow() keeps none.
+    EXPECT_FALSE(CosineWindow(Aabb{}, Vec3{}, 0.1, Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}).may_meet(0.3, 0.3));
+    EXPECT_TRUE(CosineWindow().may_meet(0.3, 0.3));
 }

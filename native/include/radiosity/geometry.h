@@ -2,6 +2,7 @@
 // the analytic point-to-polygon form factor that every surface link is built on; with the
 // seeded random numbers (Rng) that link evaluation jitters its points by.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -99,6 +100,26 @@ inline Vec3 cosine_direction(const Vec3& u, const Vec3& v, const Vec3& w, double
     const double phi = 2 * kPi * r1, sr = std::sqrt(r2);
     return u * (std::cos(phi) * sr) + v * (std::sin(phi) * sr) + w * std::sqrt(1 - r2);
 }
+
+// The numbers (r1, r2) of cosine_direction about n (frame nu, nv, n) whose rays, from any
+// origin in the ball (c, r), may meet `box`: a superset, found from the cone toward the box's
+// bounding ball (what a replay after a move must cast again of a uniform sky's samples).
+class CosineWindow {
+public:
+    CosineWindow() = default;  // every sample
+    CosineWindow(const Aabb& box, const Vec3& c, double r, const Vec3& nu, const Vec3& nv, const Vec3& n);
+    bool may_meet(double r1, double r2) const {
+        if (all_) return true;
+        if (none_ || r2 < r2_lo_ || r2 > r2_hi_) return false;
+        if (r1_half_ >= 0.5) return true;
+        const double d = std::fabs(r1 - r1_mid_);
+        return std::min(d, 1 - d) <= r1_half_;
+    }
+
+private:
+    bool all_ = true, none_ = false;
+    double r2_lo_ = 0, r2_hi_ = 1, r1_mid_ = 0, r1_half_ = 0.5;
+};
 
 // Counter-based RNG seeded per link so results do not depend on thread scheduling.
 class Rng {

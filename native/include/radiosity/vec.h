@@ -71,6 +71,12 @@ struct Aabb {
     bool contains(const Vec3& p) const {
         return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z;
     }
+    // The largest dot(n, p) over the box's points.
+    double max_along(const Vec3& n) const {
+        double m = 0;
+        for (int a = 0; a < 3; ++a) m += std::max(n[a] * lo[a], n[a] * hi[a]);
+        return m;
+    }
     bool overlaps(const Aabb& b) const {
         for (int a = 0; a < 3; ++a)
             if (b.lo[a] > hi[a] || b.hi[a] < lo[a]) return false;

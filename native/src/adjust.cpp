@@ -222,12 +222,7 @@ void Solver::update(Control* control) {
     }
     control_ = control;
     solved_ = false;  // a cancel leaves the kept solution inconsistent: the caller re-solves
-    // What this update knows holds for its phases only, however it ends (a cancel throws).
-    struct RunScope {
-        Solver* s;
-        ~RunScope() { s->update_run_ = nullptr; }
-    } run_scope{this};
-    update_run_ = &u;
+    // What this update knows lives in `u` for its phases only, handed to each step that needs it.
     update_begin(u);
     if (!update_materials(control)) return;
     if (!edits_.moves().empty() || u.topology)
@@ -282,8 +277,8 @@ bool Solver::update_materials(Control* control) {
     return true;
 }
 
-AdjustSystem Solver::adjust_system(const Change& ch) {
-    return AdjustSystem({h_, links_, settings_, stats_, ch, refinement_context(),
+AdjustSystem Solver::adjust_system(const Change& ch, const UpdateRun& u) {
+    return AdjustSystem({h_, links_, settings_, stats_, ch, refinement_context(&u),
                          [this](const std::function<void()>& judge, const std::vector<char>* only) {
                              at_first_bounce(judge, only);
                          },
@@ -352,7 +347,7 @@ bool Solver::update_adjust(UpdateRun& u, Control* control) {
     }
     // X: the moved objects' nodes and the clusters above them (their geometry changed).
     AdjustSystem::mark_moved(h_, ch);
-    u.recheck_history = adjust_system(ch).run();
+    u.recheck_history = adjust_system(ch, u).run();
     u.now_boxes = ch.now;
     u.moved_objects = ch.moved;
     // The closure passes of this update split, away from the moved boxes, only the links
@@ -366,14 +361,14 @@ bool Solver::update_adjust(UpdateRun& u, Control* control) {
 void Solver::update_history(UpdateRun& u) {
     stats_.links_created = int64_t(links_.size()) - u.links_before;
     // History links whose view changed: coarsen back where the old shadow is gone.
-    refinement().recheck_history(u.recheck_history);
+    refinement(&u).recheck_history(u.recheck_history);
     stats_.seconds_adjust = since(u.t0);
     lap("history");
-    light_update();  // solver_lights.cpp: drop light splits the new direct light does not need
+    light_update(u);  // solver_lights.cpp: drop light splits the new direct light does not need
     lap("lights");
 }
 
-void Solver::update_resolve(UpdateRun& u) {
+void Solver::update_resolve(const UpdateRun& u) {
     Stats& s = stats_;
     // Warm-started re-solve: the previous radiances are the starting point. Only links the
     // update touched, or whose sender's light changed enough to tip the oracle, are judged
@@ -393,14 +388,14 @@ void Solver::update_resolve(UpdateRun& u) {
     AdjustSystem::judge_where_buried(
         h_, u.now_boxes, u.moved_objects,
         [this](const std::function<void()>& judge, const std::vector<char>* only) { at_first_bounce(judge, only); },
-        [&] { compute_closure(); });
+        [&] { compute_closure(&u); });
     lap("closure");
-    iterate_to(loose, settings_.max_iterations, 0.3, 0.6);
+    iterate_to(&u, loose, settings_.max_iterations, 0.3, 0.6);
     lap("gather");
     std::vector<char> moved_light = changed_senders(u.before);
     // A new threshold (objects added or removed) can tip any judgement.
     if (u.rejudge_all) std::fill(moved_light.begin(), moved_light.end(), 1);
-    refinement().unrefine_pass(&moved_light, !scene_.lights().empty());  // less light somewhere (3.4)
+    refinement(&u).unrefine_pass(&moved_light, !scene_.lights().empty());  // less light somewhere (3.4)
     lap("unrefine");
     // The closure factors and the converged radiances belong to the links as they were
     // before un-refinement and the rounds below: the last solve must see the final links.
@@ -415,24 +410,24 @@ void Solver::update_resolve(UpdateRun& u) {
         const LinkShape was = link_shape();
         std::vector<int> ids, unsettle;
         update_judged(u, round, judged_from, moved_light, ids, unsettle);
-        refinement().reopen_settled(unsettle);
+        refinement(&u).reopen_settled(unsettle);
         for (Link& l : links_) l.rejudge = false;
         const std::vector<float> snap = snapshot();
         judged_from = int64_t(links_.size());
-        const bool lit = light_refine();  // solver_lights.cpp: where direct light varies
+        const bool lit = light_refine(&u);  // solver_lights.cpp: where direct light varies
         bool more = lit, touched = false;
         // A lit scene's first judgement on the radiance a full solve's first linking sees.
         if (round == 0 && !scene_.lights().empty())
-            at_first_bounce([&] { more = refinement().refine_links(ids, &touched) || more; });
+            at_first_bounce([&] { more = refinement(&u).refine_links(ids, &touched) || more; });
         else
-            more = refinement().refine_links(ids, &touched) || more;
+            more = refinement(&u).refine_links(ids, &touched) || more;
         lap("refine");
         closure_current = closure_current && !touched && unsettle.empty() && link_shape() == was;
         if (!more) break;
-        closure_current = compute_closure();
+        closure_current = compute_closure(&u);
         lap("closure");
         solved_final_links = round + 1 == settings_.max_refine_rounds;
-        iterate_to(solved_final_links ? settings_.tolerance : loose, settings_.max_iterations, 0.6, 0.9);
+        iterate_to(&u, solved_final_links ? settings_.tolerance : loose, settings_.max_iterations, 0.6, 0.9);
         lap("gather");
         moved_light = changed_senders(snap);
     }
@@ -440,10 +435,10 @@ void Solver::update_resolve(UpdateRun& u) {
         // Warm: a handful of sweeps when nothing changed since the last solve. When no link or
         // leaf changed since the last closure pass, that pass stands and so does the plan.
         if (!closure_current) {
-            compute_closure();
+            compute_closure(&u);
             lap("closure");
         }
-        iterate_to(settings_.tolerance, settings_.max_iterations, 0.9, 0.95, closure_current);
+        iterate_to(&u, settings_.tolerance, settings_.max_iterations, 0.9, 0.95, closure_current);
         lap("gather");
     }
     prune_elements();
@@ -465,7 +460,7 @@ void Solver::update_judged(const UpdateRun& u, int round, int64_t judged_from, c
     }
 }
 
-void Solver::update_output(UpdateRun& u) {
+void Solver::update_output(const UpdateRun& u) {
     Stats& s = stats_;
     // output.cpp: after moves alone (or material changes) the output keeps what no moved box
     // can change; an addition or removal re-orders what the cluster samplers draw: anew.
@@ -482,7 +477,6 @@ void Solver::update_output(UpdateRun& u) {
     lap("output");
     // A record stays true only while every change of geometry is replayed into it: after an
     // addition or removal (surface table re-ordered, see above) none is trusted.
-    u.replaying = false;
     for (Link& l : links_)
         // A stale link's record is of the geometry before this update's moves: a later
         // update's replay (whose boxes are its own moves') would take outcomes it changed.

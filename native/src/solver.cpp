@@ -57,7 +57,6 @@ void Solver::solve(Control* control) {
     control_ = control;
     solved_ = false;
     light_known_ = false;
-    update_run_ = nullptr;  // a full solve in place of an update replays nothing
     settle_preview();
     preview_saved_.reset();  // (a drag's memory, made again at the next drag)
     const auto t0 = Clock::now();
@@ -84,11 +83,11 @@ void Solver::solve(Control* control) {
         stats_.seconds_link = since(t1);
         const auto t2 = Clock::now();
         if (!closure_current) {
-            compute_closure();
+            compute_closure(nullptr);
             lap("closure");
         }
         stats_.iteration_capped = false;
-        iterate_to(settings_.tolerance, settings_.max_iterations, 0.8, 0.9, closure_current);
+        iterate_to(nullptr, settings_.tolerance, settings_.max_iterations, 0.8, 0.9, closure_current);
         lap("gather");
         final_gather(0.9, 1.0);  // output.cpp
         lap("output");
@@ -151,7 +150,7 @@ bool Solver::link_and_refine() {
     light_initial();  // solver_lights.cpp: lit surfaces get their first-bounce radiance before linking
     h_.index_emitters();  // can_split: small emitting clusters still split
     forecast_output();    // memory.cpp: refinement leaves room for the output (follow_forecast)
-    refinement().link_from({{h_.root, h_.root, -1}});
+    refinement(nullptr).link_from({{h_.root, h_.root, -1}});
     lap("link");
     set_progress(0.2);
     // Refine against the evolving solution (BF refinement): light arriving from
@@ -161,17 +160,17 @@ bool Solver::link_and_refine() {
     const int round_sweeps = std::min(settings_.max_iterations, kRoundSweeps);
     for (int round = 0; round < settings_.max_refine_rounds; ++round) {
         check_cancel();
-        const bool closure_settled = compute_closure();
+        const bool closure_settled = compute_closure(nullptr);
         lap("closure");
-        iterate_to(loose, round_sweeps, 0.2 + 0.6 * round / settings_.max_refine_rounds,
+        iterate_to(nullptr, loose, round_sweeps, 0.2 + 0.6 * round / settings_.max_refine_rounds,
                    0.2 + 0.6 * (round + 0.5) / settings_.max_refine_rounds);
         lap("gather");
         light_known_ = true;
         ++stats_.refine_rounds;
         const LinkShape was = link_shape();
         bool touched = false;
-        const bool lights_split = light_refine();  // solver_lights.cpp: where direct light varies
-        const bool more = refinement().refine_active(&touched) || lights_split;
+        const bool lights_split = light_refine(nullptr);  // solver_lights.cpp: where direct light varies
+        const bool more = refinement(nullptr).refine_active(&touched) || lights_split;
         lap("refine");
         // Nothing judged, split or merged since this round's closure pass and solve: they stand.
         if (!more) return closure_settled && !touched && link_shape() == was;
@@ -217,8 +216,8 @@ void Solver::lap(const char* phase) {
     stats_.phase_rays.emplace_back(phase, dr);
 }
 
-Refinement::Context Solver::refinement_context() {
-    return {h_, links_, *vis_, direct_light_, settings_, stats_, threshold_state(), replay_boxes(),
+Refinement::Context Solver::refinement_context(const UpdateRun* u) {
+    return {h_, links_, *vis_, direct_light_, settings_, stats_, threshold_state(), replay_boxes(u),
             [this] {
                 check_cancel();
                 follow_forecast();  // memory.cpp
@@ -229,13 +228,8 @@ Refinement::Context Solver::refinement_context() {
 
 Link Solver::evaluate(int src, int rcv) const {
     settle_preview();
-    return link_evaluator().evaluate(src, rcv);
-}
-
-Link Solver::reevaluate(const Link& l) const {
-    // (evaluate puts a drag's placement back; a replay runs only inside update, which did.)
-    if (!replay_boxes() || l.must_refine) return evaluate(l.src, l.rcv);
-    return link_evaluator().reevaluate(l);
+    // Every ray cast: no update runs, so nothing replays.
+    return LinkEvaluator{h_, *vis_, settings_, oracle(), nullptr}.evaluate(src, rcv);
 }
 
 void Solver::compute_reference() {

@@ -27,13 +27,13 @@ void Solver::light_initial() {
     // only by lamps would look dark to it (their light arrives only with the first sweep) and
     // the first links would be too coarse, leaving the refinement rounds to catch up.
     if (scene_.lights().empty()) return;
-    collect_receivers();
-    light_refine();
-    collect_receivers();
+    collect_receivers(nullptr);
+    light_refine(nullptr);
+    collect_receivers(nullptr);
     gathering_.sweep(gather_context());
 }
 
-void Solver::light_update() {
+void Solver::light_update(const UpdateRun& u) {
     // An update's first step for the lights (adjust.cpp): lights or placements changed, so
     // the splits the new direct light does not need go before the remaining leaves are lit
     // again (the old leaves there would cost rays for nothing), and the new light splits
@@ -42,16 +42,16 @@ void Solver::light_update() {
     // first refinement round, after the first gather, links would be judged on the old,
     // coarser light elements and refined for good.)
     if (scene_.lights().empty()) return;
-    direct_light_.invalidate(h_, edits_.poses(), replay_boxes());
+    direct_light_.invalidate(h_, edits_.poses(), replay_boxes(&u));
     if (!direct_light_.take_recheck()) return;
-    light_coarsen();
-    collect_receivers();
-    if (light_refine()) collect_receivers();
+    light_coarsen(&u);
+    collect_receivers(&u);
+    if (light_refine(&u)) collect_receivers(&u);
 }
 
-bool Solver::light_refine() {
+bool Solver::light_refine(const UpdateRun* u) {
     if (scene_.lights().empty()) return false;
-    if (direct_light_.take_recheck()) light_coarsen();
+    if (direct_light_.take_recheck()) light_coarsen(u);
     return direct_light_.refine(h_, light_sight(), threshold_, gathering_.leaves(), [this](int id) {
         // A shadow's edge splits below the area floor too (may_split_below_floor): a floor
         // leaf across it sends its half-lit average under the object that casts it.
@@ -63,7 +63,7 @@ bool Solver::light_refine() {
     });
 }
 
-bool Solver::light_coarsen() {
+bool Solver::light_coarsen(const UpdateRun* u) {
     // After a light moved or changed (or objects moved), elements split only for the old
     // direct light merge back where the new light does not need them, so an incremental
     // update ends with the elements a full solve would make (3.4's un-refinement, for
@@ -86,7 +86,7 @@ bool Solver::light_coarsen() {
         }
         h_.nodes[id].children.clear();
     }
-    if (!drop.empty()) collect_receivers();
+    if (!drop.empty()) collect_receivers(u);
     return !drop.empty();
 }
 

@@ -128,10 +128,6 @@ public:
     std::vector<ObjectCost> object_costs() const;
     // A fresh evaluation of the link src -> rcv as the solver would make it (same seed).
     Link evaluate(int src, int rcv) const;
-    // The same for a kept link whose ends did not move, during an update that moved objects
-    // only: the rays through no moved object's old or new box keep their recorded outcome
-    // (reevaluate_link). Otherwise evaluate().
-    Link reevaluate(const Link& l) const;
     // Closed pockets (pockets.h): Pockets::rays of surface s as the solver casts them, and
     // each surface's escape rays at the last pocket computation.
     using PocketRay = Pockets::Ray;
@@ -169,6 +165,9 @@ public:
 
 private:
     static constexpr int kRoundSweeps = 40;  // gathering sweeps between refinement rounds
+    // What one incremental update knows (defined below, with the update's phases). The steps
+    // a solve and an update share take it as an argument: null in a full solve.
+    struct UpdateRun;
 
     // solve()'s phases (solver.cpp): the scene built, and a lit scene linked and refined
     // (true when its last closure pass and solve stand on the links as they end).
@@ -184,12 +183,11 @@ private:
     }
     Oracle::Threshold threshold_state() const { return {threshold_, L_ref_, min_area_, light_known_}; }
     // solver.cpp: the refinement (refinement.h) on the solver's hierarchy, links and stats with
-    // the threshold state of now, so one is made for each step that links, splits or un-refines
-    // (its Context alone for the AdjustSystem, which makes its own); and how the solver
-    // evaluates a link (evaluate, reevaluate), alike.
-    Refinement::Context refinement_context();
-    Refinement refinement() { return Refinement(refinement_context()); }
-    LinkEvaluator link_evaluator() const { return {h_, *vis_, settings_, oracle(), replay_boxes()}; }
+    // the threshold state of now and the update's replay boxes (`u`), so one is made for each
+    // step that links, splits or un-refines (its Context alone for the AdjustSystem, which
+    // makes its own).
+    Refinement::Context refinement_context(const UpdateRun* u);
+    Refinement refinement(const UpdateRun* u) { return Refinement(refinement_context(u)); }
     // memory.cpp. Estimated bytes the solve holds with `more` links and nodes: nodes and
     // links in their chunks, Embree's BVHs, the gather plan, the scene and the hierarchy's
     // tables (measure_tables), and the final gather's trace (the one made, or the forecast of
@@ -213,18 +211,20 @@ private:
     // solver_gather.cpp: the gathering (gathering_) on the solver's hierarchy, links, direct
     // light and stats, as the oracle is made (oracle()). collect_receivers lists the leaves
     // anew and lights those lacking their direct term: whatever changes links, nodes or
-    // materials must call it before the next sweep (iterate_to and compute_closure do).
+    // materials must call it before the next sweep (iterate_to and compute_closure do). `u`
+    // (null in a full solve): the update whose replay boxes the direct light keeps outside.
     Gathering::Context gather_context() { return {h_, links_, direct_light_, settings_, stats_}; }
-    void collect_receivers();
+    void collect_receivers(const UpdateRun* u);
     // Sweeps to `tolerance` (Gathering::iterate_to), progress from progress_from to progress_to.
     // With `keep_plan`, the leaves and the gather plan are not collected again: no link or
     // node changed since the last iterate_to.
-    void iterate_to(double tolerance, int max_iterations, double progress_from, double progress_to,
-                    bool keep_plan = false);
+    void iterate_to(const UpdateRun* u, double tolerance, int max_iterations, double progress_from,
+                    double progress_to, bool keep_plan = false);
     // Closure factors set, then closure-driven splits, pass after pass until none splits.
     // True when its last pass split nothing (not cut by Settings::closure_refine_passes): a
-    // second call on the same links would change nothing.
-    bool compute_closure();
+    // second call on the same links would change nothing. In an update (`u`), the passes
+    // keep to its closure focus.
+    bool compute_closure(const UpdateRun* u);
     // What a refinement round can change of the solution's structure: links made, nodes made,
     // elements split or merged (a link judged and settled in place shows only to the round).
     struct LinkShape {
@@ -263,23 +263,28 @@ private:
         // links_before (empty: no focus).
         std::vector<Aabb> closure_focus;
     };
+    // The boxes outside which a recorded ray keeps its outcome, a shadow ray's or a link's,
+    // in the update `u` (null: nothing replays, as in a full solve).
+    static const std::vector<Aabb>* replay_boxes(const UpdateRun* u) {
+        return u && u->replaying ? &u->replay_clips : nullptr;
+    }
     // The update's phases, in order; update_materials and update_adjust return false when
     // they solved in full instead.
     void update_begin(UpdateRun& u);
     bool update_materials(Control* control);  // emission and reflectance changes
     bool update_adjust(UpdateRun& u, Control* control);  // place the moved objects, AdjustSystem
-    void update_history(UpdateRun& u);   // un-refine history links, lights
-    void update_resolve(UpdateRun& u);   // closure, gathering, un-refinement, refine rounds
+    void update_history(UpdateRun& u);         // un-refine history links, lights
+    void update_resolve(const UpdateRun& u);   // closure, gathering, un-refinement, refine rounds
     // A refine round's links to judge (new since `judged_from`, flagged, or from a sender whose
     // light moved) and, among them, the settled ones whose sender's first bounce grew.
     void update_judged(const UpdateRun& u, int round, int64_t judged_from, const std::vector<char>& moved_light,
                        std::vector<int>& ids, std::vector<int>& unsettle) const;
-    void update_output(UpdateRun& u);    // final gather, stats
+    void update_output(const UpdateRun& u);    // final gather, stats
     // A full solve in place of an update (pending moves become placements); `why` is warned.
     void solve_instead(Control* control, const char* why);
     // The AdjustSystem (adjust_system.h) for `ch` on the solver's hierarchy, links and stats,
-    // with the threshold state and replay boxes of now: made once the update knows them.
-    AdjustSystem adjust_system(const Change& ch);
+    // with the threshold state of now and u's replay boxes: made once the update knows them.
+    AdjustSystem adjust_system(const Change& ch, const UpdateRun& u);
     // preview.cpp: the objects of a drag's step placed away from where the solution has them,
     // with their placements, validated as move_object validates them.
     std::vector<std::pair<int, Rigid>> preview_placements(const std::map<int, std::array<double, 16>>& moves) const;
@@ -316,18 +321,14 @@ private:
     std::vector<float> judging_radiance(const std::vector<float>& snap) const;
     void prune_elements();
     // solver_lights.cpp: the steps that light, split and coarsen elements through
-    // direct_light_ (the hierarchy and the element count stay the solver's). What its shadow
-    // rays are cast into (valid while vis_ is), and the boxes an update that replays rays
-    // (update_run_) moved geometry in: outside them a recorded ray keeps its outcome, a shadow
-    // ray's or a link's (null: nothing replays).
+    // direct_light_ (the hierarchy and the element count stay the solver's), and what its
+    // shadow rays are cast into (valid while vis_ is). `u`: the update they run in (its
+    // replay boxes, for the leaves they light again), null in a full solve.
     DirectLight::Sight light_sight() const { return {scene_, *vis_, settings_}; }
-    const std::vector<Aabb>* replay_boxes() const {
-        return update_run_ && update_run_->replaying ? &update_run_->replay_clips : nullptr;
-    }
-    void light_initial();  // before the first linking: split and light
-    void light_update();   // before an update's solve: invalidate, coarsen, split again
-    bool light_refine();   // split leaves whose direct light varies (DirectLight::refine)
-    bool light_coarsen();  // drop the children of light splits no longer needed
+    void light_initial();                      // before the first linking: split and light
+    void light_update(const UpdateRun& u);     // before an update's solve: invalidate, coarsen, split again
+    bool light_refine(const UpdateRun* u);     // split leaves whose direct light varies (DirectLight::refine)
+    bool light_coarsen(const UpdateRun* u);    // drop the children of light splits no longer needed
     // Runs `judge_links` with every node's radiance set to DirectLight::first_bounce's (then
     // restored); `only`: per node, the leaves to set (the rest keep theirs).
     void at_first_bounce(const std::function<void()>& judge_links, const std::vector<char>* only = nullptr);
@@ -368,13 +369,11 @@ private:
     double L_ref_ = 0, threshold_ = 0, min_area_ = 0;
     // Whether the nodes' radiance L estimates the light (false from a solve's start until
     // its first gathering): only then may a link's threshold follow its receiver's light.
+    // A member: it is the solution's, set by a solve and still true in every update after.
     bool light_known_ = false;
     bool solved_ = false;
     PendingEdits edits_;  // what changed since the last update, and each object's placement
     std::chrono::steady_clock::time_point lap_t_;
-    // The update running, if any (update() sets it for its phases): link re-evaluation
-    // replays rays and closure passes keep to its moved boxes as it says.
-    const UpdateRun* update_run_ = nullptr;
     int64_t lap_rays_ = 0;  // rays cast when lap_t_ was taken
     Pockets pockets_;  // closed pockets and the escape rays that found them
     std::vector<std::vector<int>> tri_prim_;  // per object: Embree triangle -> primitive

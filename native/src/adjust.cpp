@@ -331,7 +331,7 @@ bool Solver::update_adjust(UpdateRun& u, Control* control) {
                                           : "a move changed a closed pocket: solved in full");
         return false;
     }
-    measure_tables();
+    memory_.measure_tables(memory_view());
     lap("pockets");
     if (u.topology) {
         // Area and emission changed: the reference radiance, and with it the oracle's

@@ -70,8 +70,8 @@ void Solver::final_gather(double from, double to, const FinalGather::Moves* move
         return;
     }
     if (!moves) {
-        forecast_output();
-        stats_.gather_forecast_bytes = int64_t(output_forecast_);
+        memory_.forecast_output(memory_view());
+        stats_.gather_forecast_bytes = int64_t(memory_.output_forecast());
     }
     direct_light_.find_contacts(h_, scene_, settings_.threads);
     h_.index_emitters();  // the near field asks per point whether a cluster emits

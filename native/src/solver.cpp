@@ -1,7 +1,5 @@
 #include "radiosity/solver.h"
 
-#include <unistd.h>
-
 #include <chrono>
 #include <cmath>
 
@@ -13,13 +11,9 @@ using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 }  // namespace
 
-Solver::Solver(SceneDesc scene, Settings settings) : scene_(std::move(scene)), settings_(settings) {
+Solver::Solver(SceneDesc scene, Settings settings)
+    : scene_(std::move(scene)), settings_(settings), memory_(settings_.max_memory_mb) {
     settings_.validate();
-    memory_limit_ = settings_.max_memory_mb * 1048576.0;
-    if (memory_limit_ <= 0) {
-        const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
-        memory_limit_ = pages > 0 && page > 0 ? 0.5 * double(pages) * double(page) : 4.0 * 1073741824.0;
-    }
 }
 
 void Solver::add_object_geometry(int o, const std::vector<int>& prims) {
@@ -131,7 +125,7 @@ void Solver::build_scene() {
     for (const auto& [o, p] : placed) vis_->set_object_transform(o, p);
     vis_->commit();
     pockets_.compute(h_, pocket_sight());
-    measure_tables();
+    memory_.measure_tables(memory_view());
     compute_reference();
 }
 
@@ -149,7 +143,7 @@ void Solver::fit_ray_epsilon() {
 bool Solver::link_and_refine() {
     light_initial();  // solver_lights.cpp: lit surfaces get their first-bounce radiance before linking
     h_.index_emitters();  // can_split: small emitting clusters still split
-    forecast_output();    // memory.cpp: refinement leaves room for the output (follow_forecast)
+    memory_.forecast_output(memory_view());  // refinement leaves room for the output (follow_forecast)
     refinement(nullptr).link_from({{h_.root, h_.root, -1}});
     lap("link");
     set_progress(0.2);
@@ -185,14 +179,14 @@ void Solver::add_result_warnings() {
         stats_.warnings.push_back(std::to_string(h_.unfanned_polygons) +
                                   " concave polygon(s) too large (over 4096 corners) or self-intersecting to "
                                   "triangulate: some of their pieces face the wrong way; triangulate them in Blender");
-    const double held = memory_estimate();
-    if (held > memory_limit_)
+    const double held = memory_.estimate(memory_view());
+    if (held > memory_.limit())
         stats_.warnings.push_back("the bake holds about " + std::to_string(int64_t(held / 1048576.0)) +
-                                  " MB, over max_memory_mb (" + std::to_string(int64_t(memory_limit_ / 1048576.0)) +
+                                  " MB, over max_memory_mb (" + std::to_string(int64_t(memory_.limit() / 1048576.0)) +
                                   "): allow more memory, or use a coarser preset");
     if (stats_.memory_capped)
         stats_.warnings.push_back("refinement stopped at the memory cap (max_memory_mb " +
-                                  std::to_string(int64_t(memory_limit_ / 1048576.0)) +
+                                  std::to_string(int64_t(memory_.limit() / 1048576.0)) +
                                   "): the result is coarser than the threshold asks");
     else if (stats_.capped)
         stats_.warnings.push_back("refinement stopped at the element or link cap (max_elements " +
@@ -220,9 +214,9 @@ Refinement::Context Solver::refinement_context(const UpdateRun* u) {
     return {h_, links_, *vis_, direct_light_, settings_, stats_, threshold_state(), replay_boxes(u),
             [this] {
                 check_cancel();
-                follow_forecast();  // memory.cpp
+                memory_.follow_forecast(memory_view());
             },
-            [this](size_t more_links, size_t more_nodes) { return memory_estimate(more_links, more_nodes) > memory_limit_; },
+            [this](size_t more_links, size_t more_nodes) { return memory_.over(memory_view(), more_links, more_nodes); },
             [this](const std::function<void()>& judge) { at_first_bounce(judge); }};
 }
 
@@ -252,7 +246,7 @@ void Solver::compute_reference() {
 void Solver::compute_stats() {
     Stats& s = stats_;
     s.input_surfaces = int64_t(scene_.polygon_count());
-    s.memory_bytes = int64_t(memory_estimate());
+    s.memory_bytes = int64_t(memory_.estimate(memory_view()));
     s.primitives = 0;
     for (const Primitive& p : h_.prims) s.primitives += p.object >= 0;  // removed objects' are -1
     s.skipped_polygons = int64_t(h_.skipped_polygons);

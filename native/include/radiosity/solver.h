@@ -22,6 +22,7 @@
 #include "radiosity/lights.h"
 #include "radiosity/link.h"
 #include "radiosity/link_store.h"
+#include "radiosity/memory_budget.h"
 #include "radiosity/oracle.h"
 #include "radiosity/pending_edits.h"
 #include "radiosity/pockets.h"
@@ -188,26 +189,10 @@ private:
     // makes its own).
     Refinement::Context refinement_context(const UpdateRun* u);
     Refinement refinement(const UpdateRun* u) { return Refinement(refinement_context(u)); }
-    // memory.cpp. Estimated bytes the solve holds with `more` links and nodes: nodes and
-    // links in their chunks, Embree's BVHs, the gather plan, the scene and the hierarchy's
-    // tables (measure_tables), and the final gather's trace (the one made, or the forecast of
-    // the next); compared with memory_limit_ before refining.
-    double memory_estimate(size_t more_links = 0, size_t more_nodes = 0) const;
-    // The scene's arrays, the hierarchy's tables but its nodes, pockets' rays and the Embree
-    // triangle map, into tables_bytes_: measured after a build or an update (they change only
-    // then), since memory_estimate runs at every split.
-    void measure_tables();
-    double tables_bytes_ = 0;
-    // The final gather's trace for the links as they stand, forecast from the output points'
-    // leaves and the links that reach them; kept in output_forecast_ (per active link in
-    // output_forecast_links_) for memory_estimate.
-    void forecast_output();
-    // Before each wave of links: forecast_output again when the links have doubled since, or
-    // near the memory cap; once the output is traced, never.
-    void follow_forecast();
-    double memory_limit_ = 0;
-    double output_forecast_ = 0;
-    int64_t output_forecast_links_ = 0;
+    // What the memory budget (memory_budget.h) reads of the solve as it stands now.
+    MemoryView memory_view() const {
+        return {settings_, scene_, h_, links_, vis_.get(), gathering_, direct_light_, output_, pockets_, tri_prim_};
+    }
     // solver_gather.cpp: the gathering (gathering_) on the solver's hierarchy, links, direct
     // light and stats, as the oracle is made (oracle()). collect_receivers lists the leaves
     // anew and lights those lacking their direct term: whatever changes links, nodes or
@@ -364,6 +349,7 @@ private:
     std::unique_ptr<Visibility> vis_;
     LinkStore links_;              // every link, with its history (link_store.h)
     Gathering gathering_;          // the sweeps and their plan (gathering.h)
+    MemoryBudget memory_;          // the memory cap and what the solve holds (memory_budget.h)
     Stats stats_;
     Control* control_ = nullptr;
     double L_ref_ = 0, threshold_ = 0, min_area_ = 0;

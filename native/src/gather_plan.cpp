@@ -107,7 +107,7 @@ void GatherPlan::build(const Hierarchy& h, const LinkStore& links, int threads) 
     const std::vector<int32_t> c_value_begin = build_clusters(h);
     ClusterLinkEnds ends;
     build_links(h, links, threads, ends);
-    build_flux_groups(h, c_value_begin, ends);
+    build_flux_groups(h, c_value_begin, ends, threads);
     valid_ = true;
 }
 
@@ -235,43 +235,55 @@ uint64_t bits_of(double x) {
 // (a link brings nothing to surfaces in pockets its sender has none in). Terms in the order
 // the ancestors (root first) and their in_links come, as a per-surface walk would add them.
 void GatherPlan::build_flux_groups(const Hierarchy& h, const std::vector<int32_t>& c_value_begin,
-                                   const ClusterLinkEnds& ends) {
+                                   const ClusterLinkEnds& ends, int threads) {
     const int32_t cl_lo = n_elem_, cl_hi = n_elem_ + n_clusters_;
     const size_t ns = h.surfaces.size();
+    // The groups, in order of their first surface (which stands for the group's terms).
     std::map<std::tuple<int, uint64_t, uint64_t, uint64_t, int>, int32_t> groups;
+    std::vector<int32_t> first;
     s_group_.assign(ns, 0);
-    g_begin_.clear();
-    flux_.clear();
     for (size_t s = 0; s < ns; ++s) {
-        const std::vector<int>& anc = h.ancestors_of_surface(int(s));
         const Vec3 nrm = h.nodes[size_t(h.surfaces[s].root)].normal;
-        const int pocket = h.nodes[size_t(h.surfaces[s].root)].pocket;
+        const std::vector<int>& anc = h.ancestors_of_surface(int(s));
         const auto key = std::make_tuple(anc.empty() ? -1 : anc.back(), bits_of(nrm.x), bits_of(nrm.y), bits_of(nrm.z),
-                                         pocket);
-        auto it = groups.find(key);
-        if (it != groups.end()) {
-            s_group_[s] = it->second;
-            continue;
-        }
-        const int32_t g = int32_t(g_begin_.size());
-        groups.emplace(key, g);
-        s_group_[s] = g;
-        g_begin_.push_back(int32_t(flux_.size()));
-        for (int a : anc) {
-            const int32_t sa = slot_[size_t(a)];
-            const int32_t first = sa >= cl_lo && sa < cl_hi ? c_value_begin[size_t(sa - cl_lo)] : -1;
-            if (first < 0) continue;  // no links into it
-            // (The links' ends as build_links copied them: one ancestor high up serves
-            // thousands of groups, and its links read from the store would each be a miss.)
-            const int32_t count = int32_t(h.nodes[size_t(a)].in_links.size());
-            for (int32_t k = first; k < first + count; ++k) {
-                const double c = -dot(nrm, ends.dir[size_t(k)]);
-                if (c > 0 && h.holds_pocket(ends.src[size_t(k)], pocket)) flux_.push_back({k, c});
-            }
-        }
+                                         h.nodes[size_t(h.surfaces[s].root)].pocket);
+        const auto [it, made] = groups.emplace(key, int32_t(first.size()));
+        if (made) first.push_back(int32_t(s));
+        s_group_[s] = it->second;
     }
-    g_begin_.push_back(int32_t(flux_.size()));
-    g_flux_.assign(g_begin_.size() - 1, Rgb{});
+    // Their terms, a run of groups a chunk: filled in parallel, each group's in the order a
+    // per-surface walk adds them.
+    const size_t ng = first.size();
+    const size_t per = std::max<size_t>(64, (ng + kFluxChunks - 1) / kFluxChunks);
+    const size_t nc = (ng + per - 1) / per;
+    flux_.resize(nc);
+    g_chunk_.resize(ng);
+    g_begin_.resize(ng);
+    g_end_.resize(ng);
+    parallel_for(nc, ng < 4096 ? 1 : threads, [&](size_t c) {
+        std::vector<FluxTerm>& out = flux_[c];
+        out.clear();
+        for (size_t g = c * per; g < std::min(ng, (c + 1) * per); ++g) {
+            const int s = first[g];
+            const Node& root = h.nodes[size_t(h.surfaces[size_t(s)].root)];
+            g_chunk_[g] = int32_t(c);
+            g_begin_[g] = int32_t(out.size());
+            for (int a : h.ancestors_of_surface(s)) {
+                const int32_t sa = slot_[size_t(a)];
+                const int32_t from = sa >= cl_lo && sa < cl_hi ? c_value_begin[size_t(sa - cl_lo)] : -1;
+                if (from < 0) continue;  // no links into it
+                // (The links' ends as build_links copied them: one ancestor high up serves
+                // thousands of groups, and its links read from the store would each be a miss.)
+                const int32_t count = int32_t(h.nodes[size_t(a)].in_links.size());
+                for (int32_t k = from; k < from + count; ++k) {
+                    const double cs = -dot(root.normal, ends.dir[size_t(k)]);
+                    if (cs > 0 && h.holds_pocket(ends.src[size_t(k)], root.pocket)) out.push_back({k, cs});
+                }
+            }
+            g_end_[g] = int32_t(out.size());
+        }
+    }, 1);
+    g_flux_.assign(ng, Rgb{});
 }
 
 void GatherPlan::prepare_radiometry(const Hierarchy& h, const LinkStore& links,
@@ -508,7 +520,8 @@ double GatherPlan::sweep(bool unit, CouplingSums* sums, int threads) {
     //    clusters); then push-pull down and up each surface's quadtree.
     parallel_for(g_flux_.size(), workers(threads), [&](size_t g) {
         Rgb acc;
-        for (int32_t k = g_begin_[g]; k < g_begin_[g + 1]; ++k) acc += cvalue_[size_t(flux_[size_t(k)].value)] * flux_[size_t(k)].cos;
+        const FluxTerm* f = flux_[size_t(g_chunk_[g])].data();
+        for (int32_t k = g_begin_[g]; k < g_end_[g]; ++k) acc += cvalue_[size_t(f[k].value)] * f[k].cos;
         g_flux_[g] = acc;
     }, 256);
     std::vector<double> deltas(s_group_.size(), 0.0);
@@ -587,7 +600,7 @@ double GatherPlan::bytes(size_t links, size_t nodes) const {
                held_bytes(e_nchild_) + held_bytes(e_rcv_) + held_bytes(e_area_) + held_bytes(e_child_area_) +
                held_bytes(e_emission_) + held_bytes(e_rho_) + held_bytes(e_direct_) + held_bytes(e_closure_) +
                held_bytes(e_closure_own_) + held_bytes(e_fill_) + held_bytes(G_) + held_bytes(acc_) + held_bytes(lo_) +
-               held_bytes(hi_) + held_bytes(s_begin_) + held_bytes(s_group_) + held_bytes(g_begin_) + held_bytes(flux_) +
+               held_bytes(hi_) + held_bytes(s_begin_) + held_bytes(s_group_) + held_bytes(g_chunk_) + held_bytes(g_begin_) + held_bytes(g_end_) + held_bytes(flux_) +
                held_bytes(g_flux_) + held_bytes(c_begin_) + held_bytes(c_children_) + held_bytes(S_) +
                held_bytes(r_entry_) + held_bytes(r_begin_) + held_bytes(cr_node_) + held_bytes(cvalue_) +
                held_bytes(plinks_) + held_bytes(plink_id_) + held_bytes(send_at_) + held_bytes(sends_) +

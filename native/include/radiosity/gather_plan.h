@@ -158,7 +158,8 @@ private:
     void build_elements(const Hierarchy& h);
     std::vector<int32_t> build_clusters(const Hierarchy& h);
     void build_links(const Hierarchy& h, const LinkStore& links, int threads, ClusterLinkEnds& ends);
-    void build_flux_groups(const Hierarchy& h, const std::vector<int32_t>& c_value_begin, const ClusterLinkEnds& ends);
+    void build_flux_groups(const Hierarchy& h, const std::vector<int32_t>& c_value_begin, const ClusterLinkEnds& ends,
+                           int threads);
     // prepare_radiometry()'s steps, in order.
     void prepare_elements(const Hierarchy& h, const std::function<Rgb(int)>& direct, int threads);
     void prepare_clusters(const Hierarchy& h);
@@ -187,8 +188,11 @@ private:
     std::vector<Rgb> lo_, hi_;         // per slot, write-back only: range of leaf radiance below
     // Surfaces: entry range and flux group.
     std::vector<int32_t> s_begin_, s_group_;
-    std::vector<int32_t> g_begin_;     // per group: range in flux_
-    std::vector<FluxTerm> flux_;
+    // Per group: its terms, g_begin_ to g_end_ in chunk g_chunk_ of flux_ (a run of groups a
+    // chunk, so that a build fills them in parallel).
+    static constexpr size_t kFluxChunks = 256;
+    std::vector<int32_t> g_chunk_, g_begin_, g_end_;
+    std::vector<std::vector<FluxTerm>> flux_;
     std::vector<Rgb> g_flux_;
     // Clusters (slots [n_elem_, n_elem_ + n_clusters_)), by decreasing node id so children come
     // before their parents.

@@ -775,7 +775,7 @@ double resident_bytes() {
 }  // namespace
 
 TEST(Extremes, MemoryEstimateCoversWhatTheBakeHolds) {
-    // max_memory_mb is held against Solver::memory_estimate: an estimate that left out a large
+    // max_memory_mb is held against MemoryBudget::estimate: an estimate that left out a large
     // part of what a bake holds (the gather plan, the scene's and hierarchy's tables) would let
     // the process grow past the cap. What the process holds after a MEDIUM bake beyond what it
     // held before, freed memory handed back, is within the estimate; and the estimate is not

@@ -131,9 +131,8 @@ void trace_lamps(const Run& run, Point& pt, const Point* old, Counts& counts) {
     const bool replay = old != nullptr && !old->sealed && !moves->cast_all && !moves->lights_changed &&
                         old->lamp_rays.count > 0;
     // Every shadow ray leaves the point's plane upward: all that moved below it shades none.
-    bool below = replay;
-    if (replay)
-        for (const Aabb& b : moves->clips) below = below && b.max_along(n) < dot(n, x);
+    const bool below = replay && std::all_of(moves->clips.begin(), moves->clips.end(),
+                                             [&](const Aabb& b) { return b.max_along(n) < dot(n, x); });
     bool lamps_kept = replay;
     if (replay && !below) {
         for (const LightDesc& d : s.scene.lights()) {

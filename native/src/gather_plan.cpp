@@ -600,8 +600,8 @@ double GatherPlan::bytes(size_t links, size_t nodes) const {
                held_bytes(e_nchild_) + held_bytes(e_rcv_) + held_bytes(e_area_) + held_bytes(e_child_area_) +
                held_bytes(e_emission_) + held_bytes(e_rho_) + held_bytes(e_direct_) + held_bytes(e_closure_) +
                held_bytes(e_closure_own_) + held_bytes(e_fill_) + held_bytes(G_) + held_bytes(acc_) + held_bytes(lo_) +
-               held_bytes(hi_) + held_bytes(s_begin_) + held_bytes(s_group_) + held_bytes(g_chunk_) + held_bytes(g_begin_) + held_bytes(g_end_) + held_bytes(flux_) +
-               held_bytes(g_flux_) + held_bytes(c_begin_) + held_bytes(c_children_) + held_bytes(S_) +
+               held_bytes(hi_) + held_bytes(s_begin_) + held_bytes(s_group_) + held_bytes(g_chunk_) +
+               held_bytes(g_begin_) + held_bytes(g_end_) + held_bytes(flux_) + held_bytes(g_flux_) + held_bytes(c_begin_) + held_bytes(c_children_) + held_bytes(S_) +
                held_bytes(r_entry_) + held_bytes(r_begin_) + held_bytes(cr_node_) + held_bytes(cvalue_) +
                held_bytes(plinks_) + held_bytes(plink_id_) + held_bytes(send_at_) + held_bytes(sends_) +
                held_bytes(samples_);

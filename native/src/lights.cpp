@@ -565,27 +565,27 @@ void DirectLight::compute(const Hierarchy& h, const Sight& sight, const std::vec
     const std::vector<ILight> ls = internal_lights(sight.scene, h);
     const double far = 4.0 * h.scene_diag, lift = 1e-5 * h.scene_diag;
     if (rays_.size() < h.nodes.size()) rays_.resize(h.nodes.size());
-    Aabb moved;
-    for (const Aabb& b : clips_) moved.grow(b);
     parallel_for(ids.size(), sight.settings.threads, [&](size_t i) {
         const int id = ids[i];
         const Node& n = h.nodes[id];
-        // Its shadow rays, replayed where a move left the node stale (invalidate). Every one
-        // leaves the element's plane upward: with all that moved below its lowest corner, the
-        // node is lit as it was.
+        // Its shadow rays, replayed where a move left the node stale (invalidate).
         const bool stale = have_[id] == kStale;
-        double lowest = 1e300, reach = 0;
-        const Vec3 centre = n.poly.centroid();
-        for (int v = 0; v < n.poly.n; ++v) {
-            lowest = std::min(lowest, dot(n.normal, n.poly.v[size_t(v)]));
-            reach = std::max(reach, length(n.poly.v[size_t(v)] - centre));
-        }
-        if (stale && moved.max_along(n.normal) < lowest) {
-            have_[id] = kLit;
-            return;
-        }
         LampRayStream rs(sight.vis, stale ? &rays_[id] : nullptr, stale ? &clips_ : nullptr);
-        rs.set_origins(centre, reach + 2 * lift);
+        if (stale) {
+            // Every ray leaves the element's plane upward: with all that moved below its
+            // lowest corner, the node is lit as it was. Else the ball its rays start from.
+            double lowest = 1e300, reach = 0;
+            const Vec3 centre = n.poly.centroid();
+            for (int v = 0; v < n.poly.n; ++v) {
+                lowest = std::min(lowest, dot(n.normal, n.poly.v[size_t(v)]));
+                reach = std::max(reach, length(n.poly.v[size_t(v)] - centre));
+            }
+            if (std::all_of(clips_.begin(), clips_.end(), [&](const Aabb& b) { return b.max_along(n.normal) < lowest; })) {
+                have_[id] = kLit;
+                return;
+            }
+            rs.set_origins(centre, reach + 2 * lift);
+        }
         Rgb sum, lo = Rgb::all(1e300), hi = Rgb::all(-1e300);
         double area = 0, var_max = 0, edge = 0;
         for (int k = 0; k < 4; ++k) {

@@ -1,7 +1,8 @@
 // Dynamic environments (paper 3.2-3.4): the edits recorded between updates (rigid moves,
-// emission and reflectance), and update()'s pipeline of phases: the moved objects placed, the
-// AdjustSystem (adjust_system.h) run on the change, history links and lights, the warm-started
-// re-solve with un-refinement, and the output.
+// emission and reflectance; objects added and removed through Topology, topology.h), and
+// update()'s pipeline of phases: the moved objects placed, the AdjustSystem (adjust_system.h)
+// run on the change, history links and lights, the warm-started re-solve with un-refinement,
+// and the output.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -21,8 +22,23 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 void Solver::move_object(int object, const double m[16]) {
     settle_preview();
     if (!solved_) throw std::logic_error("move_object: solve the scene first");
-    check_live(object, "move_object");  // topology.cpp
+    topology_.check_live(scene_, object, "move_object");
     edits_.record_move(object, pose_of(object, m));
+}
+
+int Solver::add_cluster(const std::string& name, int parent) {
+    settle_preview();
+    return topology_.add_cluster(scene_, name, parent);
+}
+
+int Solver::add_object(ObjectDesc object) {
+    settle_preview();
+    return topology_.add_object(scene_, std::move(object), solved_);
+}
+
+void Solver::remove_object(int object) {
+    settle_preview();
+    topology_.remove_object(scene_, edits_, object, solved_);
 }
 
 Rigid Solver::pose_of(int object, const double m[16]) const {
@@ -56,7 +72,7 @@ Rigid Solver::pose_of(int object, const double m[16]) const {
 
 void Solver::set_material(int object, const std::vector<Rgb>& values, bool emission) {
     settle_preview();
-    check_live(object, emission ? "set_emission" : "set_reflectance");  // topology.cpp
+    topology_.check_live(scene_, object, emission ? "set_emission" : "set_reflectance");
     ObjectDesc& o = scene_.objects_mut()[object];
     if (values.size() != o.polygon_count() && values.size() != 1)
         throw InputError("object '" + o.name + "': need one RGB per polygon or one for all");
@@ -80,7 +96,7 @@ void Solver::set_material(int object, const std::vector<Rgb>& values, bool emiss
 void Solver::set_emission(int object, const std::vector<Rgb>& v) { set_material(object, v, true); }
 void Solver::set_corner_materials(int object, std::vector<Rgb> reflectance, std::vector<Rgb> emission) {
     settle_preview();
-    check_live(object, "set_corner_materials");  // topology.cpp
+    topology_.check_live(scene_, object, "set_corner_materials");
     ObjectDesc& o = scene_.objects_mut()[object];
     check_corner_materials(o, reflectance, emission);
     o.corner_reflectance = std::move(reflectance);
@@ -89,7 +105,7 @@ void Solver::set_corner_materials(int object, std::vector<Rgb> reflectance, std:
 void Solver::set_reflectance(int object, const std::vector<Rgb>& v) { set_material(object, v, false); }
 void Solver::set_texture_pieces(int object, std::vector<TexturePiece> pieces, bool emit) {
     settle_preview();
-    check_live(object, "set_texture_pieces");  // topology.cpp
+    topology_.check_live(scene_, object, "set_texture_pieces");
     ObjectDesc& o = scene_.objects_mut()[object];
     if (pieces.empty() && o.pieces.empty()) return;
     check_pieces(o, pieces);
@@ -208,14 +224,14 @@ void Solver::update(Control* control) {
     settle_preview();
     preview_saved_.reset();  // (a drag's memory, made again at the next drag)
     UpdateRun u;
-    u.topology = edits_.topology();
+    u.topology = topology_.pending();
     u.materials_changed = edits_.materials();
-    if (!edits_.any()) {
+    if (!edits_.any() && !u.topology) {
         stats_.mode_incremental = true;
         stats_.seconds_adjust = 0;
         return;
     }
-    if (changes_outgrow_frame()) {  // topology.cpp
+    if (topology_.outgrows_frame(scene_, h_)) {
         solve_instead(control, "objects added or removed changed the scene's size: solved in full (the scene's "
                                "frame changes)");
         return;
@@ -286,18 +302,44 @@ AdjustSystem Solver::adjust_system(const Change& ch, const UpdateRun& u) {
                          [this](const char* phase) { lap(phase); }});
 }
 
+void Solver::apply_topology(Change& ch) {
+    topology_.apply({scene_, h_, *vis_, links_, edits_, settings_, stats_}, ch);
+    refit_tolerances();
+    // The direct light of every leaf may have a new shadow (or lost one), as after a move;
+    // contacts refer to surfaces that may be gone.
+    direct_light_.relight();
+    direct_light_.forget_contacts();
+}
+
+// The scene's size changed (Topology::outgrows_frame allows up to 2x): the tolerances a fresh
+// solve derives from it (smallest element area, ray offsets) follow, so refinement from here
+// on stops where a fresh solve's does (the frame itself stays): without it, many objects added
+// at once to a small scene refine further than a fresh solve of the same scene would.
+void Solver::refit_tolerances() {
+    Aabb box;
+    for (const Primitive& p : h_.prims)
+        if (p.object >= 0)
+            for (int k = 0; k < p.poly.n; ++k) box.grow(p.poly.v[k]);
+    if (box.empty() || !(box.diagonal() > 0)) return;
+    h_.scene_box = box;
+    h_.scene_diag = box.diagonal();
+    min_area_ = settings_.min_area_fraction * h_.scene_diag * h_.scene_diag;
+    fit_ray_epsilon();
+}
+
 bool Solver::update_adjust(UpdateRun& u, Control* control) {
     Change ch;
     ch.moves = edits_.take_moves();
     ch.inX.assign(h_.nodes.size(), 0);
     const size_t known_surfaces = h_.surfaces.size();
-    if (u.topology) apply_topology(ch);  // topology.cpp
+    if (u.topology) apply_topology(ch);
     // Geometry and Embree instances of moved objects.
     ch.moved.assign(scene_.objects().size(), 0);
     std::vector<std::pair<int, Rigid>> placed(ch.moves.begin(), ch.moves.end());
     std::vector<std::vector<int>> prims;
     std::vector<Aabb> was;
-    for (const auto& [obj, pose] : placed) was.push_back(h_.object_box(obj, &prims.emplace_back(own_prims(obj))));
+    for (const auto& [obj, pose] : placed)
+        was.push_back(h_.object_box(obj, &prims.emplace_back(topology_.own_prims(obj))));
     h_.place_objects(placed, true, &prims, settings_.threads);
     for (size_t j = 0; j < placed.size(); ++j) {
         const auto& [obj, pose] = placed[j];

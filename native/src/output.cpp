@@ -85,7 +85,8 @@ void Solver::final_gather(double from, double to, const FinalGather::Moves* move
     c.cycles_points = settings_.cycles_corner_points;
     c.sealed_solids = settings_.gather_sealed_solids;
     const FinalGather::Solution s{scene_, h_, *vis_, links_,
-                                  [this](int surface, const Vec3& p) { return direct_light_.contact(h_, surface, p); }, &tri_prim_};
+                                  [this](int surface, const Vec3& p) { return direct_light_.contact(h_, surface, p); },
+                                  &topology_.tri_prim()};
     auto progress = [&](double f) {
         check_cancel();
         set_progress(from + (to - from) * f);

@@ -655,7 +655,7 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
     if (placed.empty()) return {};
     if (!saved.holds_drag()) {
         std::vector<std::vector<int>> prims;
-        for (int o : objects) prims.push_back(own_prims(o));
+        for (int o : objects) prims.push_back(topology_.own_prims(o));
         saved.save(h_, objects, std::move(prims), settings_.threads);
     }
     FinalGather::Preview p;
@@ -710,7 +710,8 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
         h_.place_objects(placed, false, &saved.prims(), settings_.threads);
         vis_->commit();
         const FinalGather::Solution s{scene_, h_, *vis_, links_,
-                                      [this](int surface, const Vec3& q) { return direct_light_.contact(h_, surface, q); }, &tri_prim_};
+                                      [this](int surface, const Vec3& q) { return direct_light_.contact(h_, surface, q); },
+                                      &topology_.tri_prim()};
         out = preview_patches(scene_, output_.preview(s, p, k));
     } catch (...) {
         settle_preview();
@@ -741,7 +742,7 @@ void Solver::settle_preview() const {
 std::vector<std::pair<int, Rigid>> Solver::preview_placements(const std::map<int, std::array<double, 16>>& moves) const {
     std::vector<std::pair<int, Rigid>> placed;
     for (const auto& [object, m] : moves) {
-        check_live(object, "preview");  // topology.cpp
+        topology_.check_live(scene_, object, "preview");
         const std::vector<Rigid>& poses = edits_.poses();  // an object added since has none yet
         if (size_t(object) >= poses.size() || h_.object_node[size_t(object)] < 0) continue;
         const Rigid to = pose_of(object, m.data());

@@ -16,29 +16,6 @@ Solver::Solver(SceneDesc scene, Settings settings)
     settings_.validate();
 }
 
-void Solver::add_object_geometry(int o, const std::vector<int>& prims) {
-    std::vector<Vec3> tv;
-    for (int pi : prims) {
-        const Primitive& p = h_.prims[size_t(pi)];
-        tv.insert(tv.end(), {p.poly.v[0], p.poly.v[1], p.poly.v[2]});
-        tri_prim_[size_t(o)].push_back(pi);
-        if (p.poly.n == 4) {
-            tv.insert(tv.end(), {p.poly.v[0], p.poly.v[2], p.poly.v[3]});
-            tri_prim_[size_t(o)].push_back(pi);
-        }
-    }
-    if (!scene_.objects()[size_t(o)].occluder) tv.clear();  // lights.h: area lights cast no shadow
-    vis_->add_object(o, tv);
-}
-
-std::vector<int> Solver::own_prims(int object) const {
-    // (A quad's two triangles name it twice, one after the other.)
-    std::vector<int> own;
-    for (int pi : tri_prim_[size_t(object)])
-        if (own.empty() || own.back() != pi) own.push_back(pi);
-    return own;
-}
-
 void Solver::check_cancel() const {
     if (control_ && control_->cancel.load(std::memory_order_relaxed)) throw Cancelled();
 }
@@ -59,7 +36,7 @@ void Solver::solve(Control* control) {
     lap_rays_ = 0;  // a new Visibility counts from 0
     links_.clear();
     direct_light_.clear();   // the hierarchy is rebuilt
-    commit_topology();       // topology.cpp: objects removed since are left out
+    topology_.commit(scene_, edits_);  // objects removed since are left out
     build_scene();
     stats_.seconds_build = since(t0);
     lap("build");
@@ -106,8 +83,7 @@ void Solver::build_scene() {
     std::vector<std::vector<int>> prims_of(scene_.objects().size());
     for (size_t pi = 0; pi < h_.prims.size(); ++pi)
         if (h_.prims[pi].object >= 0) prims_of[size_t(h_.prims[pi].object)].push_back(int(pi));  // -1: skipped
-    tri_prim_.assign(scene_.objects().size(), {});
-    for (size_t o = 0; o < scene_.objects().size(); ++o) add_object_geometry(int(o), prims_of[o]);
+    topology_.build_geometry(scene_, h_, *vis_, prims_of);
     stats_.element_nodes = int64_t(h_.surfaces.size());
     min_area_ = settings_.min_area_fraction * h_.scene_diag * h_.scene_diag;
 

@@ -6,65 +6,91 @@
 // object changed shape, so their links are made anew, and env-env links whose rays may pass
 // through the object's box are re-evaluated (the AdjustSystem, adjust_system.h, does both for
 // all kinds of change).
+#include "radiosity/topology.h"
+
 #include <algorithm>
 #include <cmath>
-
-#include "radiosity/solver.h"
+#include <utility>
 
 namespace radiosity {
 
-void Solver::check_live(int object, const char* what) const {
-    if (object < 0 || object >= int(scene_.objects().size()))
-        throw InputError(std::string(what) + ": unknown object " + std::to_string(object));
-    if (removed(object))
-        throw InputError(std::string(what) + ": object '" + scene_.objects()[object].name + "' (id " +
-                         std::to_string(object) + ") was removed");
-}
+namespace {
 
-int Solver::add_cluster(const std::string& name, int parent) {
-    settle_preview();
-    return scene_.add_cluster(name, parent);
-}
-
-int Solver::add_object(ObjectDesc object) {
-    settle_preview();
-    const int id = scene_.add_object(std::move(object));  // validates: InputError names the problem
-    // Before a first solve (or after a cancelled one) the next solve builds it with the rest.
-    if (solved_) edits_.record_add(id);
-    return id;
-}
-
-void Solver::remove_object(int object) {
-    settle_preview();
-    check_live(object, "remove_object");
-    // Not built into a solution (added and removed before an update, or not solved yet): its
-    // slot is emptied now; otherwise the next update takes it out.
-    if (!edits_.record_remove(object, solved_)) blank_object(object);
-}
-
-void Solver::blank_object(int object) {
-    ObjectDesc& o = scene_.objects_mut()[object];
+// The scene slot of a removed object, emptied (its name, cluster and occluder flag stay), and
+// its placement back at its geometry as given.
+void blank_object(SceneDesc& scene, PendingEdits& edits, int object) {
+    ObjectDesc& o = scene.objects_mut()[object];
     ObjectDesc empty;
     empty.name = o.name;
     empty.cluster = o.cluster;
     empty.occluder = o.occluder;
     o = std::move(empty);
-    edits_.unplace(object);
+    edits.unplace(object);
 }
 
-void Solver::commit_topology() {
-    for (int r : edits_.take_removes()) blank_object(r);
-    edits_.take_adds();  // already in scene_: the full solve builds them
+// The cluster path from the root down to `deepest`. Its clusters changed shape: marked in
+// ch.inX, they are relinked against their siblings, as the clusters above a moved object are
+// (not the root: it has no links).
+std::vector<int> changed_chain(const Hierarchy& h, AdjustSystem::Change& ch, int deepest) {
+    std::vector<int> chain;
+    for (int a = deepest; a >= 0; a = h.nodes[a].parent) chain.push_back(a);
+    std::reverse(chain.begin(), chain.end());
+    for (int a : chain)
+        if (a != h.root) ch.inX[a] = 1;
+    return chain;
 }
 
-bool Solver::changes_outgrow_frame() const {
-    if (!edits_.topology()) return false;
+}  // namespace
+
+void Topology::check_live(const SceneDesc& scene, int object, const char* what) const {
+    if (object < 0 || object >= int(scene.objects().size()))
+        throw InputError(std::string(what) + ": unknown object " + std::to_string(object));
+    if (removed(object))
+        throw InputError(std::string(what) + ": object '" + scene.objects()[object].name + "' (id " +
+                         std::to_string(object) + ") was removed");
+}
+
+int Topology::add_cluster(SceneDesc& scene, const std::string& name, int parent) {
+    return scene.add_cluster(name, parent);
+}
+
+int Topology::add_object(SceneDesc& scene, ObjectDesc object, bool solved) {
+    const int id = scene.add_object(std::move(object));  // validates: InputError names the problem
+    // Before a first solve (or after a cancelled one) the next solve builds it with the rest.
+    if (solved) adds_.push_back(id);
+    return id;
+}
+
+void Topology::remove_object(SceneDesc& scene, PendingEdits& edits, int object, bool solved) {
+    check_live(scene, object, "remove_object");
+    if (size_t(object) >= removed_.size()) removed_.resize(size_t(object) + 1, 0);
+    removed_[size_t(object)] = 1;
+    edits.drop_move(object);
+    // Not built into a solution (added and removed before an update, or not solved yet): its
+    // slot is emptied now; otherwise the next update takes it out.
+    const auto it = std::find(adds_.begin(), adds_.end(), object);
+    if (it != adds_.end()) {
+        adds_.erase(it);  // the addition is forgotten
+    } else if (solved) {
+        removes_.push_back(object);
+        return;
+    }
+    blank_object(scene, edits, object);
+}
+
+void Topology::commit(SceneDesc& scene, PendingEdits& edits) {
+    for (int r : std::exchange(removes_, {})) blank_object(scene, edits, r);
+    adds_.clear();  // already in the scene: the full solve builds them
+}
+
+bool Topology::outgrows_frame(const SceneDesc& scene, const Hierarchy& h) const {
+    if (!pending()) return false;
     // The frame a full solve would derive (hierarchy.cpp: the box of every corner-used vertex
     // as given, placements aside) against the one this solution was built in.
     Aabb all;
-    for (size_t oi = 0; oi < scene_.objects().size(); ++oi) {
+    for (size_t oi = 0; oi < scene.objects().size(); ++oi) {
         if (removed(int(oi))) continue;
-        const ObjectDesc& d = scene_.objects()[oi];
+        const ObjectDesc& d = scene.objects()[oi];
         for (int32_t c : d.corner_verts) all.grow(d.vertices[c]);
     }
     if (all.empty()) return false;  // nothing left: the update handles an empty scene
@@ -72,119 +98,118 @@ bool Solver::changes_outgrow_frame() const {
     // relative to the frame, would differ that much from a fresh solve's. Far-off vertices
     // (1e30) end here too, before they reach Embree as rays it refuses.
     const double d = all.diagonal();
-    return !std::isfinite(d) || d > 2.0 * h_.unit || d < 0.5 * h_.unit;
+    return !std::isfinite(d) || d > 2.0 * h.unit || d < 0.5 * h.unit;
 }
 
-void Solver::apply_topology(Change& ch) {
-    ch.inX.resize(h_.nodes.size(), 0);
-    remove_objects(ch);
-    add_objects(ch);
+void Topology::apply(const Context& c, AdjustSystem::Change& ch) {
+    ch.inX.resize(c.h.nodes.size(), 0);
+    remove_objects(c, ch);
+    add_objects(c, ch);
     // A later removal in this update may have taken a cluster of an earlier chain with it.
     for (auto& chain : ch.chains) {
-        auto dead = std::find_if(chain.begin(), chain.end(), [this](int a) { return h_.nodes[a].dead; });
+        auto dead = std::find_if(chain.begin(), chain.end(), [&c](int a) { return c.h.nodes[a].dead; });
         chain.erase(dead, chain.end());
     }
-    refit_tolerances();
-    // The direct light of every leaf may have a new shadow (or lost one), as after a move;
-    // contacts refer to surfaces that may be gone.
-    direct_light_.relight();
-    direct_light_.forget_contacts();
-}
-
-// The cluster path from the root down to `deepest`. Its clusters changed shape: marked in
-// ch.inX, they are relinked against their siblings, as the clusters above a moved object are
-// (not the root: it has no links).
-std::vector<int> Solver::changed_chain(Change& ch, int deepest) const {
-    std::vector<int> chain;
-    for (int a = deepest; a >= 0; a = h_.nodes[a].parent) chain.push_back(a);
-    std::reverse(chain.begin(), chain.end());
-    for (int a : chain)
-        if (a != h_.root) ch.inX[a] = 1;
-    return chain;
 }
 
 // Removals: the nodes leave the tree, then every link with a dead end goes (the object's own,
 // and those of collection clusters it left empty) with the history below it.
-void Solver::remove_objects(Change& ch) {
-    const std::vector<int> removes = edits_.take_removes();
+void Topology::remove_objects(const Context& c, AdjustSystem::Change& ch) {
+    const std::vector<int> removes = std::exchange(removes_, {});
     if (removes.empty()) return;
+    Hierarchy& h = c.h;
     for (int r : removes) {
-        const Aabb b = h_.object_box(r);
+        const Aabb b = h.object_box(r);
         if (!b.empty()) ch.clips.push_back(b);
-        for (int id : h_.object_nodes(r))
-            if (!h_.nodes[id].is_cluster()) --stats_.element_nodes;
-        ch.chains.push_back(changed_chain(ch, h_.remove_object(r)));
-        vis_->remove_object(r);
+        for (int id : h.object_nodes(r))
+            if (!h.nodes[id].is_cluster()) --c.stats.element_nodes;
+        ch.chains.push_back(changed_chain(h, ch, h.remove_object(r)));
+        c.vis.remove_object(r);
         if (size_t(r) < tri_prim_.size()) tri_prim_[r].clear();
-        blank_object(r);
-        ++stats_.objects_removed;
+        blank_object(c.scene, c.edits, r);
+        ++c.stats.objects_removed;
     }
     std::vector<int> doomed;
-    for (size_t i = 0; i < links_.size(); ++i) {
-        const Link& l = links_[i];
-        if (l.dead || !(h_.nodes[l.src].dead || h_.nodes[l.rcv].dead)) continue;
-        if (l.active) ++stats_.links_removed;
+    for (size_t i = 0; i < c.links.size(); ++i) {
+        const Link& l = c.links[i];
+        if (l.dead || !(h.nodes[l.src].dead || h.nodes[l.rcv].dead)) continue;
+        if (l.active) ++c.stats.links_removed;
         doomed.push_back(int(i));
     }
-    for (int i : doomed) links_.kill(h_, i);  // dead nodes' link lists are empty already: no harm
+    for (int i : doomed) c.links.kill(h, i);  // dead nodes' link lists are empty already: no harm
 }
 
 // Additions: each object's nodes where a fresh build puts them, its own Embree instance, and
 // the links to make for it in `ch`; every new node is marked in ch.inX.
-void Solver::add_objects(Change& ch) {
-    const size_t no = scene_.objects().size();
-    edits_.fit_poses(no);
+void Topology::add_objects(const Context& c, AdjustSystem::Change& ch) {
+    Hierarchy& h = c.h;
+    const size_t no = c.scene.objects().size();
+    c.edits.fit_poses(no);
     tri_prim_.resize(no);
-    const size_t first_new_node = h_.nodes.size();
-    for (int a : edits_.take_adds()) {
-        const size_t first_prim = h_.prims.size(), first_surface = h_.surfaces.size();
-        const int top = h_.add_object(scene_, a, settings_.use_clustering);
-        stats_.element_nodes += int64_t(h_.surfaces.size() - first_surface);
-        ch.inX.resize(h_.nodes.size(), 0);
+    const size_t first_new_node = h.nodes.size();
+    for (int a : std::exchange(adds_, {})) {
+        const size_t first_prim = h.prims.size(), first_surface = h.surfaces.size();
+        const int top = h.add_object(c.scene, a, c.settings.use_clustering);
+        c.stats.element_nodes += int64_t(h.surfaces.size() - first_surface);
+        ch.inX.resize(h.nodes.size(), 0);
         // Its own Embree instance, placed as given (identity pose).
-        std::vector<int> prims(h_.prims.size() - first_prim);
+        std::vector<int> prims(h.prims.size() - first_prim);
         for (size_t k = 0; k < prims.size(); ++k) prims[k] = int(first_prim + k);
-        add_object_geometry(a, prims);
-        const Aabb b = h_.object_box(a);
+        add_geometry(c.scene, h, c.vis, a, prims);
+        const Aabb b = h.object_box(a);
         if (!b.empty()) ch.clips.push_back(b);
-        ++stats_.objects_added;
-        if (h_.surfaces.size() == first_surface) continue;  // only zero-area polygons
-        if (h_.object_node[a] >= 0) {
+        ++c.stats.objects_added;
+        if (h.surfaces.size() == first_surface) continue;  // only zero-area polygons
+        if (h.object_node[a] >= 0) {
             // Linked like a moved object, cluster pairs first, from where it hangs; its
             // inside (what the root's self-link gives it in a full solve) from its own
             // self-link, or that of the new collection cluster it came with.
-            ch.chains.push_back(changed_chain(ch, h_.object_node[a]));
+            ch.chains.push_back(changed_chain(h, ch, h.object_node[a]));
             ch.seeds.push_back({top, top, -1});
         } else {
             // Unclustered: each new surface with every other surface below the root.
             std::vector<int> fresh;
-            for (size_t si = first_surface; si < h_.surfaces.size(); ++si) fresh.push_back(h_.surfaces[si].root);
+            for (size_t si = first_surface; si < h.surfaces.size(); ++si) fresh.push_back(h.surfaces[si].root);
             for (int r : fresh)
-                for (int c : h_.nodes[h_.root].children) {
-                    if (c == r) continue;
-                    ch.seeds.push_back({c, r, -1});
-                    if (size_t(c) < first_new_node) ch.seeds.push_back({r, c, -1});
+                for (int k : h.nodes[h.root].children) {
+                    if (k == r) continue;
+                    ch.seeds.push_back({k, r, -1});
+                    if (size_t(k) < first_new_node) ch.seeds.push_back({r, k, -1});
                 }
         }
     }
-    ch.inX.resize(h_.nodes.size(), 0);
-    for (size_t id = first_new_node; id < h_.nodes.size(); ++id) ch.inX[id] = 1;
+    ch.inX.resize(h.nodes.size(), 0);
+    for (size_t id = first_new_node; id < h.nodes.size(); ++id) ch.inX[id] = 1;
 }
 
-// The scene's size changed (changes_outgrow_frame() allows up to 2x): the tolerances a fresh
-// solve derives from it (smallest element area, ray offsets) follow, so refinement from here
-// on stops where a fresh solve's does (the frame itself stays): without it, many objects added
-// at once to a small scene refine further than a fresh solve of the same scene would.
-void Solver::refit_tolerances() {
-    Aabb box;
-    for (const Primitive& p : h_.prims)
-        if (p.object >= 0)
-            for (int k = 0; k < p.poly.n; ++k) box.grow(p.poly.v[k]);
-    if (box.empty() || !(box.diagonal() > 0)) return;
-    h_.scene_box = box;
-    h_.scene_diag = box.diagonal();
-    min_area_ = settings_.min_area_fraction * h_.scene_diag * h_.scene_diag;
-    fit_ray_epsilon();
+void Topology::build_geometry(const SceneDesc& scene, const Hierarchy& h, Visibility& vis,
+                              const std::vector<std::vector<int>>& prims_of) {
+    tri_prim_.assign(scene.objects().size(), {});
+    for (size_t o = 0; o < scene.objects().size(); ++o) add_geometry(scene, h, vis, int(o), prims_of[o]);
+}
+
+void Topology::add_geometry(const SceneDesc& scene, const Hierarchy& h, Visibility& vis, int o,
+                            const std::vector<int>& prims) {
+    std::vector<Vec3> tv;
+    for (int pi : prims) {
+        const Primitive& p = h.prims[size_t(pi)];
+        tv.insert(tv.end(), {p.poly.v[0], p.poly.v[1], p.poly.v[2]});
+        tri_prim_[size_t(o)].push_back(pi);
+        if (p.poly.n == 4) {
+            tv.insert(tv.end(), {p.poly.v[0], p.poly.v[2], p.poly.v[3]});
+            tri_prim_[size_t(o)].push_back(pi);
+        }
+    }
+    if (!scene.objects()[size_t(o)].occluder) tv.clear();  // lights.h: area lights cast no shadow
+    vis.add_object(o, tv);
+}
+
+std::vector<int> Topology::own_prims(int object) const {
+    // (A quad's two triangles name it twice, one after the other.)
+    std::vector<int> own;
+    for (int pi : tri_prim_[size_t(object)])
+        if (own.empty() || own.back() != pi) own.push_back(pi);
+    return own;
 }
 
 }  // namespace radiosity

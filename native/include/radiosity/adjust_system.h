@@ -27,7 +27,7 @@ public:
     // solved (Solver::at_first_bounce).
     using AtFirstBounce = std::function<void(const std::function<void()>& judge, const std::vector<char>* only)>;
 
-    // What an update changed in the geometry (the solver's update for moves, topology.cpp for
+    // What an update changed in the geometry (the solver's update for moves, Topology::apply for
     // additions and removals); the adjustment works from it alone.
     struct Change {
         std::vector<Aabb> clips;               // old and new boxes of every changed object

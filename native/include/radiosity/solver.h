@@ -31,6 +31,7 @@
 #include "radiosity/scene.h"
 #include "radiosity/settings.h"
 #include "radiosity/stats.h"
+#include "radiosity/topology.h"
 #include "radiosity/visibility.h"
 
 namespace radiosity {
@@ -84,10 +85,11 @@ public:
     // A texture's pieces inside the polygons (ObjectDesc::pieces, with their emission when
     // `emit`; empty: uniform polygons). The elements take them at the next update().
     void set_texture_pieces(int object, std::vector<TexturePiece> pieces, bool emit = false);
-    // Objects added and removed (topology.cpp), applied by the next update() like moves: an
-    // addition is linked into the kept solution, a removal's links and nodes go; env-env links
-    // whose rays pass through the object's box are re-evaluated. Ids stay stable: a new object
-    // gets the next id, a removed one keeps its slot (empty: no corners) and is never reused.
+    // Objects added and removed (Topology, topology.h), applied by the next update() like
+    // moves: an addition is linked into the kept solution, a removal's links and nodes go;
+    // env-env links whose rays pass through the object's box are re-evaluated. Ids stay stable:
+    // a new object gets the next id, a removed one keeps its slot (empty: no corners) and is
+    // never reused.
     // Validates like SceneDesc::add_object (InputError); vertices in world space, placed as
     // given (later moves are relative to that). The cluster may be one made by add_cluster.
     int add_object(ObjectDesc object);
@@ -95,7 +97,7 @@ public:
     void remove_object(int object);
     // A new collection cluster (for objects added later); InputError for an unknown parent.
     int add_cluster(const std::string& name, int parent = -1);
-    bool removed(int object) const { return edits_.removed(object); }
+    bool removed(int object) const { return topology_.removed(object); }
 
     // Live drag (preview.cpp): the corners whose colour changes, and their values, with the
     // objects in `moves` placed there (move_object's matrices, validated alike): the direct
@@ -191,7 +193,8 @@ private:
     Refinement refinement(const UpdateRun* u) { return Refinement(refinement_context(u)); }
     // What the memory budget (memory_budget.h) reads of the solve as it stands now.
     MemoryView memory_view() const {
-        return {settings_, scene_, h_, links_, vis_.get(), gathering_, direct_light_, output_, pockets_, tri_prim_};
+        return {settings_, scene_, h_, links_, vis_.get(), gathering_, direct_light_, output_, pockets_,
+                topology_.tri_prim()};
     }
     // solver_gather.cpp: the gathering (gathering_) on the solver's hierarchy, links, direct
     // light and stats, as the oracle is made (oracle()). collect_receivers lists the leaves
@@ -225,8 +228,8 @@ private:
     // adjust.cpp
     // move_object's matrix as a placement in the internal frame (InputError when not rigid).
     Rigid pose_of(int object, const double m[16]) const;
-    // What an update changed in the geometry (adjust.cpp for moves, topology.cpp for
-    // additions and removals), for the AdjustSystem (adjust_system.h).
+    // What an update changed in the geometry (moves here, additions and removals by
+    // Topology::apply), for the AdjustSystem (adjust_system.h).
     using Change = AdjustSystem::Change;
     // What one incremental update knows, handed from phase to phase (update()).
     struct UpdateRun {
@@ -279,19 +282,9 @@ private:
     // Puts back the placement the last drag step kept (Embree's and the hierarchy's), if any:
     // whatever is not the next step of that drag reads or changes the solution's placement.
     void settle_preview() const;
-    // topology.cpp
-    void check_live(int object, const char* what) const;
-    void blank_object(int object);           // the scene slot of a removed object, emptied
-    void commit_topology();                  // before a full solve: pending changes into scene_
-    // Whether pending additions or removals change the scene's size a lot: the internal frame
-    // and the tolerances relative to it would then differ from a fresh solve's.
-    bool changes_outgrow_frame() const;
-    // Applies pending removals and additions to the hierarchy, Embree and `ch`.
+    // Pending removals and additions applied (Topology::apply) to the hierarchy, Embree and
+    // `ch`, then the tolerances and the direct light that follow from them.
     void apply_topology(Change& ch);
-    // apply_topology()'s parts (topology.cpp).
-    std::vector<int> changed_chain(Change& ch, int deepest) const;
-    void remove_objects(Change& ch);
-    void add_objects(Change& ch);
     void refit_tolerances();
     void set_material(int object, const std::vector<Rgb>& values, bool emission);
     void apply_materials();
@@ -332,12 +325,8 @@ private:
     // solver.cpp
     void compute_reference();
     // What the pockets' escape rays are cast into (valid while vis_ is).
-    Pockets::Sight pocket_sight() const { return {*vis_, tri_prim_, settings_}; }
+    Pockets::Sight pocket_sight() const { return {*vis_, topology_.tri_prim(), settings_}; }
     void check_cancel() const;
-    // An object's triangles (its primitives, quads as two) into Embree and tri_prim_.
-    void add_object_geometry(int object, const std::vector<int>& prims);
-    // An object's primitives, from tri_prim_ (solver.cpp).
-    std::vector<int> own_prims(int object) const;
     void set_progress(double f) const;
     void compute_stats();
     // Adds the time since the previous lap to the named phase of stats_.phases.
@@ -358,11 +347,11 @@ private:
     // A member: it is the solution's, set by a solve and still true in every update after.
     bool light_known_ = false;
     bool solved_ = false;
-    PendingEdits edits_;  // what changed since the last update, and each object's placement
+    PendingEdits edits_;  // moves and materials since the last update, and each object's placement
+    Topology topology_;   // objects added and removed, and each object's triangles in Embree (topology.h)
     std::chrono::steady_clock::time_point lap_t_;
     int64_t lap_rays_ = 0;  // rays cast when lap_t_ was taken
     Pockets pockets_;  // closed pockets and the escape rays that found them
-    std::vector<std::vector<int>> tri_prim_;  // per object: Embree triangle -> primitive
     // What a drag's placement rewrites, saved to be put back (preview.cpp): between the steps
     // of one drag the hierarchy and Embree hold the last step's placement, put back by
     // settle_preview. Kept from drag to drag for its memory.

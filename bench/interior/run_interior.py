@@ -458,18 +458,22 @@ def main():
             print(f"   {info['triangles']:,} triangles, {info['rooms']} room(s), "
                   f"{info['mesh_objects']} mesh objects, {info['instances']} instances, "
                   f"{info['seconds']} s" + (" (cached)" if info["cached"] else ""), flush=True)
+        if a.generate_only:
+            # Scenes only: the results (a bench's record of bakes) are left as they are.
+            for name, path, _ in scenes:
+                print(f"   {name}: {path}")
+            return
         for name, path, gen in scenes:
             rows = [gen] if gen else []
-            if not a.generate_only:
-                print(f"== bake {name} at {a.preset} ({bt_run.machine()})", flush=True)
-                rows += [dict(r, kind="bake") for r in bake(path, a, name)]
-                for r in rows:
-                    if r.get("phase") in ("full", "incremental") and r["status"] == "ok":
-                        st = r["stats"]
-                        print(f"   {r['phase']}: {r['seconds']:.1f} s wall, "
-                              f"{r['cpu_seconds']:.1f} s CPU, peak {r['vmhwm_kb'] / 1024:.0f} MB, "
-                              f"{st.get('elements', 0):,} elements, {st.get('links', 0):,} links, "
-                              f"{st.get('rays', 0):,} rays", flush=True)
+            print(f"== bake {name} at {a.preset} ({bt_run.machine()})", flush=True)
+            rows += [dict(r, kind="bake") for r in bake(path, a, name)]
+            for r in rows:
+                if r.get("phase") in ("full", "incremental") and r["status"] == "ok":
+                    st = r["stats"]
+                    print(f"   {r['phase']}: {r['seconds']:.1f} s wall, "
+                          f"{r['cpu_seconds']:.1f} s CPU, peak {r['vmhwm_kb'] / 1024:.0f} MB, "
+                          f"{st.get('elements', 0):,} elements, {st.get('links', 0):,} links, "
+                          f"{st.get('rays', 0):,} rays", flush=True)
             with open(data, "a") as f:
                 for r in rows:
                     f.write(json.dumps(dict(r, command=command)) + "\n")

@@ -47,6 +47,10 @@ def main():
     print("  output: " + ", ".join(f"{k} {st[k]:,}" for k in (
         "gather_points", "gather_fresh_points", "gather_kept", "gather_replayed", "gather_rays",
         "gather_lamp_rays", "gather_near_rays", "gather_shared")))
+    # (Counts a build before them does not have: '-'.)
+    print("  probes and contacts: " + ", ".join(f"{k} {st[k]:,}" if k in st else f"{k} -" for k in (
+        "gather_probe_rays", "contact_surfaces")) + (f", seconds_contacts {st['seconds_contacts']:.3f}"
+                                                     if "seconds_contacts" in st else ""))
     print("  solution: " + ", ".join(f"{k} {st[k]:,}" if isinstance(st[k], int) else f"{k} {st[k]:.2f}" for k in (
         "links", "links_created", "iterations", "link_sweeps", "seconds_sweeps", "gather_plans",
         "seconds_gather_plan", "refine_rounds")))

@@ -275,6 +275,7 @@ void Solver::update_begin(UpdateRun& u) {
     s.seconds_sweeps = s.seconds_gather_plan = 0;
     s.refine_rounds = 0;
     s.iteration_capped = false;
+    direct_light_.take_contact_work();  // (this update's own from here)
     u.links_before = int64_t(links_.size());
     u.before = snapshot();
     u.judged_before = judging_radiance(u.before);

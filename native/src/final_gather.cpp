@@ -806,6 +806,7 @@ struct Tally {
 void FinalGather::Impl::run(const Solution& s, const Config& c, std::vector<fg::Job>& jobs, const Moves* moves,
                             const std::function<void(double)>& progress) {
     preview_state = PreviewState{};
+    counts.probe_rays = 0;
     std::vector<fg::Point> old;
     if (moves) old.swap(points);
     fg::Run r{s, c, moves, {}, false};
@@ -857,7 +858,8 @@ void FinalGather::Impl::run(const Solution& s, const Config& c, std::vector<fg::
         tally.add(local, pt, was == nullptr);
     };
     if (c.share > 0) {
-        tally.rays += share_gathers(s, c, jobs, trace_one, progress);
+        counts.probe_rays = share_gathers(s, c, jobs, trace_one, progress);
+        tally.rays += counts.probe_rays;
     } else {
         const size_t block = 512;
         for (size_t b = 0; b < jobs.size(); b += block) {

@@ -5,6 +5,7 @@
 #include "radiosity/lights.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <utility>
 
@@ -497,6 +498,7 @@ void DirectLight::find_contacts(const Hierarchy& h, const SceneDesc& scene, int 
     // two and would escape through the other one; Cycles finds such points unlit, and so
     // does a real contact. Found by walking the cluster tree by boxes.
     if (contacts_.size() == h.surfaces.size()) return;
+    const auto t0 = std::chrono::steady_clock::now();
     contacts_.assign(h.surfaces.size(), {});
     const double tol = 1e-7 * h.scene_diag;
     parallel_for(h.surfaces.size(), threads, [&](size_t si) {
@@ -538,6 +540,8 @@ void DirectLight::find_contacts(const Hierarchy& h, const SceneDesc& scene, int 
             contacts_[si].push_back(m.surface);
         }
     }, 32);
+    contact_work_.surfaces += int64_t(h.surfaces.size());
+    contact_work_.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 int DirectLight::contact(const Hierarchy& h, int surface, const Vec3& p) const {

@@ -221,6 +221,9 @@ void Solver::compute_reference() {
 
 void Solver::compute_stats() {
     Stats& s = stats_;
+    const DirectLight::ContactWork contacts = direct_light_.take_contact_work();
+    s.contact_surfaces = contacts.surfaces;
+    s.seconds_contacts = contacts.seconds;
     s.input_surfaces = int64_t(scene_.polygon_count());
     s.memory_bytes = int64_t(memory_.estimate(memory_view()));
     s.primitives = 0;

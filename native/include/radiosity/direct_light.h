@@ -5,6 +5,7 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include "radiosity/hierarchy.h"
@@ -83,6 +84,12 @@ public:
     bool corner_in_contact(const Hierarchy& h, const Primitive& p, int k) const;
     // Per surface: the surfaces touching it, as last found.
     const std::vector<std::vector<int>>& contacts() const { return contacts_; }
+    // What find_contacts did since last asked (surfaces looked at, seconds); asking resets it.
+    struct ContactWork {
+        int64_t surfaces = 0;
+        double seconds = 0;
+    };
+    ContactWork take_contact_work() { return std::exchange(contact_work_, ContactWork{}); }
 
 private:
     // Per node: direct and spread computed for the current lights and placements (kLit); made
@@ -104,6 +111,7 @@ private:
     std::vector<uint8_t> split_;    // per node: subdivided because its direct light varies
     std::vector<Rigid> poses_;      // object placements the terms were made with
     std::vector<std::vector<int>> contacts_;  // per surface: touching surfaces of other objects
+    ContactWork contact_work_;
     bool recheck_ = false;          // lights or placements changed: try merging light splits
 };
 

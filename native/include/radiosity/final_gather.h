@@ -89,6 +89,7 @@ public:
         int64_t near_rays = 0;   // of `rays`: cast by the near-field corrections
         int64_t lamp_rays = 0;   // of `rays`: the output points' own lamp shadow rays
         int64_t shared = 0;      // points that took their bounced light from gathered points near them
+        int64_t probe_rays = 0;  // of `rays`: the shared gathers' probes of each point's own reach
         int64_t sealed = 0;      // points inside a closed solid (no light)
         std::vector<int64_t> object_rays;  // per object: the rays its points cast (of `rays`)
     };

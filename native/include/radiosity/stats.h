@@ -73,6 +73,11 @@ struct Stats {
     int64_t gather_near_rays = 0;  // of gather_rays: cast by those corrections
     int64_t gather_lamp_rays = 0;  // of gather_rays: the output points' own lamp shadow rays
     int64_t gather_shared = 0;  // output points that took their bounced light from gathered ones (Settings::gather_share)
+    int64_t gather_probe_rays = 0;  // of gather_rays: the probes of the points that may take it (shared_gather.cpp)
+    // Surfaces whose contacts (DirectLight::find_contacts) the last solve or update looked
+    // for, and the time that took.
+    int64_t contact_surfaces = 0;
+    double seconds_contacts = 0;
     double seconds_build = 0, seconds_link = 0, seconds_solve = 0, seconds_total = 0;
     std::vector<std::string> warnings;
     // Wall time of each phase of the last solve or update, in order (for profiling and the

@@ -49,7 +49,7 @@ def main():
         "gather_lamp_rays", "gather_near_rays", "gather_shared")))
     # (Counts a build before them does not have: '-'.)
     print("  probes and contacts: " + ", ".join(f"{k} {st[k]:,}" if k in st else f"{k} -" for k in (
-        "gather_probe_rays", "contact_surfaces")) + (f", seconds_contacts {st['seconds_contacts']:.3f}"
+        "gather_probe_rays", "gather_probes_kept", "contact_surfaces")) + (f", seconds_contacts {st['seconds_contacts']:.3f}"
                                                      if "seconds_contacts" in st else ""))
     print("  solution: " + ", ".join(f"{k} {st[k]:,}" if isinstance(st[k], int) else f"{k} {st[k]:.2f}" for k in (
         "links", "links_created", "iterations", "link_sweeps", "seconds_sweeps", "gather_plans",

@@ -168,7 +168,7 @@ py::dict stats_dict(const Stats& s) {
     F(obj_env_links_removed); F(links_created); F(history_reactivated); F(seconds_adjust);
     F(env_env_links_rays_clear); F(history_links_recomputed); F(history_links_stale); F(link_sweeps); F(seconds_sweeps); F(gather_plans); F(seconds_gather_plan); F(closed_pockets); F(pocket_surfaces); F(objects_added); F(objects_removed); F(links_removed);
     F(gather_points); F(gather_corners); F(gather_covered); F(gather_links); F(gather_rays); F(gather_bytes); F(gather_forecast_bytes); F(gather_kept); F(gather_replayed); F(gather_fresh_points); F(gather_near); F(gather_near_rays); F(gather_lamp_rays); F(gather_shared); F(gather_sealed);
-    F(gather_probe_rays); F(contact_surfaces); F(seconds_contacts);
+    F(gather_probe_rays); F(gather_probes_kept); F(contact_surfaces); F(seconds_contacts);
     py::dict phases;
     for (const auto& p : s.phases) phases[py::str(p.first)] = p.second;
     d["phases"] = phases;

@@ -601,6 +601,13 @@ int FinalGather::corner_point(int object, size_t corner) const {
     return corner < cp.size() ? cp[corner] : -1;
 }
 
+std::vector<double> FinalGather::probes() const {
+    std::vector<double> out;
+    if (!traced()) return out;
+    for (const fg::Point& p : impl_->points) out.push_back(p.probed);
+    return out;
+}
+
 std::vector<float> FinalGather::corner_radiance(const Hierarchy& h, int object) const {
     return traced() ? impl_->values(h, object, false) : std::vector<float>{};
 }
@@ -806,7 +813,7 @@ struct Tally {
 void FinalGather::Impl::run(const Solution& s, const Config& c, std::vector<fg::Job>& jobs, const Moves* moves,
                             const std::function<void(double)>& progress) {
     preview_state = PreviewState{};
-    counts.probe_rays = 0;
+    counts.probe_rays = counts.probes_kept = 0;
     std::vector<fg::Point> old;
     if (moves) old.swap(points);
     fg::Run r{s, c, moves, {}, false};
@@ -822,6 +829,22 @@ void FinalGather::Impl::run(const Solution& s, const Config& c, std::vector<fg::
         r.sealed_rule = c.sealed_solids && s.tri_prim != nullptr && !fg::light_sealed_in(s, guard);
         tally.rays += guard.rays;
     }
+    // Per point, the same corner unmoved in the last trace: re-traced from what it had. Also
+    // when the update split or merged its leaf: its links are matched one by one (a link at an
+    // ancestor or a cluster above still reaches it; what the point's rays met does not depend
+    // on which leaf of its surface holds it), and the rest is traced anew. Found by its
+    // corner, not its index: points before it may have been added or dropped (a vertex that
+    // comes onto a contact line shares no point any more).
+    std::vector<fg::Point*> was(jobs.size(), nullptr);
+    for (size_t i = 0; i < jobs.size() && moves; ++i) {
+        const fg::Job& j = jobs[i];
+        const auto at = old_at.find(key_of(j.object, j.prim, j.k));
+        if (at == old_at.end()) continue;
+        fg::Point& o = old[at->second];
+        if (o.object == j.object && o.prim == j.prim && o.k == j.k && o.covered == j.covered &&
+            !moves->moved[size_t(j.object)] && o.x.x == j.x.x && o.x.y == j.x.y && o.x.z == j.x.z)
+            was[i] = &o;
+    }
     tbb::enumerable_thread_specific<fg::Scratch> scratch;
     auto trace_one = [&](size_t idx, bool emitters_only) {
         const fg::Job& j = jobs[idx];
@@ -835,30 +858,16 @@ void FinalGather::Impl::run(const Solution& s, const Config& c, std::vector<fg::
         pt.leaf = j.leaf;
         pt.covered = j.covered;
         pt.beyond = j.beyond;
-        // The same corner, unmoved: re-traced from what it had. Also when the update split
-        // or merged its leaf: its links are matched one by one (a link at an ancestor or a
-        // cluster above still reaches it; what the point's rays met does not depend on
-        // which leaf of its surface holds it), and the rest is traced anew.
-        const fg::Point* was = nullptr;
-        // Found by its corner, not its index: points before it may have been added or
-        // dropped (a vertex that comes onto a contact line shares no point any more).
-        const auto at = moves ? old_at.find(key_of(j.object, j.prim, j.k)) : old_at.end();
-        if (at != old_at.end()) {
-            const fg::Point& o = old[at->second];
-            if (o.object == j.object && o.prim == j.prim && o.k == j.k && o.covered == j.covered &&
-                !moves->moved[size_t(j.object)] && o.x.x == j.x.x && o.x.y == j.x.y && o.x.z == j.x.z)
-                was = &o;
-        }
         Counts local;
-        fg::trace_point(r, pt, was, local, scratch.local(), emitters_only);
+        fg::trace_point(r, pt, was[idx], local, scratch.local(), emitters_only);
         pt.samples.shrink_to_fit();
         // Each point is traced once: what it kept of its old self is copied, and the old one
         // goes now rather than after the whole trace, so an update never holds both traces.
-        if (was) old[at->second].release();
-        tally.add(local, pt, was == nullptr);
+        if (was[idx]) was[idx]->release();
+        tally.add(local, pt, was[idx] == nullptr);
     };
     if (c.share > 0) {
-        counts.probe_rays = share_gathers(s, c, jobs, trace_one, progress);
+        share_gathers(s, c, jobs, was, moves, counts, trace_one, progress);
         tally.rays += counts.probe_rays;
     } else {
         const size_t block = 512;

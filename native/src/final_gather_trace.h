@@ -4,6 +4,7 @@
 // each point it traces (Run, Scratch), and FinalGather::Impl, which holds the last trace.
 #pragma once
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -110,6 +111,12 @@ struct Point {
     bool gathered = true;
     float reach = 0;
     std::vector<std::pair<int, float>> borrow;
+    // Its own reach as the shared gathers probed it (probe_reach; -1: not asked for in its
+    // trace), and where each probe ray ended (shared_gather.cpp's probe_end): a retrace keeps
+    // the value where no probe ray meets a moved box. Neither reset nor released: the probe
+    // is made before the point is traced, and a retrace reads the old one's.
+    double probed = -1;
+    std::array<uint8_t, 16> probe_ends{};
 };
 // One output point to trace: a corner, or the corners of one vertex sharing a normal and
 // a contact state (final_gather.cpp make_jobs).
@@ -210,10 +217,13 @@ struct FinalGather::Impl {
     void run(const Solution& s, const Config& c, std::vector<fg::Job>& jobs, const Moves* moves,
              const std::function<void(double)>& progress);
     // Decides, level by level, which points gather fully and which share (Config::share);
-    // `trace(i, emitters_only)` traces point i. Fills the shared points' borrow lists; returns
-    // the rays it cast itself (probes of the points' surroundings): shared_gather.cpp.
-    int64_t share_gathers(const Solution& s, const Config& c, const std::vector<fg::Job>& jobs,
-                          const std::function<void(size_t, bool)>& trace, const std::function<void(double)>& progress);
+    // `trace(i, emitters_only)` traces point i. Fills the shared points' borrow lists and the
+    // probes of the points' own reach (in a retrace, `old[i]`'s kept where `moves` cannot
+    // change it; old[i] is point i's last trace or null); adds the rays it cast itself and the
+    // probes kept to `counts`: shared_gather.cpp.
+    void share_gathers(const Solution& s, const Config& c, const std::vector<fg::Job>& jobs,
+                       const std::vector<fg::Point*>& old, const Moves* moves, Counts& counts,
+                       const std::function<void(size_t, bool)>& trace, const std::function<void(double)>& progress);
     size_t measure_bytes() const;
     std::vector<float> values(const Hierarchy& h, int object, bool irradiance) const;
     // What arrives at a point (irradiance / pi) from its trace and the current leaf

@@ -119,6 +119,7 @@ void Solver::final_gather(double from, double to, const FinalGather::Moves* move
     stats_.gather_lamp_rays = k.lamp_rays;
     stats_.gather_shared = k.shared;
     stats_.gather_probe_rays = k.probe_rays;
+    stats_.gather_probes_kept = k.probes_kept;
 }
 
 std::vector<float> Solver::corner_values(int object, const std::function<Rgb(int)>& leaf_value) const {

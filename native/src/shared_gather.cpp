@@ -12,6 +12,7 @@
 // points lend it, then one open point per grid cell (of each object and normal direction)
 // gathers; the cells halve each level, and at the last one every open point gathers.
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <limits>
 #include <cmath>
@@ -63,23 +64,64 @@ int facing(const Vec3& n) {
     return n.z >= 0 ? 4 : 5;
 }
 
+// probe_reach's rays from x (normal n): from x lifted off its surface, `full` long, along the
+// directions of a 4 x 4 grid of cosine strata drawn from `seed` in order (fixed by the seed:
+// a retrace draws them again to see which a move can change).
+struct ProbeRays {
+    ProbeRays(double diag, const Vec3& x, const Vec3& n, uint64_t seed)
+        : o(x + n * (1e-6 * diag)), full(2.0 * diag), strata(n, 4), rng(seed) {}
+    Vec3 direction(int i) { return strata.direction(i, rng); }
+    Vec3 o;
+    double full;
+    CosineStrata strata;
+    Rng rng;
+};
+static_assert(sizeof(Point::probe_ends) == 16, "a probe end per probe ray");
+
+// Where a probe ray ended (t from its origin, of `full`), as a byte rounded up: 255 a miss (the
+// ray's full length), else 2^((code - 254) / 16) of the full length, at most 4.4 % beyond the
+// hit and never short of it (a hair beyond, so that a box the hit point lies on counts as met).
+uint8_t probe_end(double t, double full) {
+    const double c = std::ceil(16.0 * std::log2(t * (1 + 1e-9) / full)) + 254;
+    return uint8_t(std::clamp(c, 0.0, 254.0));
+}
+double probe_length(uint8_t end, double full) { return end >= 254 ? full : full * std::exp2((int(end) - 254) / 16.0); }
+
 // The harmonic mean distance of what a point's own hemisphere sees, by a few cosine rays
 // (misses count as infinitely far): a point may lie beside an occluder its would-be lender
-// 1 cm away does not see (a chair leg's foot), and then shares with nobody.
-double probe_reach(const Solution& s, const Vec3& x, const Vec3& n, uint64_t seed, int64_t& rays) {
+// 1 cm away does not see (a chair leg's foot), and then shares with nobody. `ends` gets where
+// each ray ended (probe_end).
+double probe_reach(const Solution& s, const Vec3& x, const Vec3& n, uint64_t seed, std::array<uint8_t, 16>& ends,
+                   int64_t& rays) {
     const double diag = s.h.scene_diag;
-    const Vec3 o = x + n * (1e-6 * diag);
-    const CosineStrata strata(n, 4);
-    Rng rng(seed);
+    ProbeRays pr(diag, x, n, seed);
     double inv = 0;
-    for (int i = 0; i < strata.count(); ++i) {
-        const Vec3 d = strata.direction(i, rng);
+    for (int i = 0; i < pr.strata.count(); ++i) {
+        const Vec3 d = pr.direction(i);
         Vec3 at;
         ++rays;
-        if (s.vis.hit_object(o, o + d * (2.0 * diag), 0.0, &at) < 0) continue;
-        inv += 1.0 / std::max(length(at - o), 1e-9 * diag);
+        ends[size_t(i)] = 255;
+        if (s.vis.hit_object(pr.o, pr.o + d * pr.full, 0.0, &at) < 0) continue;
+        ends[size_t(i)] = probe_end(length(at - pr.o), pr.full);
+        inv += 1.0 / std::max(length(at - pr.o), 1e-9 * diag);
     }
-    return inv > 0 ? strata.count() / inv : std::numeric_limits<double>::infinity();
+    return inv > 0 ? pr.strata.count() / inv : std::numeric_limits<double>::infinity();
+}
+
+// Whether a retrace may keep a point's probe as its last trace (`old`) made it: the same point
+// (unmoved: same place, normal and seed, so the same rays), and no probe ray meets a moved
+// object's old or new box between its origin and where it ended. Outside those boxes the
+// geometry is as it was, so such a ray meets what it met, at the same distance.
+bool probe_holds(const Solution& s, const Job& j, const Point& old, const Moves& moves) {
+    if (!(old.probed >= 0) || moves.cast_all || old.seed != j.seed || old.n.x != j.n.x || old.n.y != j.n.y ||
+        old.n.z != j.n.z)
+        return false;
+    ProbeRays pr(s.h.scene_diag, j.x, j.n, Hierarchy::mix(j.seed, 0x9b0eu));
+    for (int i = 0; i < pr.strata.count(); ++i) {
+        const Vec3 d = pr.direction(i);
+        if (meets_any(moves.clips, pr.o, pr.o + d * probe_length(old.probe_ends[size_t(i)], pr.full))) return false;
+    }
+    return true;
 }
 
 // Per vertex of a mesh, whether it lies on an open edge (an edge of one polygon only). The
@@ -149,12 +191,30 @@ LenderGrid lender_grid(const std::vector<Point>& points, const std::vector<size_
     return grid;
 }
 
+// Point pt's own reach (job j's), probed when first asked: kept from its last trace (`old`)
+// where probe_holds, else cast (its rays counted in `rays`, a probe kept in `kept`).
+double own_reach(const Solution& s, const Job& j, Point& pt, const Point* old, const Moves* moves,
+                 std::atomic<int64_t>& rays, std::atomic<int64_t>& kept) {
+    if (pt.probed >= 0) return pt.probed;
+    if (moves && old && probe_holds(s, j, *old, *moves)) {
+        pt.probed = old->probed;
+        pt.probe_ends = old->probe_ends;
+        ++kept;
+    } else {
+        int64_t r = 0;
+        pt.probed = probe_reach(s, j.x, j.n, Hierarchy::mix(j.seed, 0x9b0eu), pt.probe_ends, r);
+        rays += r;
+    }
+    return pt.probed;
+}
+
 // The lenders of the grid whose reach holds point j (within share, on its tangent plane, and
-// within j's own reach, probed when first asked: `probed`, its rays added to `rays`), the
-// nearest few weighted to sum to 1 in `borrow`; false when there is none. `found` is scratch.
-bool find_lenders(const Solution& s, const std::vector<Point>& points, const LenderGrid& grid, uint64_t levels_used,
-                  double base, double a, const Job& j, double& probed, std::atomic<int64_t>& rays,
-                  std::vector<std::pair<int, double>>& found, std::vector<std::pair<int, float>>& borrow) {
+// within j's own reach, `own_reach()`, asked only when some lender is near), the nearest few
+// weighted to sum to 1 in `borrow`; false when there is none. `found` is scratch.
+template <class OwnReach>
+bool find_lenders(const std::vector<Point>& points, const LenderGrid& grid, uint64_t levels_used, double base, double a,
+                  const Job& j, const OwnReach& own_reach, std::vector<std::pair<int, double>>& found,
+                  std::vector<std::pair<int, float>>& borrow) {
     constexpr size_t kMaxLenders = 8;
     found.clear();
     for (int l = 0; l < 64; ++l) {
@@ -176,11 +236,7 @@ bool find_lenders(const Solution& s, const std::vector<Point>& points, const Len
                 }
     }
     if (found.empty()) return false;
-    if (probed < 0) {
-        int64_t r = 0;
-        probed = probe_reach(s, j.x, j.n, Hierarchy::mix(j.seed, 0x9b0eu), r);
-        rays += r;
-    }
+    const double probed = own_reach();
     // Each lender again, within the point's own reach as well.
     size_t m = 0;
     for (const auto& f : found) {
@@ -224,16 +280,17 @@ Rgb emitted_part(const Hierarchy& h, const Point& p) {
 
 }  // namespace fg
 
-int64_t FinalGather::Impl::share_gathers(const Solution& s, const Config& c, const std::vector<fg::Job>& jobs,
-                                         const std::function<void(size_t, bool)>& trace,
-                                         const std::function<void(double)>& progress) {
+void FinalGather::Impl::share_gathers(const Solution& s, const Config& c, const std::vector<fg::Job>& jobs,
+                                      const std::vector<fg::Point*>& old, const Moves* moves, Counts& counts,
+                                      const std::function<void(size_t, bool)>& trace,
+                                      const std::function<void(double)>& progress) {
     const Hierarchy& h = s.h;
     const size_t n = jobs.size();
     enum : char { kOpen = 0, kGathered = 1, kShared = 2 };
     std::vector<char> state(n, kOpen);
-    std::vector<double> probed(n, -1.0);  // probe_reach, made when first asked
     const std::vector<char> open_edge = fg::open_edge_points(s, jobs);
-    std::atomic<int64_t> probe_rays{0};
+    std::atomic<int64_t> probe_rays{0}, probes_kept{0};
+    auto own_reach = [&](size_t i) { return fg::own_reach(s, jobs[i], points[i], old[i], moves, probe_rays, probes_kept); };
     size_t done = 0;
     auto trace_all = [&](const std::vector<size_t>& batch, bool emitters_only) {
         const size_t block = 512;
@@ -267,8 +324,8 @@ int64_t FinalGather::Impl::share_gathers(const Solution& s, const Config& c, con
                 if (state[i] == kOpen && !open_edge[i]) batch.push_back(i);
             parallel_for(batch.size(), c.threads, [&](size_t k) {
                 const size_t i = batch[k];
-                if (fg::find_lenders(s, points, grid, levels_used, base, a, jobs[i], probed[i], probe_rays, found.local(),
-                                     points[i].borrow))
+                if (fg::find_lenders(points, grid, levels_used, base, a, jobs[i], [&] { return own_reach(i); },
+                                     found.local(), points[i].borrow))
                     state[i] = kShared;
             }, 64);
         }
@@ -297,7 +354,8 @@ int64_t FinalGather::Impl::share_gathers(const Solution& s, const Config& c, con
     for (size_t i = 0; i < n; ++i)
         if (state[i] == kShared) batch.push_back(i);
     trace_all(batch, true);
-    return probe_rays;
+    counts.probe_rays += probe_rays;
+    counts.probes_kept += probes_kept;
 }
 
 Rgb FinalGather::Impl::bounced_part(const Hierarchy& h, const fg::Point& p) const {

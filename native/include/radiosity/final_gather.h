@@ -90,6 +90,7 @@ public:
         int64_t lamp_rays = 0;   // of `rays`: the output points' own lamp shadow rays
         int64_t shared = 0;      // points that took their bounced light from gathered points near them
         int64_t probe_rays = 0;  // of `rays`: the shared gathers' probes of each point's own reach
+        int64_t probes_kept = 0;  // retrace: probes kept as they were (no probe ray could change)
         int64_t sealed = 0;      // points inside a closed solid (no light)
         std::vector<int64_t> object_rays;  // per object: the rays its points cast (of `rays`)
     };
@@ -156,6 +157,9 @@ public:
     std::vector<CornerChange> preview(const Solution& s, const Preview& p, PreviewCounts& counts);
     // The point a corner reads (-1: none; preview()'s index).
     int corner_point(int object, size_t corner) const;
+    // Per point of the last trace, the shared gathers' probe of its own reach (-1: none made):
+    // a retrace's kept probes are checked against cast ones with it.
+    std::vector<double> probes() const;
     void clear();
     // Per corner (RGB interleaved) of one object, from the trace and the current leaf
     // radiances: outgoing radiance, or irradiance / pi (lighting only). Empty when the object

@@ -140,6 +140,8 @@ public:
         pockets_.rays(h_, pocket_sight(), s, rays, stream, hits, changed, old);
     }
     const std::vector<std::vector<PocketRay>>& pocket_records() const { return pockets_.records(); }
+    // The output points' probes of their own reach in the last final gather (FinalGather::probes).
+    std::vector<double> output_probes() const { return output_.probes(); }
     const Hierarchy& hierarchy() const {
         settle_preview();
         return h_;

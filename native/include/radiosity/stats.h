@@ -74,6 +74,7 @@ struct Stats {
     int64_t gather_lamp_rays = 0;  // of gather_rays: the output points' own lamp shadow rays
     int64_t gather_shared = 0;  // output points that took their bounced light from gathered ones (Settings::gather_share)
     int64_t gather_probe_rays = 0;  // of gather_rays: the probes of the points that may take it (shared_gather.cpp)
+    int64_t gather_probes_kept = 0;  // after an update: probes kept as they were (no probe ray could change)
     // Surfaces whose contacts (DirectLight::find_contacts) the last solve or update looked
     // for, and the time that took.
     int64_t contact_surfaces = 0;

@@ -352,14 +352,14 @@ bool Solver::update_adjust(UpdateRun& u, Control* control) {
         ch.moved[obj] = 1;
     }
     vis_->commit();
-    // Which polygons lie on which follows the placements (DirectLight::invalidate forgets it
-    // only when the scene has lights; the output's contact test needs it either way).
-    direct_light_.forget_contacts();
-    lap("place");
     for (Aabb& c : ch.clips) {  // ray ends are lifted off surfaces: a hair of margin
         c.lo -= Vec3{1e-5, 1e-5, 1e-5};
         c.hi += Vec3{1e-5, 1e-5, 1e-5};
     }
+    // Which polygons lie on which follows the placements, near the moved objects alone (the
+    // output's contact test needs it with or without lights).
+    direct_light_.moved_contacts(ch.clips);
+    lap("place");
     // Moves only: outside the moved objects' old and new boxes every ray meets what it met.
     // An addition or removal re-orders the surface table the cluster samplers draw from
     // (Hierarchy::surface_order, area_prefix), which can change a link's rays themselves.

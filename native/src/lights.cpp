@@ -444,7 +444,21 @@ void DirectLight::relight() {
     recheck_ = true;
 }
 
-void DirectLight::forget_contacts() { contacts_.clear(); }
+void DirectLight::forget_contacts() {
+    contacts_.clear();
+    kept_contacts_.clear();
+    contact_boxes_.clear();
+}
+
+void DirectLight::moved_contacts(const std::vector<Aabb>& boxes) {
+    stash_contacts();
+    contact_boxes_.insert(contact_boxes_.end(), boxes.begin(), boxes.end());
+}
+
+void DirectLight::stash_contacts() {
+    if (!contacts_.empty()) kept_contacts_ = std::move(contacts_);
+    contacts_.clear();
+}
 
 bool DirectLight::take_recheck() { return std::exchange(recheck_, false); }
 
@@ -476,7 +490,9 @@ void DirectLight::invalidate(const Hierarchy& h, const std::vector<Rigid>& poses
             std::fill(have_.begin(), have_.end(), kNone);
         }
         recheck_ = !poses_.empty();
-        contacts_.clear();
+        // (Placements change where an update moves objects, and moved_contacts says where, or
+        // in a full solve, which clears everything: the contacts are only set aside here.)
+        stash_contacts();
         poses_ = poses;
     }
     resize(h.nodes.size());
@@ -492,6 +508,50 @@ void DirectLight::prepare(const Hierarchy& h, const Sight& sight, const std::vec
     compute(h, sight, todo);
 }
 
+namespace {
+
+// The surfaces of other objects (and front sides of other polygons of its own) lying on
+// surface si within `tol` of its plane and facing it, in the order a walk of the cluster tree
+// by boxes meets them.
+std::vector<int> surface_contacts(const Hierarchy& h, const SceneDesc& scene, size_t si, double tol) {
+    std::vector<int> out;
+    const Node& n = h.nodes[h.surfaces[si].root];
+    if (n.dead) return out;  // of a removed object
+    Aabb b = n.box;
+    b.lo -= Vec3{tol, tol, tol};
+    b.hi += Vec3{tol, tol, tol};
+    const bool own_back = h.surfaces[si].back;
+    // Polygons of its own object looked at, at most: the pieces of a fanned n-gon all share
+    // its apex, so every piece's box meets every other's (100k pieces: 10^10 tests). Real
+    // meshes meet a few neighbours.
+    int same_left = 4096;
+    std::vector<int> stack{h.root};
+    while (!stack.empty()) {
+        const int id = stack.back();
+        stack.pop_back();
+        const Node& m = h.nodes[id];
+        if (!b.overlaps(m.box)) continue;
+        // Within one object only front sides touch (below): a back surface skips its own
+        // object's clusters (a 100k-piece fanned disc: every piece's box meets every other's).
+        if (m.is_cluster()) {
+            if (m.object == n.object && (own_back || same_left <= 0)) continue;
+            for (int c : m.children) stack.push_back(c);
+            continue;
+        }
+        // Another object's polygon, or a front side of another polygon of the same object (a
+        // chair's back resting on its seat: Cycles finds that contact unlit too). Not the
+        // back of a neighbouring piece of the same plane (a two-sided fanned n-gon).
+        if (m.object == n.object && (own_back || --same_left < 0 || h.surfaces[size_t(m.surface)].back)) continue;
+        if (h.surfaces[size_t(m.surface)].prim == h.surfaces[si].prim || dot(m.normal, n.normal) > -1 + 1e-9) continue;
+        if (std::fabs(dot(m.poly.v[0] - n.poly.v[0], n.normal)) > tol) continue;
+        if (!scene.objects()[m.object].occluder) continue;
+        out.push_back(m.surface);
+    }
+    return out;
+}
+
+}  // namespace
+
 void DirectLight::find_contacts(const Hierarchy& h, const SceneDesc& scene, int threads) {
     // Surfaces of other objects lying in the same plane and facing the other way: where they
     // overlap, the two touch (a box standing on a floor). Rays from there start between the
@@ -499,48 +559,31 @@ void DirectLight::find_contacts(const Hierarchy& h, const SceneDesc& scene, int 
     // does a real contact. Found by walking the cluster tree by boxes.
     if (contacts_.size() == h.surfaces.size()) return;
     const auto t0 = std::chrono::steady_clock::now();
-    contacts_.assign(h.surfaces.size(), {});
     const double tol = 1e-7 * h.scene_diag;
-    parallel_for(h.surfaces.size(), threads, [&](size_t si) {
-        const Node& n = h.nodes[h.surfaces[si].root];
-        if (n.dead) return;  // of a removed object
-        Aabb b = n.box;
-        b.lo -= Vec3{tol, tol, tol};
-        b.hi += Vec3{tol, tol, tol};
-        auto overlaps = [&b](const Aabb& o) {
-            for (int a = 0; a < 3; ++a)
-                if (o.lo[a] > b.hi[a] || o.hi[a] < b.lo[a]) return false;
-            return true;
-        };
-        const bool own_back = h.surfaces[si].back;
-        // Polygons of its own object looked at, at most: the pieces of a fanned n-gon all share
-        // its apex, so every piece's box meets every other's (100k pieces: 10^10 tests). Real
-        // meshes meet a few neighbours.
-        int same_left = 4096;
-        std::vector<int> stack{h.root};
-        while (!stack.empty()) {
-            const int id = stack.back();
-            stack.pop_back();
-            const Node& m = h.nodes[id];
-            if (!overlaps(m.box)) continue;
-            // Within one object only front sides touch (below): a back surface skips its own
-            // object's clusters (a 100k-piece fanned disc: every piece's box meets every other's).
-            if (m.is_cluster()) {
-                if (m.object == n.object && (own_back || same_left <= 0)) continue;
-                for (int c : m.children) stack.push_back(c);
-                continue;
-            }
-            // Another object's polygon, or a front side of another polygon of the same object (a
-            // chair's back resting on its seat: Cycles finds that contact unlit too). Not the
-            // back of a neighbouring piece of the same plane (a two-sided fanned n-gon).
-            if (m.object == n.object && (own_back || --same_left < 0 || h.surfaces[size_t(m.surface)].back)) continue;
-            if (h.surfaces[size_t(m.surface)].prim == h.surfaces[si].prim || dot(m.normal, n.normal) > -1 + 1e-9) continue;
-            if (std::fabs(dot(m.poly.v[0] - n.poly.v[0], n.normal)) > tol) continue;
-            if (!scene.objects()[m.object].occluder) continue;
-            contacts_[si].push_back(m.surface);
+    // After moves, a surface whose box grown by tol meets no moved object's old or new box
+    // (contact_boxes_) keeps its contacts: a moved surface lay within its old box and lies
+    // within its new one, so it was not and is not among them, and the others, and the order
+    // the walk meets them in, are as they were. The rest are found again.
+    std::vector<int> todo;
+    if (kept_contacts_.size() == h.surfaces.size()) {
+        contacts_ = std::move(kept_contacts_);
+        for (size_t si = 0; si < h.surfaces.size(); ++si) {
+            Aabb b = h.nodes[h.surfaces[si].root].box;
+            b.lo -= Vec3{tol, tol, tol};
+            b.hi += Vec3{tol, tol, tol};
+            if (std::any_of(contact_boxes_.begin(), contact_boxes_.end(), [&](const Aabb& c) { return c.overlaps(b); }))
+                todo.push_back(int(si));
         }
+    } else {
+        contacts_.assign(h.surfaces.size(), {});
+        for (size_t si = 0; si < h.surfaces.size(); ++si) todo.push_back(int(si));
+    }
+    kept_contacts_.clear();
+    contact_boxes_.clear();
+    parallel_for(todo.size(), threads, [&](size_t k) {
+        contacts_[size_t(todo[k])] = surface_contacts(h, scene, size_t(todo[k]), tol);
     }, 32);
-    contact_work_.surfaces += int64_t(h.surfaces.size());
+    contact_work_.surfaces += int64_t(todo.size());
     contact_work_.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 

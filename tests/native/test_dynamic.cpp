@@ -571,3 +571,85 @@ TEST(Dynamic, ReplayedRaysExactWhenTheMovedObjectSharesItsCollection) {
     for (size_t i = 0; i < result[0].size(); ++i) differ += result[1][i] != result[0][i];
     EXPECT_EQ(differ, 0u) << "corner values that differ";
 }
+
+// Contacts (DirectLight::find_contacts: a polygon lying on another, facing it) after moves:
+// only the surfaces near a moved object's old or new box are looked at again, and every
+// surface's list is what a full search of the scene as placed finds, entry for entry. A tile
+// floating over the floor lands on it (a contact appears: the floor under it turns unlit) and
+// is lifted off again (it disappears), while a box stands on the floor throughout.
+TEST(Dynamic, ContactsAfterAMoveAreThoseAFullSearchFinds) {
+    // (An open floor and a tile: what a closed box would enclose with the floor under it
+    // changes a closed pocket, and the update would solve in full.)
+    auto scene = [](double lift) {
+        SceneDesc s;
+        scenes::add_grid(s, "floor", -1, {Vec3{0, 0, 0}, Vec3{4, 0, 0}, Vec3{4, 4, 0}, Vec3{0, 4, 0}}, 8, 8, Rgb::all(0.6), {});
+        scenes::add_grid(s, "lamp", -1, {Vec3{1.5, 1.5, 2.5}, Vec3{1.5, 2.5, 2.5}, Vec3{2.5, 2.5, 2.5}, Vec3{2.5, 1.5, 2.5}}, 1,
+                         1, {}, Rgb::all(10.0), false);
+        scenes::add_box(s, "standing", -1, {0.5, 0.5, 0}, {1.1, 1.1, 0.6}, 2, Rgb::all(0.5), {});
+        scenes::add_grid(s, "tile", -1, {Vec3{2.3, 2.3, lift}, Vec3{2.3, 2.8, lift}, Vec3{2.8, 2.8, lift}, Vec3{2.8, 2.3, lift}},
+                         2, 2, Rgb::all(0.5), {});  // facing down
+        return s;
+    };
+    const int tile = 3;
+    // DirectLight itself, on a hierarchy placed as the solver places it.
+    {
+        const SceneDesc s = scene(0.5);
+        Hierarchy h;
+        h.build(s, true);
+        DirectLight kept;
+        kept.find_contacts(h, s, 1);
+        auto pairs = [&](const DirectLight& d) {
+            size_t n = 0;
+            for (const auto& c : d.contacts()) n += c.size();
+            return n;
+        };
+        const size_t standing_only = pairs(kept);
+        EXPECT_GT(standing_only, 0u);
+        auto place = [&](const std::vector<Vec3>& steps) {
+            for (const Vec3& t : steps) {
+                const Aabb was = h.object_box(tile);
+                Rigid r;
+                r.t = t / h.unit;
+                h.place_objects({{tile, r}});
+                kept.moved_contacts({was, h.object_box(tile)});
+            }
+            EXPECT_TRUE(kept.contacts().empty());  // none known until found
+            kept.find_contacts(h, s, 1);
+            const int64_t looked = kept.take_contact_work().surfaces;
+            EXPECT_GT(looked, 0);
+            EXPECT_LT(looked, int64_t(h.surfaces.size()) / 4);
+            DirectLight full;
+            full.find_contacts(h, s, 1);
+            EXPECT_EQ(full.take_contact_work().surfaces, int64_t(h.surfaces.size()));
+            EXPECT_EQ(kept.contacts(), full.contacts());
+            return pairs(kept);
+        };
+        kept.take_contact_work();
+        EXPECT_GT(place({{0, 0, -0.5}}), standing_only);                    // landed
+        EXPECT_EQ(place({{0, 0, -0.2}, {-0.3, 0.1, -0.3}}), standing_only);  // lifted, twice before a search
+        EXPECT_GT(place({{0.1, -0.4, -0.5}}), standing_only);               // landed elsewhere
+    }
+    // Through the solver: the corners the landed tile covers read unlit as a full solve of the
+    // tile lying there finds them, and the lifted tile covers none again.
+    Settings st = Settings::preset("DRAFT");
+    Solver s(scene(0.5), st);
+    s.solve();
+    const int64_t floating_covered = s.stats().gather_covered;
+    s.move_object(tile, translation({0, 0, -0.5}).data());
+    s.update();
+    ASSERT_TRUE(s.stats().mode_incremental);
+    EXPECT_GT(s.stats().contact_surfaces, 0);
+    EXPECT_LT(s.stats().contact_surfaces, int64_t(s.hierarchy().surfaces.size()) / 4);
+    Solver landed(scene(0), st);
+    landed.solve();
+    EXPECT_GT(landed.stats().gather_covered, floating_covered);
+    EXPECT_EQ(s.stats().gather_covered, landed.stats().gather_covered);
+    std::printf("[ figure ] covered corners: tile floating %lld, landed %lld (a full solve %lld); the update looked at "
+                "the contacts of %lld of %zu surfaces\n",
+                (long long)floating_covered, (long long)s.stats().gather_covered, (long long)landed.stats().gather_covered,
+                (long long)s.stats().contact_surfaces, s.hierarchy().surfaces.size());
+    s.move_object(tile, translation({0, 0, 0}).data());
+    s.update();
+    ASSERT_TRUE(s.stats().mode_incremental);
+    EXPECT_EQ(s.stats().gather_covered, floating_covered);
+}

@@ -45,7 +45,10 @@ public:
     // --- What makes the terms stale.
     void clear();            // a full solve builds the hierarchy anew
     void relight();          // a light changed, objects were added or removed: every term again
-    void forget_contacts();  // placements or surfaces changed: find_contacts finds them again
+    void forget_contacts();  // surfaces added or removed: find_contacts finds every one's again
+    // Objects moved (`boxes`: their old and new boxes): find_contacts looks again at the
+    // surfaces near them alone, and keeps the rest. Until it does, no contact is known.
+    void moved_contacts(const std::vector<Aabb>& boxes);
     // The objects are placed at `poses` now. When the terms were made at other placements,
     // each goes stale: with `replay` (a move that replays rays: the moved objects' old and new
     // boxes), a node away from the boxes keeps its shadow rays, those meeting no box to keep
@@ -102,6 +105,9 @@ private:
     void walk(const Hierarchy& h, const Sight& sight, double threshold, const std::vector<char>& link_below,
               std::vector<int>& lit, std::vector<int>& drop);
     void resize(size_t nodes);  // the per-node arrays to the node count
+    // Sets the contacts found aside (kept_contacts_) until find_contacts asks for them: none
+    // is known meanwhile, as when they were forgotten.
+    void stash_contacts();
 
     std::vector<Rgb> direct_;       // per node: area mean of the direct term over the element
     std::vector<float> spread_;     // per node: max - min over its four children's estimates
@@ -111,6 +117,8 @@ private:
     std::vector<uint8_t> split_;    // per node: subdivided because its direct light varies
     std::vector<Rigid> poses_;      // object placements the terms were made with
     std::vector<std::vector<int>> contacts_;  // per surface: touching surfaces of other objects
+    std::vector<std::vector<int>> kept_contacts_;  // contacts_ set aside after moves, ...
+    std::vector<Aabb> contact_boxes_;              // ... and the boxes where they may have changed
     ContactWork contact_work_;
     bool recheck_ = false;          // lights or placements changed: try merging light splits
 };

@@ -116,10 +116,17 @@ bool probe_holds(const Solution& s, const Job& j, const Point& old, const Moves&
     if (!(old.probed >= 0) || moves.cast_all || old.seed != j.seed || old.n.x != j.n.x || old.n.y != j.n.y ||
         old.n.z != j.n.z)
         return false;
+    Aabb all;
+    for (const Aabb& c : moves.clips) all.grow(c);
     ProbeRays pr(s.h.scene_diag, j.x, j.n, Hierarchy::mix(j.seed, 0x9b0eu));
+    // Every ray ends within the longest one's reach of the origin: with the boxes farther
+    // away, none can meet them, and the directions need not be drawn.
+    const uint8_t longest = *std::max_element(old.probe_ends.begin(), old.probe_ends.end());
+    if (distance_to_box(all, pr.o) > probe_length(longest, pr.full) * (1 + 1e-9)) return true;
     for (int i = 0; i < pr.strata.count(); ++i) {
         const Vec3 d = pr.direction(i);
-        if (meets_any(moves.clips, pr.o, pr.o + d * probe_length(old.probe_ends[size_t(i)], pr.full))) return false;
+        const Vec3 end = pr.o + d * probe_length(old.probe_ends[size_t(i)], pr.full);
+        if (all.meets_segment(pr.o, end) && meets_any(moves.clips, pr.o, end)) return false;
     }
     return true;
 }

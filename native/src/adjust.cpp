@@ -352,10 +352,7 @@ bool Solver::update_adjust(UpdateRun& u, Control* control) {
         ch.moved[obj] = 1;
     }
     vis_->commit();
-    for (Aabb& c : ch.clips) {  // ray ends are lifted off surfaces: a hair of margin
-        c.lo -= Vec3{1e-5, 1e-5, 1e-5};
-        c.hi += Vec3{1e-5, 1e-5, 1e-5};
-    }
+    for (Aabb& c : ch.clips) c = c.grown(1e-5);  // ray ends are lifted off surfaces: a hair of margin
     // Which polygons lie on which follows the placements, near the moved objects alone (the
     // output's contact test needs it with or without lights).
     direct_light_.moved_contacts(ch.clips);

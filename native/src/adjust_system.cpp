@@ -39,13 +39,14 @@ void AdjustSystem::mark_moved(const Hierarchy& h, Change& ch) {
 std::vector<char> AdjustSystem::buried_leaves(const Hierarchy& h, const std::vector<Aabb>& now,
                                               const std::vector<char>& moved) {
     std::vector<char> b(h.nodes.size(), 0);
-    const double e = 1e-6 * h.scene_diag;  // a floor under a box lies in the box's bottom plane
+    std::vector<Aabb> boxes;  // `now` with a margin: a floor under a box lies in the box's bottom plane
+    for (const Aabb& c : now) boxes.push_back(c.grown(1e-6 * h.scene_diag));
     for (size_t i = 0; i < h.nodes.size(); ++i) {
         const Node& n = h.nodes[i];
         if (n.dead || n.is_cluster() || !n.children.empty() || (n.object >= 0 && moved[size_t(n.object)])) continue;
-        for (const Aabb& c : now) {
+        for (const Aabb& c : boxes) {
             bool in = true;
-            for (int a = 0; a < 3 && in; ++a) in = n.box.lo[a] >= c.lo[a] - e && n.box.hi[a] <= c.hi[a] + e;
+            for (int a = 0; a < 3 && in; ++a) in = n.box.lo[a] >= c.lo[a] && n.box.hi[a] <= c.hi[a];
             if (in) {
                 b[i] = 1;
                 break;
@@ -138,12 +139,8 @@ void AdjustSystem::keep_links_rays_meet(std::vector<int>& recompute) {
         const Node& a = h.nodes[l.src];
         const Node& b = h.nodes[l.rcv];
         const double r = std::max(a.radius, b.radius) + 1e-5;
-        for (const Aabb& c : ch.clips) {
-            Aabb g = c;
-            g.lo -= Vec3{r, r, r};
-            g.hi += Vec3{r, r, r};
-            if (g.meets_segment(a.center, b.center) && c.meets_shaft(a.box, b.box)) { may[k] = 1; break; }
-        }
+        for (const Aabb& c : ch.clips)
+            if (c.grown(r).meets_segment(a.center, b.center) && c.meets_shaft(a.box, b.box)) { may[k] = 1; break; }
     }, 256);
     size_t kept = 0;
     for (size_t k = 0; k < recompute.size(); ++k)

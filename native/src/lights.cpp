@@ -517,9 +517,7 @@ std::vector<int> surface_contacts(const Hierarchy& h, const SceneDesc& scene, si
     std::vector<int> out;
     const Node& n = h.nodes[h.surfaces[si].root];
     if (n.dead) return out;  // of a removed object
-    Aabb b = n.box;
-    b.lo -= Vec3{tol, tol, tol};
-    b.hi += Vec3{tol, tol, tol};
+    const Aabb b = n.box.grown(tol);
     const bool own_back = h.surfaces[si].back;
     // Polygons of its own object looked at, at most: the pieces of a fanned n-gon all share
     // its apex, so every piece's box meets every other's (100k pieces: 10^10 tests). Real
@@ -568,9 +566,7 @@ void DirectLight::find_contacts(const Hierarchy& h, const SceneDesc& scene, int 
     if (kept_contacts_.size() == h.surfaces.size()) {
         contacts_ = std::move(kept_contacts_);
         for (size_t si = 0; si < h.surfaces.size(); ++si) {
-            Aabb b = h.nodes[h.surfaces[si].root].box;
-            b.lo -= Vec3{tol, tol, tol};
-            b.hi += Vec3{tol, tol, tol};
+            const Aabb b = h.nodes[h.surfaces[si].root].box.grown(tol);
             if (std::any_of(contact_boxes_.begin(), contact_boxes_.end(), [&](const Aabb& c) { return c.overlaps(b); }))
                 todo.push_back(int(si));
         }

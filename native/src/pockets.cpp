@@ -178,10 +178,7 @@ std::vector<char> Pockets::kept_confirmed(const Hierarchy& h, const std::vector<
     for (size_t s : live) {
         if (rep[s] != int(s) || open[s] || int(s) == largest || !ok[s]) continue;
         if (size_t(old_label[s]) > ns || old_members[size_t(old_label[s])] != members[s]) continue;  // not the same set
-        Aabb b = box[s];  // (the rays start lifted off their surfaces)
-        const double lift = 2e-5 * h.scene_diag;
-        b.lo -= Vec3{lift, lift, lift};
-        b.hi += Vec3{lift, lift, lift};
+        const Aabb b = box[s].grown(2e-5 * h.scene_diag);  // (the rays start lifted off their surfaces)
         bool reached = false;
         for (const Aabb& c : changed) reached = reached || c.overlaps(b);
         kept[s] = !reached;

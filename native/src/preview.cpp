@@ -594,8 +594,7 @@ std::vector<PlacedPolygon> placed_polygons(const Hierarchy& h, const FinalGather
             for (int j = 0; j < q.poly.n; ++j) q.poly.v[size_t(j)] = c.point(was.v[size_t(j)]);
             q.normal = c.dir(saved.normal(root));
             for (int j = 0; j < q.poly.n; ++j) q.box.grow(q.poly.v[size_t(j)]);
-            q.box.lo -= Vec3{tol, tol, tol};
-            q.box.hi += Vec3{tol, tol, tol};
+            q.box = q.box.grown(tol);
             used[2 * k + size_t(b)] = 1;
         }
     }, 256);
@@ -768,10 +767,7 @@ void Solver::preview_moves(const std::vector<std::pair<int, Rigid>>& placed, con
         p.clips.push_back(now);
         p.moved[size_t(object)] = 1;
     }
-    for (Aabb& c : p.clips) {  // ray ends are lifted off surfaces: a hair of margin (as update())
-        c.lo -= Vec3{1e-5, 1e-5, 1e-5};
-        c.hi += Vec3{1e-5, 1e-5, 1e-5};
-    }
+    for (Aabb& c : p.clips) c = c.grown(1e-5);  // ray ends are lifted off surfaces: a hair of margin (as update())
     for (size_t k = 1; k < p.clips.size(); k += 2) p.now.push_back(p.clips[k]);
 }
 

@@ -3,10 +3,12 @@
 // Subdivision Surface make quads that are planar only to about 1e-4 of their size, and a plane
 // nearly containing one crosses it four times). Also the stratified cosine directions of
 // CosineStrata, draw for draw, and the window of them that may meet a box (CosineWindow).
+// Also a box grown by a margin (Aabb::grown).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
 
 #include "test_util.h"
@@ -299,4 +301,50 @@ TEST(CosineWindow, HoldsEveryDirectionWhoseRayMeetsTheBox) {
     // Nothing moved: every sample keeps its outcome; no box: CosineWindow() keeps none.
     EXPECT_FALSE(CosineWindow(Aabb{}, Vec3{}, 0.1, Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}).may_meet(0.3, 0.3));
     EXPECT_TRUE(CosineWindow().may_meet(0.3, 0.3));
+}
+
+TEST(Aabb, GrownMovesEverySideOutByTheMargin) {
+    Aabb b;
+    b.grow(Vec3{-1, 0.5, 2});
+    b.grow(Vec3{3, 0.75, 4});
+    const double tol = 0.125;
+    const Aabb g = b.grown(tol);
+    // Each side is exactly lo - tol or hi + tol, bit for bit.
+    EXPECT_EQ(g.lo.x, -1 - tol);
+    EXPECT_EQ(g.lo.y, 0.5 - tol);
+    EXPECT_EQ(g.lo.z, 2 - tol);
+    EXPECT_EQ(g.hi.x, 3 + tol);
+    EXPECT_EQ(g.hi.y, 0.75 + tol);
+    EXPECT_EQ(g.hi.z, 4 + tol);
+    // The box itself is left as it was.
+    EXPECT_EQ(b.lo.x, -1.0);
+    EXPECT_EQ(b.hi.z, 4.0);
+    // A point a margin away is in the grown box and not in the box; one farther is in neither.
+    EXPECT_FALSE(b.contains(Vec3{3.1, 0.6, 3}));
+    EXPECT_TRUE(g.contains(Vec3{3.1, 0.6, 3}));
+    EXPECT_FALSE(g.contains(Vec3{3.2, 0.6, 3}));
+    // A point's box grows into a cube around it; a zero margin changes nothing.
+    Aabb p;
+    p.grow(Vec3{1, 2, 3});
+    const Aabb c = p.grown(0.5);
+    EXPECT_EQ(c.lo.x, 0.5);
+    EXPECT_EQ(c.hi.z, 3.5);
+    const Aabb same = b.grown(0.0);
+    EXPECT_EQ(same.lo.y, b.lo.y);
+    EXPECT_EQ(same.hi.y, b.hi.y);
+}
+
+TEST(Aabb, GrownEmptyBoxStaysEmpty) {
+    // However large the margin (one past the empty box's sentinels would turn it inside out):
+    // an empty box holds no point to grow around, and a box grown from it meets nothing.
+    for (double tol : {0.0, 1e-5, 1.0, 1e301, std::numeric_limits<double>::infinity()}) {
+        const Aabb g = Aabb{}.grown(tol);
+        EXPECT_TRUE(g.empty()) << tol;
+        EXPECT_EQ(g.diagonal(), 0.0) << tol;
+        EXPECT_FALSE(g.contains(Vec3{0, 0, 0})) << tol;
+        Aabb unit;
+        unit.grow(Vec3{0, 0, 0});
+        unit.grow(Vec3{1, 1, 1});
+        EXPECT_FALSE(g.overlaps(unit)) << tol;
+    }
 }

@@ -68,6 +68,13 @@ struct Aabb {
     Vec3 center() const { return (lo + hi) * 0.5; }
     Vec3 extent() const { return hi - lo; }
     double diagonal() const { return empty() ? 0.0 : length(hi - lo); }
+    // The box moved out by `tol` on every side (a margin for tolerances and lifted ray ends).
+    // An empty box stays empty: it holds no point to grow around.
+    Aabb grown(double tol) const {
+        if (empty()) return *this;
+        const Vec3 t{tol, tol, tol};
+        return {lo - t, hi + t};
+    }
     bool contains(const Vec3& p) const {
         return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z;
     }

@@ -74,20 +74,7 @@ void Solver::set_material(int object, const std::vector<Rgb>& values, bool emiss
     settle_preview();
     topology_.check_live(scene_, object, emission ? "set_emission" : "set_reflectance");
     ObjectDesc& o = scene_.objects_mut()[object];
-    if (values.size() != o.polygon_count() && values.size() != 1)
-        throw InputError("object '" + o.name + "': need one RGB per polygon or one for all");
-    for (size_t f = 0; f < values.size(); ++f) {
-        const Rgb& v = values[f];
-        if (!finite(v)) throw InputError("object '" + o.name + "': polygon " + std::to_string(f) + " has a non-finite value");
-        for (int k = 0; k < 3; ++k) {
-            if (v[k] < 0) throw InputError("object '" + o.name + "': polygon " + std::to_string(f) + " has a negative value");
-            if (emission && v[k] > kMaxEmission)
-                throw InputError("object '" + o.name + "': polygon " + std::to_string(f) +
-                                 " has emission above 1e30 (the output would overflow)");
-            if (!emission && v[k] >= 1)
-                throw InputError("object '" + o.name + "': polygon " + std::to_string(f) + " has reflectance >= 1");
-        }
-    }
+    check_polygon_materials(o, values, emission);
     auto& dst = emission ? o.emission : o.reflectance;
     for (size_t f = 0; f < dst.size(); ++f) dst[f] = values.size() == 1 ? values[0] : values[f];
     edits_.record_materials();

@@ -34,6 +34,20 @@ std::vector<int> ObjectDesc::corner_polygons() const {
     return out;
 }
 
+void check_polygon_materials(const ObjectDesc& o, const std::vector<Rgb>& values, bool emission) {
+    if (values.size() != o.polygon_count() && values.size() != 1) fail(o, "need one RGB per polygon or one for all");
+    for (size_t f = 0; f < values.size(); ++f) {
+        const Rgb& v = values[f];
+        if (!finite(v)) fail(o, poly_str(f) + " has a non-finite value");
+        for (int k = 0; k < 3; ++k) {
+            if (v[k] < 0) fail(o, poly_str(f) + " has a negative value");
+            if (emission && v[k] > kMaxEmission)
+                fail(o, poly_str(f) + " has emission above 1e30 (the output would overflow)");
+            if (!emission && v[k] >= 1) fail(o, poly_str(f) + " has reflectance >= 1");
+        }
+    }
+}
+
 void check_corner_materials(const ObjectDesc& o, const std::vector<Rgb>& rho, const std::vector<Rgb>& emission) {
     const size_t nc = o.corner_count();
     if (!rho.empty() && rho.size() != nc) fail(o, "corner reflectance needs one RGB per corner (or none)");

@@ -83,6 +83,9 @@ struct ObjectDesc {
     }
 };
 
+// Throws InputError unless `values` holds one RGB per polygon of `o` or one for all, each
+// finite and >= 0, and as an `emission` at most 1e30, as a reflectance below 1.
+void check_polygon_materials(const ObjectDesc& o, const std::vector<Rgb>& values, bool emission);
 // Throws InputError unless each array is empty or holds one valid value per corner of `o`.
 void check_corner_materials(const ObjectDesc& o, const std::vector<Rgb>& reflectance, const std::vector<Rgb>& emission);
 // Throws InputError unless every piece names a polygon of `o` and has a finite position, a

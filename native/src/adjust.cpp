@@ -105,27 +105,6 @@ void Solver::set_texture_pieces(int object, std::vector<TexturePiece> pieces, bo
     edits_.record_materials();
 }
 
-void Solver::apply_materials() {
-    for (const Primitive& p : h_.prims) {
-        if (p.object < 0) continue;  // of a removed object
-        const ObjectDesc& o = scene_.objects()[p.object];
-        for (int s : {p.front, p.back}) {
-            if (s < 0) continue;
-            std::vector<int> st{h_.surfaces[s].root};
-            while (!st.empty()) {
-                Node& n = h_.nodes[st.back()];
-                st.pop_back();
-                n.rho = h_.element_rho(n, o.reflectance[p.face]);
-                n.emission = h_.element_emission(n, o.emission[p.face]);
-                for (int c : n.children) st.push_back(c);
-            }
-        }
-    }
-    for (int i = int(h_.nodes.size()) - 1; i >= 0; --i)
-        if (h_.nodes[i].is_cluster()) h_.refresh_cluster_geometry(i);
-    compute_reference();
-}
-
 // Bottom-up clean-up of elements no link refers to any more (3.4): memory for links
 // returns at once; element slots are marked dead (not reused).
 void Solver::prune_elements() {
@@ -269,7 +248,10 @@ void Solver::update_begin(UpdateRun& u) {
 }
 
 bool Solver::update_materials(Control* control) {
-    if (edits_.take_materials()) apply_materials();
+    if (edits_.take_materials()) {
+        h_.apply_materials(scene_);
+        compute_reference();  // the threshold follows the new emission and reflectance
+    }
     if (L_ref_ <= 0 || stats_.no_emitters) {
         // Dark now: a zero reference makes the oracle's threshold 0, and the update would
         // refine every link to the caps. Dark before: solve() made no links,

@@ -585,6 +585,27 @@ void Hierarchy::set_surface_material(const SceneDesc& scene, int s) {
     e.Lmin = e.Lmax = e.L;
 }
 
+void Hierarchy::apply_materials(const SceneDesc& scene) {
+    for (const Primitive& p : prims) {
+        if (p.object < 0) continue;  // of a removed object
+        const ObjectDesc& o = scene.objects()[p.object];
+        for (int s : {p.front, p.back}) {
+            if (s < 0) continue;
+            std::vector<int> st{surfaces[s].root};
+            while (!st.empty()) {
+                Node& n = nodes[st.back()];
+                st.pop_back();
+                n.rho = element_rho(n, o.reflectance[p.face]);
+                n.emission = element_emission(n, o.emission[p.face]);
+                for (int c : n.children) st.push_back(c);
+            }
+        }
+    }
+    // Each cluster from its surfaces' roots (its largest reflectance among them).
+    for (int i = int(nodes.size()) - 1; i >= 0; --i)
+        if (nodes[i].is_cluster()) refresh_cluster_geometry(i);
+}
+
 void Hierarchy::set_surface_ancestors(int s) {
     if (int(surface_ancestors_.size()) <= s) surface_ancestors_.resize(s + 1);
     std::vector<int> chain;

@@ -3,7 +3,8 @@
 // -> oriented surfaces (one per side of an input polygon) -> element quadtrees.
 // Hierarchy owns that tree and the geometry it is made of (primitives, surfaces, texture
 // pieces): it builds them from a SceneDesc and keeps them consistent as elements split and
-// objects move, come and go. The radiometric fields of its nodes are the solver's to write.
+// objects move, come and go. It sets its nodes' materials (reflectance, emission) from the
+// scene; their radiance fields are the solver's to write.
 #pragma once
 #include <algorithm>
 #include <array>
@@ -227,6 +228,11 @@ public:
     Rgb rho_at(int id, const Vec3& x) const;
     // (Re)binds object `o`'s pieces to its primitives `ids` (after make_prims or new pieces).
     void bind_pieces(const ObjectDesc& o, const std::vector<int>& ids);
+    // After the scene's emission, reflectance or pieces changed: every element of a live
+    // object takes its polygon's material again (element_rho, element_emission), and every
+    // cluster its largest reflectance below (refresh_cluster_geometry). Radiance is left as
+    // it is: the solver's to gather again.
+    void apply_materials(const SceneDesc& scene);
     // The primitive of element e when it has pieces, else -1.
     int pieces_prim(const Node& e) const;
     std::vector<Surface> surfaces;

@@ -289,7 +289,6 @@ private:
     void apply_topology(Change& ch);
     void refit_tolerances();
     void set_material(int object, const std::vector<Rgb>& values, bool emission);
-    void apply_materials();
     // Nodes whose radiance (or its range below them) moved enough since `snap` to change an
     // oracle judgement of a link they send through.
     std::vector<char> changed_senders(const std::vector<float>& snap) const;

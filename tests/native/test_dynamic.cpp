@@ -252,6 +252,46 @@ TEST(Dynamic, DimmingUnrefinesAndBrighteningRefinesBack) {
     EXPECT_NEAR(double(inc.stats().links), double(bright_links), 0.1 * bright_links);
 }
 
+TEST(Dynamic, AppliedMaterialsAreThoseAFreshBuildGives) {
+    // Hierarchy::apply_materials after an edit of the scene: every element (split ones too)
+    // and every cluster as a build of the edited scene makes them; radiance left alone.
+    SceneDesc s = room();
+    Hierarchy h;
+    h.build(s, true);
+    int split = -1;  // a face of the room the edit makes white, split twice
+    for (const Surface& f : h.surfaces)
+        if (split < 0 && h.prims[size_t(f.prim)].object == 0 && h.prims[size_t(f.prim)].face % 2 == 0) split = f.root;
+    ASSERT_GE(split, 0);
+    h.subdivide(split);
+    h.subdivide(h.nodes[split].children[0]);
+    for (size_t i = 0; i < h.nodes.size(); ++i) h.nodes[i].L = Rgb::all(0.25);
+    ObjectDesc& walls = s.objects_mut()[0];
+    for (size_t f = 0; f < walls.reflectance.size(); ++f) walls.reflectance[f] = f % 2 ? Rgb{0.1, 0.2, 0.3} : Rgb::all(0.9);
+    s.objects_mut()[1].emission.assign(1, Rgb::all(3.0));
+    h.apply_materials(s);
+    Hierarchy fresh;
+    fresh.build(s, true);
+    ASSERT_LE(fresh.nodes.size(), h.nodes.size());  // the same tree, with the splits after it
+    for (size_t i = 0; i < fresh.nodes.size(); ++i) {
+        const Node &a = h.nodes[i], &b = fresh.nodes[i];
+        ASSERT_EQ(a.is_cluster(), b.is_cluster()) << i;
+        if (a.is_cluster()) {
+            EXPECT_EQ(a.rho_max, b.rho_max) << i;
+        } else {
+            EXPECT_EQ(a.rho.max(), b.rho.max()) << i;
+            EXPECT_EQ(a.rho.mean(), b.rho.mean()) << i;
+            EXPECT_EQ(a.emission.max(), b.emission.max()) << i;
+        }
+    }
+    for (size_t i = fresh.nodes.size(); i < h.nodes.size(); ++i) {  // the split elements
+        const Node& e = h.nodes[i];
+        EXPECT_EQ(e.rho.mean(), h.nodes[split].rho.mean()) << i;
+        EXPECT_EQ(e.emission.max(), 0.0) << i;
+    }
+    EXPECT_EQ(h.nodes[split].rho.max(), 0.9);
+    for (size_t i = 0; i < h.nodes.size(); ++i) EXPECT_EQ(h.nodes[i].L.max(), 0.25) << i;
+}
+
 TEST(Dynamic, FurnaceConservedAfterMoves) {
     SceneDesc s = scenes::furnace_room_with_box(0.5, 0.5, 3);
     Solver solver(s, Settings::preset("MEDIUM"));

@@ -66,7 +66,13 @@ Oracle::Judgement Oracle::judge(const Link& l) const {
     if (!P.is_cluster() && P.children.empty()) dLp = std::max(dLp, P.rho.max() * direct_light_.spread(l.src));
     double err_rcv = 0, err_src = 0;
     if (l.must_refine) {
-        err_rcv = err_src = 1e300;
+        // The point model says nothing: all the light the link may carry is at stake, absorbed
+        // as well as reflected (a black receiver's irradiance is what an energy balance
+        // counts). A sender is taken as bright as the scene's reference at least, whatever
+        // light it has so far: the judgement is then the same in a full solve's first waves
+        // and in an update's.
+        const double Lmax = std::max({Lp, P.Lmax.max(), t_.reference});
+        err_rcv = err_src = Lmax * double(l.K_bound);
     } else if (!l.cluster) {
         err_rcv = l.settled ? 0.0 : rho * Lp * l.dK;
         err_src = rho * l.K * dLp;

@@ -643,6 +643,39 @@ bool may_exchange(const Hierarchy& h, const Node& P, const Node& Q) {
     return faces_box(h, P, Q.box, eps) && faces_box(h, Q, P.box, eps);
 }
 
+}  // namespace
+
+// coupling_bound (transfer.h): at distance at least d, a surface of P whose plane Q's box
+// rises at most h over sends under a cosine of h / d, and a receiving element over whose plane
+// P's box rises at most h' takes under h' / d. Two ends that stand well apart and see each
+// other at grazing angles (a wall and what stands a few centimetres before it) get a small
+// bound.
+double coupling_bound(const Hierarchy& h, int src, int rcv) {
+    const Node& P = h.nodes[size_t(src)];
+    const Node& Q = h.nodes[size_t(rcv)];
+    double d2 = 0;
+    for (int a = 0; a < 3; ++a) {
+        const double gap = std::max(P.box.lo[a] - Q.box.hi[a], Q.box.lo[a] - P.box.hi[a]);
+        if (gap > 0) d2 += gap * gap;
+    }
+    const double d = std::sqrt(d2);
+    if (!(d > 1e-9 * h.scene_diag)) return 1.0;
+    auto sends = [&](const Poly& poly, const Vec3& normal, double area) {
+        return area * std::min(1.0, std::max(0.0, plane_reach(Q.box, poly.v[0], normal)) / d);
+    };
+    double sum = 0;
+    if (!P.is_cluster()) sum = sends(P.poly, P.normal, P.area);
+    else
+        for (int i = P.surf_begin; i < P.surf_end; ++i) {
+            const SurfaceGeom& g = h.surface_geom[size_t(i)];
+            sum += sends(g.poly, g.normal, g.area);
+        }
+    const double takes = Q.is_cluster() ? 1.0 : std::min(1.0, std::max(0.0, plane_reach(P.box, Q.poly.v[0], Q.normal)) / d);
+    return std::min(1.0, sum * takes / (kPi * d2));
+}
+
+namespace {
+
 // What a cluster link's pairs of points found (cluster_link): the kernel-weighted sums over
 // the pairs (wsum), over the clear ones (vsum) and over those whose receiving point its own
 // object hides (wself), and how many pairs were clear of how many cast.
@@ -710,6 +743,7 @@ Link cluster_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
         if (coplanar(h, P, Q) || !may_exchange(h, P, Q)) return l;
         // The point model is meaningless for overlapping bounding spheres: refine first.
         l.must_refine = true;
+        l.K_bound = float(coupling_bound(h, src, rcv));
         l.dir = r > 0 ? d / r : Vec3{0, 0, 1};
         l.K = l.K_unoccluded = 0;
         return l;
@@ -728,7 +762,10 @@ Link cluster_link(const Hierarchy& h, const Vis& vis, const Node& P, const Node&
         // it dark). When some surface of each end faces within the ends' angular size, refine
         // until the exact element kernel decides.
         const double s = std::min(1.0, (P.radius + Q.radius) / r);
-        if (may_face(h, P, l.dir, s, rcv) && may_face(h, Q, -l.dir, s, src) && may_exchange(h, P, Q)) l.must_refine = true;
+        if (may_face(h, P, l.dir, s, rcv) && may_face(h, Q, -l.dir, s, src) && may_exchange(h, P, Q)) {
+            l.must_refine = true;
+            l.K_bound = float(coupling_bound(h, src, rcv));
+        }
         return l;
     }
     // Visibility of the transfer, estimated with pairs of points drawn by projected area

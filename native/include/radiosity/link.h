@@ -13,6 +13,10 @@ namespace radiosity {
 struct Link {
     int src = -1, rcv = -1;
     int parent = -1;       // the link this one refined: its history link
+    // must_refine links: an upper bound of the coupling any point below the receiver can get
+    // from the sender (coupling_bound). While the light it may carry is under the threshold,
+    // the oracle keeps the link as it is instead of splitting it.
+    float K_bound = 1;
     // Coupling. Element receiver: G_rcv += K * L_src. Cluster receiver: K * L_src is the
     // flux density (irradiance / pi on a surface facing the sender); each surface below the
     // receiver takes it times its own cosine toward `dir` (oriented clusters).

@@ -98,5 +98,8 @@ double unoccluded_coupling(const Poly& rcv, const Vec3& rcv_n, const Node& src, 
 // Radiance a link carries from its sender: an element's own radiance; for a cluster the
 // mean over the link's visible samples, else a projected-area estimate from the axis bins.
 Rgb sender_radiance(const Hierarchy& h, const Link& l);
+// An upper bound of the coupling (Link::K) that any point of node rcv's surfaces can get from
+// node src's, from their boxes alone (Link::K_bound; 1 when the boxes meet).
+double coupling_bound(const Hierarchy& h, int src, int rcv);
 
 }  // namespace radiosity

@@ -140,10 +140,7 @@ void trace_lamps(const Run& run, Point& pt, const Point* old, Counts& counts) {
             if (d.type == LightDesc::Type::Sun || d.type == LightDesc::Type::Sky) { lamps_kept = false; break; }
             const Vec3 q = h.to_internal(d.position);
             const double r = d.radius / h.unit;
-            Aabb lb;
-            lb.lo = q - Vec3{r, r, r};
-            lb.hi = q + Vec3{r, r, r};
-            if (hull_meets(x, lb, moves->clips)) { lamps_kept = false; break; }
+            if (hull_meets(x, Aabb::around(q, r), moves->clips)) { lamps_kept = false; break; }
         }
     }
     if (lamps_kept) {
@@ -323,12 +320,9 @@ bool near_unchanged(const Run& run, const Point& pt, const Point* old) {
     if (!(old != nullptr && old->gathered && !old->sealed && !moves->lights_changed && !moves->materials_changed))
         return false;
     // Nothing moved within 5 % of the scene's size of the point.
-    const double r = 0.05 * run.s.h.scene_diag;
-    Aabb around;
-    around.lo = pt.x - Vec3{r, r, r};
-    around.hi = pt.x + Vec3{r, r, r};
+    const Aabb vicinity = Aabb::around(pt.x, 0.05 * run.s.h.scene_diag);
     for (const Aabb& b : moves->clips)
-        if (b.overlaps(around)) return false;
+        if (b.overlaps(vicinity)) return false;
     return true;
 }
 

@@ -145,9 +145,7 @@ void NearPlane::couple(const Hierarchy& h, const Vec3& sp, const Vec3& sn) {
     WL = WL_all = Rgb{};
     if (!(d > 0)) return;
     const double R = kNearReach * d;
-    Aabb all;
-    all.lo = sp - Vec3{R, R, R};
-    all.hi = sp + Vec3{R, R, R};
+    const Aabb all = Aabb::around(sp, R);
     Aabb in;
     in.lo = vmax(all.lo, region.lo);
     in.hi = vmin(all.hi, region.hi);
@@ -251,8 +249,7 @@ bool NearField::near_part(const Seen& sn, const Node& root, double& d, double& F
     const bool gap = kGapLeaf * d < sn.WS / sn.W && sn.W >= kGapShare;
     if (!hair && !gap) return false;
     const double R = kNearReach * d;
-    box.lo = pt_.x - Vec3{R, R, R};
-    box.hi = pt_.x + Vec3{R, R, R};
+    box = Aabb::around(pt_.x, R);
     Vec3 part[12];
     const int np = clip_to_box(root.poly, box, part);
     if (np == 0) return false;

@@ -90,15 +90,13 @@ bool lamps_meet(const SceneDesc& scene, const Hierarchy& h, const Vec3& x, const
             const double r = d.radius / h.unit;
             const double len = length(q - x);
             if (len > 0 && !near_axis(clips, x, (q - x) / len, len, r, 0.0)) continue;
-            lb.lo = q - Vec3{r, r, r};
-            lb.hi = q + Vec3{r, r, r};
+            lb = Aabb::around(q, r);
         } else if (d.type == LightDesc::Type::Sun) {
             const SunShaft sun(d, h);
             if (!near_axis(clips, x, sun.toward, sun.far, 1e-9, sun.slope)) continue;
             const Vec3 q = x - d.direction * sun.far;
             const double r = sun.far * sun.slope + 1e-9;
-            lb.lo = q - Vec3{r, r, r};
-            lb.hi = q + Vec3{r, r, r};
+            lb = Aabb::around(q, r);
         } else {
             for (const Aabb& c : clips)
                 for (int k = 0; k < 8; ++k) {

@@ -1117,10 +1117,7 @@ Link reevaluate_link(const Hierarchy& h, const Visibility& vis, const Link& old,
 
 bool hull_meets(const Vec3& x, const Aabb& box, const std::vector<Aabb>& clips) {
     // The rays' ends are lifted off their surfaces by 1e-6 of the scene (point_transfer).
-    const Vec3 m{1e-5, 1e-5, 1e-5};
-    Aabb px;
-    px.grow(x - m);
-    px.grow(x + m);
+    const Aabb px = Aabb::around(x, 1e-5);
     const Aabb bx = box.grown(1e-5);
     for (const Aabb& c : clips)
         if (c.meets_shaft(px, bx)) return true;

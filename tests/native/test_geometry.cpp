@@ -3,7 +3,7 @@
 // Subdivision Surface make quads that are planar only to about 1e-4 of their size, and a plane
 // nearly containing one crosses it four times). Also the stratified cosine directions of
 // CosineStrata, draw for draw, and the window of them that may meet a box (CosineWindow).
-// Also a box grown by a margin (Aabb::grown).
+// Also a box grown by a margin (Aabb::grown) and the cube about a point (Aabb::around).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -347,4 +347,35 @@ TEST(Aabb, GrownEmptyBoxStaysEmpty) {
         unit.grow(Vec3{1, 1, 1});
         EXPECT_FALSE(g.overlaps(unit)) << tol;
     }
+}
+
+TEST(Aabb, AroundIsTheCubeAboutAPoint) {
+    // Each side is p - r and p + r, one subtraction and one addition, bit for bit, and the
+    // same as a one-point box grown by r.
+    Rng rng(5);
+    for (int t = 0; t < 1000; ++t) {
+        const Vec3 p{rng.next() * 20 - 10, rng.next() * 1e-3, rng.next() * 1e6};
+        const double r = rng.next() * (t % 2 ? 1e-5 : 3.0);
+        const Aabb c = Aabb::around(p, r);
+        Aabb point;
+        point.grow(p);
+        const Aabb g = point.grown(r);
+        for (int a = 0; a < 3; ++a) {
+            EXPECT_EQ(c.lo[a], p[a] - r);
+            EXPECT_EQ(c.hi[a], p[a] + r);
+            EXPECT_EQ(c.lo[a], g.lo[a]);
+            EXPECT_EQ(c.hi[a], g.hi[a]);
+        }
+        EXPECT_TRUE(c.contains(p));
+    }
+    const Aabb c = Aabb::around(Vec3{1, 2, 3}, 0.5);
+    EXPECT_EQ(c.lo.x, 0.5);
+    EXPECT_EQ(c.hi.z, 3.5);
+    EXPECT_TRUE(c.contains(Vec3{1.5, 1.5, 3.5}));  // a corner
+    EXPECT_FALSE(c.contains(Vec3{1.6, 2, 3}));
+    // A zero half-side is the point alone: not empty, and it holds the point.
+    const Aabb point = Aabb::around(Vec3{1, 2, 3}, 0.0);
+    EXPECT_FALSE(point.empty());
+    EXPECT_TRUE(point.contains(Vec3{1, 2, 3}));
+    EXPECT_EQ(point.diagonal(), 0.0);
 }

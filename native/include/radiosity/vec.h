@@ -75,6 +75,11 @@ struct Aabb {
         const Vec3 t{tol, tol, tol};
         return {lo - t, hi + t};
     }
+    // The cube of half-side r about p: on every axis from p - r to p + r.
+    static Aabb around(const Vec3& p, double r) {
+        const Vec3 t{r, r, r};
+        return {p - t, p + t};
+    }
     bool contains(const Vec3& p) const {
         return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z;
     }

@@ -606,6 +606,18 @@ void Hierarchy::apply_materials(const SceneDesc& scene) {
         if (nodes[i].is_cluster()) refresh_cluster_geometry(i);
 }
 
+Hierarchy::SurfaceTotals Hierarchy::surface_totals() const {
+    SurfaceTotals t;
+    for (const Surface& s : surfaces) {
+        const Node& e = nodes[s.root];
+        if (e.dead) continue;  // of a removed object
+        t.emission += e.area * e.emission.max();
+        t.reflectance += e.area * e.rho.max();
+        t.area += e.area;
+    }
+    return t;
+}
+
 void Hierarchy::set_surface_ancestors(int s) {
     if (int(surface_ancestors_.size()) <= s) surface_ancestors_.resize(s + 1);
     std::vector<int> chain;

@@ -413,7 +413,7 @@ std::vector<float> DirectLight::first_bounce(const Hierarchy& h) const {
 }
 
 double DirectLight::power(const SceneDesc& scene, const Hierarchy& h, double total_area) {
-    // In the units of the emitters' sum in compute_reference: a Lambertian emitter of
+    // In the units of the emitters' sum (Hierarchy::surface_totals): a Lambertian emitter of
     // radiance L and area A radiates pi L A, so each light counts as power / pi.
     double p = 0;
     for (const ILight& l : internal_lights(scene, h)) {

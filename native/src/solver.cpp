@@ -205,17 +205,11 @@ Link Solver::evaluate(int src, int rcv) const {
 void Solver::compute_reference() {
     // Reference radiance for the relative threshold: the mean radiance a closed scene with
     // this emission and mean reflectance would reach.
-    double ae = 0, a = 0, ar = 0;
-    for (const Surface& s : h_.surfaces) {
-        const Node& e = h_.nodes[s.root];
-        if (e.dead) continue;  // of a removed object
-        ae += e.area * e.emission.max();
-        ar += e.area * e.rho.max();
-        a += e.area;
-    }
-    double rho_mean = a > 0 ? std::min(ar / a, 0.95) : 0.0;
-    ae += DirectLight::power(scene_, h_, a) * std::max(rho_mean, 0.1);  // Blender lights and world
-    L_ref_ = a > 0 ? ae / a / (1.0 - rho_mean) : 0.0;
+    const Hierarchy::SurfaceTotals t = h_.surface_totals();
+    const double rho_mean = t.area > 0 ? std::min(t.reflectance / t.area, 0.95) : 0.0;
+    // The Blender lights and world, added to the emitting surfaces.
+    const double ae = t.emission + DirectLight::power(scene_, h_, t.area) * std::max(rho_mean, 0.1);
+    L_ref_ = t.area > 0 ? ae / t.area / (1.0 - rho_mean) : 0.0;
     threshold_ = settings_.error_threshold * L_ref_;
 }
 

@@ -292,6 +292,32 @@ TEST(Dynamic, AppliedMaterialsAreThoseAFreshBuildGives) {
     for (size_t i = 0; i < h.nodes.size(); ++i) EXPECT_EQ(h.nodes[i].L.max(), 0.25) << i;
 }
 
+TEST(Dynamic, SurfaceTotalsCountLiveSurfacesOnly) {
+    // Hierarchy::surface_totals: area, and area x largest emission and reflectance channel,
+    // over every oriented surface (a two-sided floor twice, a one-sided lamp once), in the
+    // internal frame; a removed object's surfaces drop out.
+    SceneDesc s;
+    scenes::add_grid(s, "floor", -1, {Vec3{0, 0, 0}, Vec3{2, 0, 0}, Vec3{2, 1, 0}, Vec3{0, 1, 0}}, 2, 1,
+                     Rgb{0.2, 0.5, 0.3}, {}, true);
+    scenes::add_grid(s, "lamp", -1, {Vec3{0, 0, 1}, Vec3{0, 1, 1}, Vec3{1, 1, 1}, Vec3{1, 0, 1}}, 1, 1,
+                     Rgb::all(0.1), Rgb{1, 4, 2}, false);
+    Hierarchy h;
+    h.build(s, true);
+    const double u2 = h.unit * h.unit;  // world area / internal area
+    auto expect_near = [](double got, double want) { EXPECT_NEAR(got, want, 1e-9 * want) << want; };
+    const Hierarchy::SurfaceTotals all = h.surface_totals();
+    expect_near(all.area, 5.0 / u2);
+    expect_near(all.emission, 4.0 / u2);
+    expect_near(all.reflectance, (2 * 0.5 + 2 * 0.5 + 0.1) / u2);
+    h.subdivide(h.surfaces[0].root);  // the roots' own area and material: splits change nothing
+    EXPECT_EQ(h.surface_totals().area, all.area);
+    h.remove_object(1);
+    const Hierarchy::SurfaceTotals without_lamp = h.surface_totals();
+    expect_near(without_lamp.area, 4.0 / u2);
+    EXPECT_EQ(without_lamp.emission, 0.0);
+    expect_near(without_lamp.reflectance, 2.0 / u2);
+}
+
 TEST(Dynamic, FurnaceConservedAfterMoves) {
     SceneDesc s = scenes::furnace_room_with_box(0.5, 0.5, 3);
     Solver solver(s, Settings::preset("MEDIUM"));

@@ -233,6 +233,15 @@ public:
     // cluster its largest reflectance below (refresh_cluster_geometry). Radiance is left as
     // it is: the solver's to gather again.
     void apply_materials(const SceneDesc& scene);
+    // Sums over the surface roots of live objects (both sides of a two-sided polygon count):
+    // their area, and their area weighted by each one's largest emission and largest
+    // reflectance channel. The scene's reference radiance is made from them.
+    struct SurfaceTotals {
+        double area = 0;
+        double emission = 0;     // sum of area x emission.max()
+        double reflectance = 0;  // sum of area x rho.max()
+    };
+    SurfaceTotals surface_totals() const;
     // The primitive of element e when it has pieces, else -1.
     int pieces_prim(const Node& e) const;
     std::vector<Surface> surfaces;

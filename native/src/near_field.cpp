@@ -146,16 +146,13 @@ void NearPlane::couple(const Hierarchy& h, const Vec3& sp, const Vec3& sn) {
     if (!(d > 0)) return;
     const double R = kNearReach * d;
     const Aabb all = Aabb::around(sp, R);
-    Aabb in;
-    in.lo = vmax(all.lo, region.lo);
-    in.hi = vmin(all.hi, region.hi);
-    const bool any_in = in.lo.x <= in.hi.x && in.lo.y <= in.hi.y && in.lo.z <= in.hi.z;
+    const std::optional<Aabb> in = all.intersection(region);
     for (const auto& [surface, wl] : seen) {
         const Node& g = h.nodes[size_t(h.surfaces[size_t(surface)].root)];
         Vec3 part[12];
         for (int pass = 0; pass < 2; ++pass) {
-            if (pass == 1 && !any_in) break;
-            const int np = clip_to_box(g.poly, pass == 0 ? all : in, part);
+            if (pass == 1 && !in) break;
+            const int np = clip_to_box(g.poly, pass == 0 ? all : *in, part);
             if (np == 0) continue;
             const double f = std::min(point_polygon_form_factor(sp, sn, part, np, g.normal), wl.first);
             if (!(f > 0)) continue;

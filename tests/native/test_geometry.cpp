@@ -349,6 +349,44 @@ TEST(Aabb, GrownEmptyBoxStaysEmpty) {
     }
 }
 
+TEST(Aabb, IntersectionIsTheBoxOfThePointsInBoth) {
+    Aabb unit;
+    unit.grow(Vec3{0, 0, 0});
+    unit.grow(Vec3{1, 1, 1});
+    auto box = [](Vec3 lo, Vec3 hi) { return Aabb{lo, hi}; };
+    // Each side is the inner of the two sides, bit for bit, whichever box asks.
+    const Aabb b = box({0.5, -1, 0.25}, {2, 0.375, 0.75});
+    for (const auto& m : {unit.intersection(b), b.intersection(unit)}) {
+        ASSERT_TRUE(m.has_value());
+        EXPECT_EQ(m->lo.x, 0.5);
+        EXPECT_EQ(m->lo.y, 0.0);
+        EXPECT_EQ(m->lo.z, 0.25);
+        EXPECT_EQ(m->hi.x, 1.0);
+        EXPECT_EQ(m->hi.y, 0.375);
+        EXPECT_EQ(m->hi.z, 0.75);
+    }
+    // Boxes that touch meet in a flat box; boxes apart on any one axis (here y alone, where
+    // empty()'s test of x would not tell) do not meet, and an empty box meets nothing.
+    const auto flat = unit.intersection(box({1, 0, 0}, {2, 1, 1}));
+    ASSERT_TRUE(flat.has_value());
+    EXPECT_EQ(flat->lo.x, 1.0);
+    EXPECT_EQ(flat->hi.x, 1.0);
+    EXPECT_FALSE(unit.intersection(box({0, 2, 0}, {1, 3, 1})).has_value());
+    EXPECT_FALSE(unit.intersection(box({0, 0, -3}, {1, 1, -2})).has_value());
+    EXPECT_FALSE(unit.intersection(Aabb{}).has_value());
+    EXPECT_FALSE(Aabb{}.intersection(unit).has_value());
+    // Between boxes that hold points, they meet exactly when overlaps() says so.
+    Rng rng(3);
+    for (int t = 0; t < 1000; ++t) {
+        Aabb p, q;
+        for (Aabb* x : {&p, &q})
+            for (int k = 0; k < 2; ++k) x->grow(Vec3{rng.next() * 4, rng.next() * 4, rng.next() * 4});
+        const auto m = p.intersection(q);
+        EXPECT_EQ(m.has_value(), p.overlaps(q)) << t;
+        if (m) EXPECT_TRUE(m->contains(m->center())) << t;
+    }
+}
+
 TEST(Aabb, AroundIsTheCubeAboutAPoint) {
     // Each side is p - r and p + r, one subtraction and one addition, bit for bit, and the
     // same as a one-point box grown by r.

@@ -2,6 +2,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 namespace radiosity {
@@ -93,6 +94,13 @@ struct Aabb {
         for (int a = 0; a < 3; ++a)
             if (b.lo[a] > hi[a] || b.hi[a] < lo[a]) return false;
         return true;
+    }
+    // The box of the points in both boxes, or none when on some axis the two do not meet
+    // (touching counts as meeting: the result is then flat on that axis).
+    std::optional<Aabb> intersection(const Aabb& b) const {
+        const Aabb m{vmax(lo, b.lo), vmin(hi, b.hi)};
+        if (!(m.lo.x <= m.hi.x && m.lo.y <= m.hi.y && m.lo.z <= m.hi.z)) return std::nullopt;
+        return m;
     }
     // Does some segment from a point of `a` to a point of `b` pass through this box? Those
     // segments fill the convex hull of a and b, which is the union over t in [0,1] of the

@@ -270,14 +270,10 @@ void NearField::bound_wall(const Node& root, double R) {
         if (dot(g.normal, root.normal) < 1.0 - 1e-9 || std::abs(dot(g.poly.v[0], root.normal) - sender_offset) > wall_.tol)
             continue;
         coplanar_.push_back(h_.surfaces[size_t(other.surface)].root);
-        for (int k = 0; k < g.poly.n; ++k) {
-            wall_.region.lo = vmin(wall_.region.lo, g.poly.v[size_t(k)]);
-            wall_.region.hi = vmax(wall_.region.hi, g.poly.v[size_t(k)]);
-        }
+        for (int k = 0; k < g.poly.n; ++k) wall_.region.grow(g.poly.v[size_t(k)]);
     }
     const Vec3 reach{R * std::abs(root.normal.x), R * std::abs(root.normal.y), R * std::abs(root.normal.z)};
-    wall_.region.lo = wall_.region.lo - reach;
-    wall_.region.hi = wall_.region.hi + reach;
+    wall_.region = wall_.region.grown(reach);
 }
 
 NearField::Stars NearField::gather_stars(const Seen& sn, const Node& root, double d, double R, bool vary, uint64_t seed,

@@ -387,6 +387,34 @@ TEST(Aabb, IntersectionIsTheBoxOfThePointsInBoth) {
     }
 }
 
+TEST(Aabb, GrownPerAxisMovesEachAxisByItsOwnMargin) {
+    Aabb b;
+    b.grow(Vec3{-1, 0.5, 2});
+    b.grow(Vec3{3, 0.75, 4});
+    // Each side is exactly lo - t[a] or hi + t[a], bit for bit; a zero keeps that axis.
+    const Vec3 t{0.125, 0.0, 0.5};
+    const Aabb g = b.grown(t);
+    EXPECT_EQ(g.lo.x, -1 - 0.125);
+    EXPECT_EQ(g.lo.y, 0.5);
+    EXPECT_EQ(g.lo.z, 2 - 0.5);
+    EXPECT_EQ(g.hi.x, 3 + 0.125);
+    EXPECT_EQ(g.hi.y, 0.75);
+    EXPECT_EQ(g.hi.z, 4 + 0.5);
+    // The same margin on every axis is grown(double), side for side.
+    Rng rng(7);
+    for (int k = 0; k < 100; ++k) {
+        const double r = rng.next() * (k % 2 ? 1e-5 : 3.0);
+        const Aabb u = b.grown(Vec3{r, r, r}), v = b.grown(r);
+        for (int a = 0; a < 3; ++a) {
+            EXPECT_EQ(u.lo[a], v.lo[a]);
+            EXPECT_EQ(u.hi[a], v.hi[a]);
+        }
+    }
+    // An empty box stays empty.
+    EXPECT_TRUE(Aabb{}.grown(Vec3{1e301, 1, 1e301}).empty());
+    EXPECT_FALSE(Aabb{}.grown(Vec3{1e301, 1e301, 1e301}).contains(Vec3{0, 0, 0}));
+}
+
 TEST(Aabb, AroundIsTheCubeAboutAPoint) {
     // Each side is p - r and p + r, one subtraction and one addition, bit for bit, and the
     // same as a one-point box grown by r.

@@ -71,9 +71,10 @@ struct Aabb {
     double diagonal() const { return empty() ? 0.0 : length(hi - lo); }
     // The box moved out by `tol` on every side (a margin for tolerances and lifted ray ends).
     // An empty box stays empty: it holds no point to grow around.
-    Aabb grown(double tol) const {
+    Aabb grown(double tol) const { return grown(Vec3{tol, tol, tol}); }
+    // The box moved out by t[a] on both sides along each axis a; an empty box stays empty.
+    Aabb grown(const Vec3& t) const {
         if (empty()) return *this;
-        const Vec3 t{tol, tol, tol};
         return {lo - t, hi + t};
     }
     // The cube of half-side r about p: on every axis from p - r to p + r.

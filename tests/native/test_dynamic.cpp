@@ -10,20 +10,6 @@ using namespace radiosity::testing;
 
 namespace {
 
-// Room 300 x 300 x 250 with a ceiling light and two boxes (the paper's box room, coarse).
-SceneDesc room(Vec3 box1_offset = {}, double light = 12.0) {
-    SceneDesc s;
-    scenes::add_box(s, "room", -1, {0, 0, 0}, {300, 300, 250}, 4, Rgb::all(0.7), {}, true);
-    scenes::add_grid(s, "light", -1, {Vec3{120, 120, 249}, Vec3{120, 180, 249}, Vec3{180, 180, 249}, Vec3{180, 120, 249}}, 1, 1,
-                     {}, Rgb::all(light), false);
-    int c1 = s.add_cluster("Box1");
-    scenes::add_box(s, "Box1", c1, Vec3{84.4, 99.2, 0} + box1_offset, Vec3{144.4, 159.2, 100} + box1_offset, 2,
-                    Rgb{0.7, 0.3, 0.2}, {});
-    int c2 = s.add_cluster("Box2");
-    scenes::add_box(s, "Box2", c2, {200, 200, 0}, {260, 250, 60}, 2, Rgb{0.2, 0.4, 0.7}, {});
-    return s;
-}
-
 Settings settings() {
     Settings st = Settings::preset("MEDIUM");
     st.rays_per_link = 32;
@@ -34,13 +20,13 @@ Settings settings() {
 
 TEST(Dynamic, MoveEqualsFullSolveOfFinalScene) {
     const Vec3 move{35.6, 60.8, 0};  // the paper's box move (114.4,129.2) -> (150,190)
-    Solver inc(room(), settings());
+    Solver inc(two_box_room(), settings());
     inc.solve();
     inc.move_object(2, translation(move).data());
     inc.update();
     EXPECT_TRUE(inc.stats().mode_incremental);
     EXPECT_GT(inc.stats().env_env_links_rejected, 0);
-    Solver full(room(move), settings());
+    Solver full(two_box_room(move), settings());
     full.solve();
     double e = nrmse(inc.all_corner_radiance(), full.all_corner_radiance());
     std::printf("[ figure ] move: incremental vs full NRMSE %.4f, env-env tested %lld rejected %lld recomputed %lld, "
@@ -53,7 +39,7 @@ TEST(Dynamic, MoveEqualsFullSolveOfFinalScene) {
 
 TEST(Dynamic, DragOfThirtyStepsDoesNotDrift) {
     const Vec3 step{1.2, 2.0, 0};
-    Solver inc(room(), settings());
+    Solver inc(two_box_room(), settings());
     inc.solve();
     double first = 0, last = 0;
     auto live = [](const Solver& s) {
@@ -66,7 +52,7 @@ TEST(Dynamic, DragOfThirtyStepsDoesNotDrift) {
         inc.move_object(2, translation(step * k).data());
         inc.update();
         if (k == 1 || k == 30) {
-            Solver full(room(step * k), settings());
+            Solver full(two_box_room(step * k), settings());
             full.solve();
             (k == 1 ? first : last) = nrmse(inc.all_corner_radiance(), full.all_corner_radiance());
             links_inc = live(inc);
@@ -83,14 +69,14 @@ TEST(Dynamic, DragOfThirtyStepsDoesNotDrift) {
 }
 
 TEST(Dynamic, TwoObjectsAtOnce) {
-    Solver inc(room(), settings());
+    Solver inc(two_box_room(), settings());
     inc.solve();
     inc.move_object(2, translation({35.6, 60.8, 0}).data());
     inc.move_object(3, translation({-100, -150, 0}).data());
     inc.update();
     // The samplers' compact surface table follows the moved surfaces.
     EXPECT_TRUE(inc.hierarchy().surface_geom_current());
-    SceneDesc s = room({35.6, 60.8, 0});
+    SceneDesc s = two_box_room({35.6, 60.8, 0});
     // Box2 moved too: rebuild it at its new place.
     SceneDesc f;
     scenes::add_box(f, "room", -1, {0, 0, 0}, {300, 300, 250}, 4, Rgb::all(0.7), {}, true);
@@ -115,7 +101,7 @@ TEST(Dynamic, PruningNeverMissesAChangedLink) {
     for (int trial = 0; trial < 3; ++trial) {
         Rng rng(100 + trial);
         Settings st = settings();
-        Solver s(room(), st);
+        Solver s(two_box_room(), st);
         s.solve();
         Vec3 t{rng.next() * 120 - 60, rng.next() * 120 - 60, 0};
         s.move_object(2, translation(t).data());
@@ -144,7 +130,7 @@ TEST(Dynamic, KeptLinksStayCurrentOverSeveralUpdates) {
     // box again): after each, every live link with no end on a moved box carries what a fresh
     // evaluation gives -- history links too, unless flagged stale -- and no stale link keeps
     // a ray record (the next update would replay outcomes of an older geometry).
-    Solver s(room(), settings());
+    Solver s(two_box_room(), settings());
     s.solve();
     auto check = [&](const char* step) {
         const Hierarchy& h = s.hierarchy();
@@ -225,7 +211,7 @@ TEST(Dynamic, ShaftTestIsConservativeAndTight) {
 TEST(Dynamic, DimmingUnrefinesAndBrighteningRefinesBack) {
     // Two lights: dimming one changes where refinement is needed.
     auto scene = []() {
-        SceneDesc s = room();
+        SceneDesc s = two_box_room();
         scenes::add_grid(s, "lamp2", -1, {Vec3{20, 20, 249}, Vec3{20, 50, 249}, Vec3{50, 50, 249}, Vec3{50, 20, 249}}, 1, 1, {},
                          Rgb::all(12.0), false);
         return s;
@@ -252,72 +238,6 @@ TEST(Dynamic, DimmingUnrefinesAndBrighteningRefinesBack) {
     EXPECT_NEAR(double(inc.stats().links), double(bright_links), 0.1 * bright_links);
 }
 
-TEST(Dynamic, AppliedMaterialsAreThoseAFreshBuildGives) {
-    // Hierarchy::apply_materials after an edit of the scene: every element (split ones too)
-    // and every cluster as a build of the edited scene makes them; radiance left alone.
-    SceneDesc s = room();
-    Hierarchy h;
-    h.build(s, true);
-    int split = -1;  // a face of the room the edit makes white, split twice
-    for (const Surface& f : h.surfaces)
-        if (split < 0 && h.prims[size_t(f.prim)].object == 0 && h.prims[size_t(f.prim)].face % 2 == 0) split = f.root;
-    ASSERT_GE(split, 0);
-    h.subdivide(split);
-    h.subdivide(h.nodes[split].children[0]);
-    for (size_t i = 0; i < h.nodes.size(); ++i) h.nodes[i].L = Rgb::all(0.25);
-    ObjectDesc& walls = s.objects_mut()[0];
-    for (size_t f = 0; f < walls.reflectance.size(); ++f) walls.reflectance[f] = f % 2 ? Rgb{0.1, 0.2, 0.3} : Rgb::all(0.9);
-    s.objects_mut()[1].emission.assign(1, Rgb::all(3.0));
-    h.apply_materials(s);
-    Hierarchy fresh;
-    fresh.build(s, true);
-    ASSERT_LE(fresh.nodes.size(), h.nodes.size());  // the same tree, with the splits after it
-    for (size_t i = 0; i < fresh.nodes.size(); ++i) {
-        const Node &a = h.nodes[i], &b = fresh.nodes[i];
-        ASSERT_EQ(a.is_cluster(), b.is_cluster()) << i;
-        if (a.is_cluster()) {
-            EXPECT_EQ(a.rho_max, b.rho_max) << i;
-        } else {
-            EXPECT_EQ(a.rho.max(), b.rho.max()) << i;
-            EXPECT_EQ(a.rho.mean(), b.rho.mean()) << i;
-            EXPECT_EQ(a.emission.max(), b.emission.max()) << i;
-        }
-    }
-    for (size_t i = fresh.nodes.size(); i < h.nodes.size(); ++i) {  // the split elements
-        const Node& e = h.nodes[i];
-        EXPECT_EQ(e.rho.mean(), h.nodes[split].rho.mean()) << i;
-        EXPECT_EQ(e.emission.max(), 0.0) << i;
-    }
-    EXPECT_EQ(h.nodes[split].rho.max(), 0.9);
-    for (size_t i = 0; i < h.nodes.size(); ++i) EXPECT_EQ(h.nodes[i].L.max(), 0.25) << i;
-}
-
-TEST(Dynamic, SurfaceTotalsCountLiveSurfacesOnly) {
-    // Hierarchy::surface_totals: area, and area x largest emission and reflectance channel,
-    // over every oriented surface (a two-sided floor twice, a one-sided lamp once), in the
-    // internal frame; a removed object's surfaces drop out.
-    SceneDesc s;
-    scenes::add_grid(s, "floor", -1, {Vec3{0, 0, 0}, Vec3{2, 0, 0}, Vec3{2, 1, 0}, Vec3{0, 1, 0}}, 2, 1,
-                     Rgb{0.2, 0.5, 0.3}, {}, true);
-    scenes::add_grid(s, "lamp", -1, {Vec3{0, 0, 1}, Vec3{0, 1, 1}, Vec3{1, 1, 1}, Vec3{1, 0, 1}}, 1, 1,
-                     Rgb::all(0.1), Rgb{1, 4, 2}, false);
-    Hierarchy h;
-    h.build(s, true);
-    const double u2 = h.unit * h.unit;  // world area / internal area
-    auto expect_near = [](double got, double want) { EXPECT_NEAR(got, want, 1e-9 * want) << want; };
-    const Hierarchy::SurfaceTotals all = h.surface_totals();
-    expect_near(all.area, 5.0 / u2);
-    expect_near(all.emission, 4.0 / u2);
-    expect_near(all.reflectance, (2 * 0.5 + 2 * 0.5 + 0.1) / u2);
-    h.subdivide(h.surfaces[0].root);  // the roots' own area and material: splits change nothing
-    EXPECT_EQ(h.surface_totals().area, all.area);
-    h.remove_object(1);
-    const Hierarchy::SurfaceTotals without_lamp = h.surface_totals();
-    expect_near(without_lamp.area, 4.0 / u2);
-    EXPECT_EQ(without_lamp.emission, 0.0);
-    expect_near(without_lamp.reflectance, 2.0 / u2);
-}
-
 TEST(Dynamic, FurnaceConservedAfterMoves) {
     SceneDesc s = scenes::furnace_room_with_box(0.5, 0.5, 3);
     Solver solver(s, Settings::preset("MEDIUM"));
@@ -329,7 +249,7 @@ TEST(Dynamic, FurnaceConservedAfterMoves) {
 }
 
 TEST(Dynamic, BadMovesAreRejectedOrSafe) {
-    Solver s(room(), Settings::preset("DRAFT"));
+    Solver s(two_box_room(), Settings::preset("DRAFT"));
     EXPECT_THROW(s.move_object(2, translation({1, 0, 0}).data()), std::logic_error);  // before a solve
     s.solve();
     EXPECT_THROW(s.move_object(99, translation({1, 0, 0}).data()), InputError);
@@ -398,55 +318,6 @@ TEST(Dynamic, SamplerSummariesFollowARotation) {
     EXPECT_LE(e, 0.008);
 }
 
-namespace {
-// The add-on tests' small open scene: a 4 x 4 floor, a 1 x 1 emissive panel 2 above it facing
-// down, and a box of 4 x 4 polygons a face on the floor (at `c`, its centre).
-SceneDesc panel_over_box(Vec3 c) {
-    SceneDesc s;
-    scenes::add_grid(s, "Floor", -1, {Vec3{-2, -2, 0}, Vec3{2, -2, 0}, Vec3{2, 2, 0}, Vec3{-2, 2, 0}}, 10, 10,
-                     Rgb::all(0.5), {});
-    scenes::add_grid(s, "Panel", -1, {Vec3{-0.5, -0.5, 2}, Vec3{-0.5, 0.5, 2}, Vec3{0.5, 0.5, 2}, Vec3{0.5, -0.5, 2}}, 1,
-                     1, Rgb::all(0.0), Rgb::all(10.0));
-    const int props = s.add_cluster("Props");
-    scenes::add_box(s, "Box", props, {c.x - 0.5, c.y - 0.5, 0}, {c.x + 0.5, c.y + 0.5, 0.8}, 4, Rgb{0.7, 0.35, 0.2}, {});
-    return s;
-}
-
-// The shape of an object's cluster tree: per node in depth-first order, its surface count
-// and its centre relative to the object's.
-std::vector<std::pair<int, Vec3>> tree_shape(const Solver& s, int object) {
-    const Hierarchy& h = s.hierarchy();
-    const int top = h.object_node[size_t(object)];
-    std::vector<std::pair<int, Vec3>> out;
-    std::function<void(int)> walk = [&](int id) {
-        const Node& n = h.nodes[size_t(id)];
-        if (!n.is_cluster()) return;
-        out.push_back({n.surf_end - n.surf_begin, n.center - h.nodes[size_t(top)].center});
-        for (int c : n.children) walk(c);
-    };
-    walk(top);
-    return out;
-}
-}  // namespace
-
-// An update keeps a moved object's cluster tree; a full solve builds it where the object now
-// stands. Built along rounding-sensitive comparisons (a square box's equal extents, a grid's
-// equal rows), the two trees differed, and with them the cluster links: the box top came out
-// refined elsewhere (3 % NRMSE on the box, 0.67 % overall).
-TEST(Dynamic, ObjectTreeDoesNotDependOnWhereTheObjectStands) {
-    Solver a(panel_over_box({0.6, 0.3, 0.4}), settings());
-    Solver b(panel_over_box({-0.1, 0.7, 0.4}), settings());
-    a.solve();
-    b.solve();
-    const auto ta = tree_shape(a, 2), tb = tree_shape(b, 2);
-    ASSERT_EQ(ta.size(), tb.size());
-    ASSERT_GT(ta.size(), 3u);
-    for (size_t i = 0; i < ta.size(); ++i) {
-        EXPECT_EQ(ta[i].first, tb[i].first) << "node " << i;
-        EXPECT_LT(length(ta[i].second - tb[i].second), 1e-9) << "node " << i;
-    }
-}
-
 // The box moved out from under the panel: the old shadow on the floor is un-refined where a
 // full solve settles its links whole (the panel reflects nothing, so a full solve judges its
 // links on the same radiance in every round), and the box keeps a tree a full solve would build.
@@ -485,7 +356,7 @@ TEST(Dynamic, ReplayedRaysGiveExactlyWhatCastingEveryRayGives) {
     for (int replay = 0; replay < 2; ++replay) {
         Settings st = Settings::preset("DRAFT");
         st.replay_rays = replay == 1;
-        Solver s(room(), st);
+        Solver s(two_box_room(), st);
         s.solve();
         // After an addition or a removal no record is trusted (Solver::update).
         auto update = [&](bool topology = false) {

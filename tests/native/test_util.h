@@ -37,6 +37,34 @@ inline SceneDesc lamp_room(int n) {
     return s;
 }
 
+// Room 300 x 300 x 250 with a ceiling light and two boxes (the paper's box room, coarse):
+// the room is object 0, the light 1, the boxes 2 and 3, each in a collection of its own.
+inline SceneDesc two_box_room(Vec3 box1_offset = {}, double light = 12.0) {
+    SceneDesc s;
+    scenes::add_box(s, "room", -1, {0, 0, 0}, {300, 300, 250}, 4, Rgb::all(0.7), {}, true);
+    scenes::add_grid(s, "light", -1, {Vec3{120, 120, 249}, Vec3{120, 180, 249}, Vec3{180, 180, 249}, Vec3{180, 120, 249}}, 1, 1,
+                     {}, Rgb::all(light), false);
+    int c1 = s.add_cluster("Box1");
+    scenes::add_box(s, "Box1", c1, Vec3{84.4, 99.2, 0} + box1_offset, Vec3{144.4, 159.2, 100} + box1_offset, 2,
+                    Rgb{0.7, 0.3, 0.2}, {});
+    int c2 = s.add_cluster("Box2");
+    scenes::add_box(s, "Box2", c2, {200, 200, 0}, {260, 250, 60}, 2, Rgb{0.2, 0.4, 0.7}, {});
+    return s;
+}
+
+// The add-on tests' small open scene: a 4 x 4 floor, a 1 x 1 emissive panel 2 above it facing
+// down, and a box of 4 x 4 polygons a face on the floor (at `c`, its centre).
+inline SceneDesc panel_over_box(Vec3 c) {
+    SceneDesc s;
+    scenes::add_grid(s, "Floor", -1, {Vec3{-2, -2, 0}, Vec3{2, -2, 0}, Vec3{2, 2, 0}, Vec3{-2, 2, 0}}, 10, 10,
+                     Rgb::all(0.5), {});
+    scenes::add_grid(s, "Panel", -1, {Vec3{-0.5, -0.5, 2}, Vec3{-0.5, 0.5, 2}, Vec3{0.5, 0.5, 2}, Vec3{0.5, -0.5, 2}}, 1,
+                     1, Rgb::all(0.0), Rgb::all(10.0));
+    const int props = s.add_cluster("Props");
+    scenes::add_box(s, "Box", props, {c.x - 0.5, c.y - 0.5, 0}, {c.x + 0.5, c.y + 0.5, 0.8}, 4, Rgb{0.7, 0.35, 0.2}, {});
+    return s;
+}
+
 inline Poly quad(Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
     Poly p;
     p.n = 4;

@@ -828,18 +828,43 @@ Hierarchy::FacingSummary summary_of(const std::vector<SurfaceGeom>& g, const Nod
     return summarise(g, n.surf_begin, n.surf_end);
 }
 
+// The nodes a sampler draws among below cluster n (Hierarchy::kSamplerFanOut): its children,
+// with live clusters among them replaced by their own children, in order, level after level,
+// while the list stays within the fan-out. They hold n's surfaces once each, as its children do.
+void sampler_entries(const Hierarchy& h, const Node& n, std::vector<int>& out, std::vector<int>& next) {
+    out.assign(n.children.begin(), n.children.end());
+    for (bool grew = true; grew;) {
+        grew = false;
+        next.clear();
+        size_t room = Hierarchy::kSamplerFanOut > out.size() ? Hierarchy::kSamplerFanOut - out.size() : 0;
+        for (int c : out) {
+            const Node& m = h.nodes[size_t(c)];
+            if (m.is_cluster() && !m.dead && !m.children.empty() && m.children.size() - 1 <= room) {
+                room -= m.children.size() - 1;
+                next.insert(next.end(), m.children.begin(), m.children.end());
+                grew = true;
+            } else {
+                next.push_back(c);
+            }
+        }
+        out.swap(next);
+    }
+}
+
 // The samplers' copy of the cluster tree (Hierarchy::sampler_children): per cluster, in
-// node order, its children in their order.
+// node order, the nodes sampler_entries() gives, in their order.
 void sampler_tree(const Hierarchy& h, std::vector<Hierarchy::SamplerChild>& children, std::vector<int>& first) {
     children.clear();
     first.assign(h.nodes.size() + 1, 0);
     std::vector<int> geom_of(h.surfaces.size(), -1);
     for (size_t i = 0; i < h.surface_order.size(); ++i) geom_of[size_t(h.surface_order[i])] = int(i);
+    std::vector<int> entries, scratch;
     for (size_t id = 0; id < h.nodes.size(); ++id) {
         first[id] = int(children.size());
         const Node& n = h.nodes[id];
         if (!n.is_cluster()) continue;
-        for (int c : n.children) {
+        sampler_entries(h, n, entries, scratch);
+        for (int c : entries) {
             const Node& m = h.nodes[size_t(c)];
             Hierarchy::SamplerChild sc;
             sc.id = c;
@@ -854,6 +879,8 @@ void sampler_tree(const Hierarchy& h, std::vector<Hierarchy::SamplerChild>& chil
         }
     }
     first[h.nodes.size()] = int(children.size());
+    for (Hierarchy::SamplerChild& sc : children)
+        if (sc.cluster) sc.first = first[size_t(sc.id)], sc.count = first[size_t(sc.id) + 1] - sc.first;
 }
 }  // namespace
 
@@ -999,7 +1026,7 @@ bool Hierarchy::surface_geom_current() const {
             const SamplerChild& a = children[size_t(first[id] + k)];
             const SamplerChild& b = sampler_children[size_t(sampler_first[id] + k)];
             if (a.id != b.id || a.cluster != b.cluster || a.dead != b.dead || a.pocket != b.pocket || a.geom != b.geom ||
-                a.area != b.area || a.W != b.W)
+                a.first != b.first || a.count != b.count || a.area != b.area || a.W != b.W)
                 return false;
         }
     }

@@ -521,9 +521,10 @@ public:
         int id = node_;
         double p = 1.0;
         const Hierarchy::SamplerChild* got = nullptr;
+        // (Below the top, a cluster's range is read from its own record: one read a level.)
+        int first = h_.sampler_first[size_t(id)], m = h_.sampler_first[size_t(id) + 1] - first;
         for (bool cluster = h_.nodes[size_t(id)].is_cluster(); cluster;) {
-            const Hierarchy::SamplerChild* ch = h_.sampler_children.data() + h_.sampler_first[size_t(id)];
-            const int m = h_.sampler_first[size_t(id) + 1] - h_.sampler_first[size_t(id)];
+            const Hierarchy::SamplerChild* ch = h_.sampler_children.data() + first;
             double total = 0;
             const double* ws = weights_of(id, ch, m, total);
             if (!(total > 0)) return nullptr;
@@ -542,6 +543,7 @@ public:
             got = &ch[pick];
             id = got->id;
             cluster = got->cluster;
+            first = got->first, m = got->count;
         }
         *prob = p;
         return got;

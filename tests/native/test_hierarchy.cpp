@@ -2,6 +2,7 @@
 // from any update of a solution.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <functional>
 #include <utility>
 #include <vector>
@@ -115,4 +116,48 @@ TEST(Hierarchy, ObjectTreeDoesNotDependOnWhereTheObjectStands) {
         EXPECT_EQ(ta[i].first, tb[i].first) << "node " << i;
         EXPECT_LT(length(ta[i].second - tb[i].second), 1e-9) << "node " << i;
     }
+}
+
+TEST(Hierarchy, SamplerTreeHoldsEachClusterSurfacesOnceWithinTheFanOut) {
+    // A draw from a large cluster descends the samplers' tree (TreeSampler): per cluster, the
+    // nodes it picks among must hold each of its surfaces exactly once (a surface missing is
+    // never drawn, one held twice drawn twice as often), no more of them than the fan-out
+    // allows unless the cluster has more children, and each cluster record's own range must
+    // be the one sampler_first gives.
+    SceneDesc s = lamp_room(24);  // a room of 3,456 quads: a deep binary object tree
+    const int c = s.add_cluster("Box");
+    scenes::add_box(s, "Box", c, {1, 1, 0}, {2, 2, 1}, 6, Rgb::all(0.5), {});
+    Hierarchy h;
+    h.build(s, true);
+    int clusters = 0, deep = 0;
+    for (size_t id = 0; id < h.nodes.size(); ++id) {
+        const Node& n = h.nodes[id];
+        if (!n.is_cluster() || n.dead) continue;
+        ++clusters;
+        const int first = h.sampler_first[id], m = h.sampler_first[id + 1] - first;
+        EXPECT_LE(size_t(m), std::max(Hierarchy::kSamplerFanOut, n.children.size())) << "cluster " << id;
+        std::vector<int> held;  // surface_order positions the records hold
+        double area = 0;
+        for (int k = first; k < first + m; ++k) {
+            const Hierarchy::SamplerChild& sc = h.sampler_children[size_t(k)];
+            const Node& e = h.nodes[size_t(sc.id)];
+            area += sc.area;
+            if (sc.cluster) {
+                EXPECT_EQ(sc.first, h.sampler_first[size_t(sc.id)]);
+                EXPECT_EQ(sc.count, h.sampler_first[size_t(sc.id) + 1] - h.sampler_first[size_t(sc.id)]);
+                for (int i = e.surf_begin; i < e.surf_end; ++i) held.push_back(i);
+                if (e.parent != int(id)) ++deep;
+            } else {
+                ASSERT_GE(sc.geom, 0);
+                held.push_back(sc.geom);
+            }
+        }
+        std::sort(held.begin(), held.end());
+        std::vector<int> want(size_t(n.surf_end - n.surf_begin));
+        for (size_t i = 0; i < want.size(); ++i) want[i] = n.surf_begin + int(i);
+        EXPECT_EQ(held, want) << "cluster " << id;
+        EXPECT_NEAR(area, n.area, 1e-9 * n.area) << "cluster " << id;
+    }
+    EXPECT_GT(clusters, 100);
+    EXPECT_GT(deep, 0);  // records below the children: the fan-out is in use
 }

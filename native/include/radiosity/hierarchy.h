@@ -268,13 +268,18 @@ public:
     bool has_facing_summary(int node) const { return size_t(node) < facing_summary.size() && facing_summary[size_t(node)].valid; }
     static constexpr int kSummaryMinSurfaces = 256, kSummaryMaxNormals = 24;
     // The cluster tree as a large cluster's sampler descends it (TreeSampler, transfer.cpp):
-    // per cluster, its children's facing data in one contiguous range, so that a draw reads a
-    // level in a cache line or two instead of each child's Node (most of a kilobyte apart) --
-    // once per ray and level. Refreshed with surface_geom.
+    // per cluster, the facing data of the nodes below it that a draw picks among, in one
+    // contiguous range, so that a draw reads a level in a few cache lines instead of each
+    // child's Node (most of a kilobyte apart). The binary object trees are read up to
+    // kSamplerFanOut nodes a level (grandchildren and below), so a draw takes a few levels
+    // where the tree has many: each level's read is a cache miss, once per ray. Refreshed
+    // with surface_geom.
+    static constexpr size_t kSamplerFanOut = 16;
     struct SamplerChild {
         int id = -1;
         bool cluster = false, dead = false;
         int pocket = -1, geom = -1;     // a surface root's pocket and index in surface_geom
+        int first = 0, count = 0;       // a cluster's own records (sampler_first's range)
         double area = 0;
         std::array<double, kBins> W{};  // a cluster's Node::W; a surface root's normal in W[0..2]
     };

@@ -66,14 +66,7 @@ double distance_to(const std::vector<Aabb>& boxes, const Vec3& x) {
 // Distance from box a to the nearest of `boxes`.
 double distance_to(const std::vector<Aabb>& boxes, const Aabb& a) {
     double d2 = std::numeric_limits<double>::max();
-    for (const Aabb& b : boxes) {
-        double s = 0;
-        for (int k = 0; k < 3; ++k) {
-            const double gap = std::max({0.0, b.lo[k] - a.hi[k], a.lo[k] - b.hi[k]});
-            s += gap * gap;
-        }
-        d2 = std::min(d2, s);
-    }
+    for (const Aabb& b : boxes) d2 = std::min(d2, a.distance2(b));
     return std::sqrt(d2);
 }
 

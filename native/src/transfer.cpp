@@ -655,11 +655,7 @@ bool may_exchange(const Hierarchy& h, const Node& P, const Node& Q) {
 double coupling_bound(const Hierarchy& h, int src, int rcv) {
     const Node& P = h.nodes[size_t(src)];
     const Node& Q = h.nodes[size_t(rcv)];
-    double d2 = 0;
-    for (int a = 0; a < 3; ++a) {
-        const double gap = std::max(P.box.lo[a] - Q.box.hi[a], Q.box.lo[a] - P.box.hi[a]);
-        if (gap > 0) d2 += gap * gap;
-    }
+    const double d2 = P.box.distance2(Q.box);
     const double d = std::sqrt(d2);
     if (!(d > 1e-9 * h.scene_diag)) return 1.0;
     auto sends = [&](const Poly& poly, const Vec3& normal, double area) {

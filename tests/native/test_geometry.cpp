@@ -387,6 +387,30 @@ TEST(Aabb, IntersectionIsTheBoxOfThePointsInBoth) {
     }
 }
 
+TEST(Aabb, Distance2IsTheSquaredGapBetweenTheNearestPoints) {
+    const Aabb unit{Vec3{0, 0, 0}, Vec3{1, 1, 1}};
+    // Apart on two axes: the gaps' squares add up, whichever box asks; meeting or touching: 0.
+    const Aabb b{Vec3{3, 0.5, -4}, Vec3{5, 2, -2}};
+    EXPECT_EQ(unit.distance2(b), 2.0 * 2.0 + 2.0 * 2.0);
+    EXPECT_EQ(b.distance2(unit), unit.distance2(b));
+    EXPECT_EQ(unit.distance2(Aabb{Vec3{1, 1, 1}, Vec3{2, 2, 2}}), 0.0);
+    EXPECT_EQ(unit.distance2(Aabb{Vec3{0.5, 0.5, 0.5}, Vec3{0.6, 0.6, 0.6}}), 0.0);
+    // Against points drawn in each box: never more than any pair's distance, and reached by
+    // the nearest corners when the boxes are apart on every axis.
+    Rng rng(5);
+    for (int t = 0; t < 200; ++t) {
+        Aabb p, q;
+        for (int k = 0; k < 2; ++k) p.grow(Vec3{rng.next() * 2, rng.next() * 2, rng.next() * 2});
+        for (int k = 0; k < 2; ++k) q.grow(Vec3{rng.next() * 2 + 1, rng.next() * 2 + 1, rng.next() * 2 + 1});
+        for (int k = 0; k < 20; ++k) {
+            const Vec3 x = p.lo + (p.hi - p.lo) * rng.next(), y = q.lo + (q.hi - q.lo) * rng.next();
+            EXPECT_LE(p.distance2(q), length2(x - y) * (1 + 1e-12)) << t;
+        }
+    }
+    const Aabb far{Vec3{4, 5, 6}, Vec3{7, 8, 9}};
+    EXPECT_DOUBLE_EQ(unit.distance2(far), length2(far.lo - unit.hi));
+}
+
 TEST(Aabb, GrownPerAxisMovesEachAxisByItsOwnMargin) {
     Aabb b;
     b.grow(Vec3{-1, 0.5, 2});

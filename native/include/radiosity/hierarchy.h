@@ -284,7 +284,7 @@ public:
         std::array<double, kBins> W{};  // a cluster's Node::W; a surface root's normal in W[0..2]
     };
     std::vector<SamplerChild> sampler_children;
-    std::vector<int> sampler_first;  // per node (clusters): its children's range starts here
+    std::vector<int> sampler_first;  // per node (clusters): where its records' range starts
     // Remakes surface_geom, area_prefix, the facing summaries and the samplers' tree from the
     // nodes; call it after the clusters' geometry (refresh_cluster_geometry) is current.
     void refresh_surface_geom();

@@ -96,6 +96,15 @@ struct Aabb {
             if (b.lo[a] > hi[a] || b.hi[a] < lo[a]) return false;
         return true;
     }
+    // The squared distance between the nearest points of this box and b (0 when they meet).
+    double distance2(const Aabb& b) const {
+        double s = 0;
+        for (int a = 0; a < 3; ++a) {
+            const double gap = std::max({0.0, b.lo[a] - hi[a], lo[a] - b.hi[a]});
+            s += gap * gap;
+        }
+        return s;
+    }
     // The box of the points in both boxes, or none when on some axis the two do not meet
     // (touching counts as meeting: the result is then flat on that axis).
     std::optional<Aabb> intersection(const Aabb& b) const {

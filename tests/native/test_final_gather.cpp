@@ -539,40 +539,15 @@ TEST(FinalGather, AnExcessAtAPointIsTakenFromItsSampledCouplings) {
     EXPECT_EQ(g.c_inherited, 1.0);
 }
 
-TEST(FinalGather, LargeClustersOfManyNormalsAreDrawnDownTheirTreeUnbiased) {
-    // A UV sphere of 24 x 16 quads (a subdivided cushion: many normals, no facing summary) in
-    // its own collection, read from a point outside it: point_transfer draws its surfaces down
-    // the cluster tree, O(depth) a ray. The mean of 8-ray estimates must match the exact
-    // coupling (the sum of the point-to-polygon form factors of its faces), and no estimate
-    // may run away.
+namespace {
+// A UV sphere of nu x nv faces (a subdivided cushion: many normals, no facing summary) in its
+// own collection, read from a point outside it: the mean of 8-ray estimates of its coupling
+// must match the exact one (the sum of the point-to-polygon form factors of its faces), and no
+// estimate may run away. `what` names the sampler the sphere's size selects.
+void expect_sphere_drawn_unbiased(int nu, int nv, int min_surfaces, int max_surfaces, const char* what) {
     SceneDesc sc;
     const int cl = sc.add_cluster("cushion");
-    ObjectDesc o;
-    o.name = "sphere";
-    o.cluster = cl;
-    const int nu = 24, nv = 16;
-    for (int j = 0; j <= nv; ++j)
-        for (int i = 0; i < nu; ++i) {
-            const double th = kPi * j / nv, ph = 2 * kPi * i / nu;
-            o.vertices.push_back({std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)});
-        }
-    for (int j = 0; j < nv; ++j)
-        for (int i = 0; i < nu; ++i) {
-            const int a = j * nu + i, b = j * nu + (i + 1) % nu;
-            o.loop_starts.push_back(int32_t(o.corner_verts.size()));
-            if (j == 0 || j == nv - 1) {  // the caps' triangles (outward: counter-clockwise seen from outside)
-                o.loop_totals.push_back(3);
-                if (j == 0) o.corner_verts.insert(o.corner_verts.end(), {a, a + nu, b + nu});
-                else o.corner_verts.insert(o.corner_verts.end(), {a, a + nu, b});
-            } else {
-                o.loop_totals.push_back(4);
-                o.corner_verts.insert(o.corner_verts.end(), {a, a + nu, b + nu, b});
-            }
-            o.reflectance.push_back(Rgb::all(0.5));
-            o.emission.push_back({});
-            o.two_sided.push_back(0);
-        }
-    sc.add_object(o);
+    sc.add_object(uv_sphere("sphere", cl, nu, nv));
     const int probe = scenes::add_grid(sc, "probe", -1, {Vec3{4, 0.1, -0.1}, Vec3{4, -0.1, -0.1}, Vec3{4, -0.1, 0.1}, Vec3{4, 0.1, 0.1}},
                                        1, 1, Rgb::all(0.5), Rgb{}, false);
     sc.add_light([] {
@@ -593,14 +568,27 @@ TEST(FinalGather, LargeClustersOfManyNormalsAreDrawnDownTheirTreeUnbiased) {
             src = int(i);
     ASSERT_GE(src, 0);
     const Node& P = h.nodes[size_t(src)];
-    ASSERT_GT(P.surf_end - P.surf_begin, 256) << "the sphere's cluster must be large enough to be drawn down its tree";
+    ASSERT_GT(P.surf_end - P.surf_begin, min_surfaces) << what;
+    ASSERT_LE(P.surf_end - P.surf_begin, max_surfaces) << what;
     ASSERT_FALSE(h.has_facing_summary(src));
     const int rcv = probe_leaf(s, probe);
     ASSERT_GE(rcv, 0);
     const Vec3 x = h.to_internal(Vec3{4, 0.3, 0.2});
     ASSERT_GT(length(x - P.center), 2.0 * P.radius);
     const Vec3 n = normalize(Vec3{-1, -0.1, -0.05});
-    expect_unbiased(coupling_estimates(s, src, {0}, x, n, rcv, 2000, 7000), "a sphere cluster's coupling", 2.0);
+    expect_unbiased(coupling_estimates(s, src, {0}, x, n, rcv, 2000, 7000), what, 2.0);
+}
+}  // namespace
+
+TEST(FinalGather, LargeClustersOfManyNormalsAreDrawnDownTheirTreeUnbiased) {
+    // Over 256 faces: drawn down the cluster tree (TreeSampler), O(depth) a ray.
+    expect_sphere_drawn_unbiased(24, 16, 256, 1 << 20, "a 384-face sphere cluster's coupling");
+}
+
+TEST(FinalGather, MidSizeClustersAreDrawnFromATableOfTheirFacesUnbiased) {
+    // Up to 256 faces: drawn from a table of every face by facing area (FacingSampler), with
+    // the gather's floor on the cosine.
+    expect_sphere_drawn_unbiased(16, 10, 12, 256, "a 160-face sphere cluster's coupling");
 }
 
 TEST(FinalGather, LargeClustersOfFewNormalsAreDrawnByRejectionUnbiased) {

@@ -123,6 +123,36 @@ inline std::vector<const Node*> front_leaves(const Solver& s, int object) {
     return out;
 }
 
+// A unit UV sphere of nu x nv faces (quads, triangles at the poles; outward) about c, in
+// cluster `cluster`: a curved object of many normals and no facing summary.
+inline ObjectDesc uv_sphere(const std::string& name, int cluster, int nu, int nv, Vec3 c = {}) {
+    ObjectDesc o;
+    o.name = name;
+    o.cluster = cluster;
+    for (int j = 0; j <= nv; ++j)
+        for (int i = 0; i < nu; ++i) {
+            const double th = kPi * j / nv, ph = 2 * kPi * i / nu;
+            o.vertices.push_back(c + Vec3{std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)});
+        }
+    for (int j = 0; j < nv; ++j)
+        for (int i = 0; i < nu; ++i) {
+            const int a = j * nu + i, b = j * nu + (i + 1) % nu;
+            o.loop_starts.push_back(int32_t(o.corner_verts.size()));
+            if (j == 0 || j == nv - 1) {  // the caps' triangles (counter-clockwise seen from outside)
+                o.loop_totals.push_back(3);
+                if (j == 0) o.corner_verts.insert(o.corner_verts.end(), {a, a + nu, b + nu});
+                else o.corner_verts.insert(o.corner_verts.end(), {a, a + nu, b});
+            } else {
+                o.loop_totals.push_back(4);
+                o.corner_verts.insert(o.corner_verts.end(), {a, a + nu, b + nu, b});
+            }
+            o.reflectance.push_back(Rgb::all(0.5));
+            o.emission.push_back({});
+            o.two_sided.push_back(0);
+        }
+    return o;
+}
+
 // Whether one of the solver's warnings contains `what`.
 inline bool has_warning(const Solver& s, const std::string& what) {
     for (const std::string& w : s.stats().warnings)

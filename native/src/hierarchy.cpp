@@ -711,7 +711,7 @@ std::vector<int> Hierarchy::clusters_above(int object) const {
 
 double Hierarchy::tables_bytes() const {
     double b = held_bytes(prims) + held_bytes(prim_pieces) + held_bytes(surfaces) + held_bytes(surface_order) +
-               held_bytes(surface_geom) + held_bytes(area_prefix) + held_bytes(sampler_children) +
+               held_bytes(surface_geom) + held_bytes(area_prefix) + held_bytes(sampler_records) +
                held_bytes(sampler_first) + held_bytes(pocket_sets) + held_bytes(object_node) + held_bytes(cluster_node) +
                held_bytes(object_of_env) + held_bytes(object_occludes) + held_bytes(emits_) +
                held_bytes(surface_ancestors_) + held_bytes(object_keys_) + held_bytes(facing_summary);
@@ -808,7 +808,7 @@ Hierarchy::FacingSummary summarise(const std::vector<SurfaceGeom>& g, int b, int
 namespace {
 // A sampler record's facing data from its node: area, and a cluster's bins or a surface
 // root's normal.
-void take_facing(Hierarchy::SamplerChild& sc, const Node& m) {
+void take_facing(Hierarchy::SamplerRecord& sc, const Node& m) {
     sc.area = m.area;
     if (sc.cluster) sc.W = m.W;
     else sc.W = {m.normal.x, m.normal.y, m.normal.z, 0.0, 0.0, 0.0};
@@ -851,9 +851,9 @@ void sampler_entries(const Hierarchy& h, const Node& n, std::vector<int>& out, s
     }
 }
 
-// The samplers' copy of the cluster tree (Hierarchy::sampler_children): per cluster, in
+// The samplers' copy of the cluster tree (Hierarchy::sampler_records): per cluster, in
 // node order, the nodes sampler_entries() gives, in their order.
-void sampler_tree(const Hierarchy& h, std::vector<Hierarchy::SamplerChild>& children, std::vector<int>& first) {
+void sampler_tree(const Hierarchy& h, std::vector<Hierarchy::SamplerRecord>& children, std::vector<int>& first) {
     children.clear();
     first.assign(h.nodes.size() + 1, 0);
     std::vector<int> geom_of(h.surfaces.size(), -1);
@@ -866,7 +866,7 @@ void sampler_tree(const Hierarchy& h, std::vector<Hierarchy::SamplerChild>& chil
         sampler_entries(h, n, entries, scratch);
         for (int c : entries) {
             const Node& m = h.nodes[size_t(c)];
-            Hierarchy::SamplerChild sc;
+            Hierarchy::SamplerRecord sc;
             sc.id = c;
             sc.cluster = m.is_cluster();
             sc.dead = m.dead;
@@ -879,7 +879,7 @@ void sampler_tree(const Hierarchy& h, std::vector<Hierarchy::SamplerChild>& chil
         }
     }
     first[h.nodes.size()] = int(children.size());
-    for (Hierarchy::SamplerChild& sc : children)
+    for (Hierarchy::SamplerRecord& sc : children)
         if (sc.cluster) sc.first = first[size_t(sc.id)], sc.count = first[size_t(sc.id) + 1] - sc.first;
 }
 }  // namespace
@@ -899,7 +899,7 @@ void Hierarchy::refresh_surface_geom() {
     for (size_t i = 0; i < surface_geom.size(); ++i) area_prefix[i + 1] = area_prefix[i] + surface_geom[i].area;
     facing_summary.assign(nodes.size(), FacingSummary{});
     for (size_t id = 0; id < nodes.size(); ++id) facing_summary[id] = summary_of(surface_geom, nodes[id]);
-    sampler_tree(*this, sampler_children, sampler_first);  // after the clusters' geometry
+    sampler_tree(*this, sampler_records, sampler_first);  // after the clusters' geometry
 }
 
 void Hierarchy::refresh_surface_tables(std::vector<std::pair<int, int>> ranges, const std::vector<int>& changed) {
@@ -925,7 +925,7 @@ void Hierarchy::refresh_surface_tables(std::vector<std::pair<int, int>> ranges, 
     for (int id : changed) {
         facing_summary[size_t(id)] = summary_of(surface_geom, nodes[size_t(id)]);
         for (int k = sampler_first[size_t(id)]; k < sampler_first[size_t(id) + 1]; ++k)
-            take_facing(sampler_children[size_t(k)], nodes[size_t(sampler_children[size_t(k)].id)]);
+            take_facing(sampler_records[size_t(k)], nodes[size_t(sampler_records[size_t(k)].id)]);
     }
 }
 
@@ -1015,7 +1015,7 @@ bool Hierarchy::surface_geom_current() const {
         }
     }
     // The samplers' tree: clusters are made and changed only where surface_geom is refreshed.
-    std::vector<SamplerChild> children;
+    std::vector<SamplerRecord> children;
     std::vector<int> first;
     sampler_tree(*this, children, first);
     for (size_t id = 0; id < nodes.size(); ++id) {
@@ -1023,8 +1023,8 @@ bool Hierarchy::surface_geom_current() const {
         if (id + 1 >= sampler_first.size() || first[id + 1] - first[id] != sampler_first[id + 1] - sampler_first[id])
             return false;
         for (int k = 0; k < first[id + 1] - first[id]; ++k) {
-            const SamplerChild& a = children[size_t(first[id] + k)];
-            const SamplerChild& b = sampler_children[size_t(sampler_first[id] + k)];
+            const SamplerRecord& a = children[size_t(first[id] + k)];
+            const SamplerRecord& b = sampler_records[size_t(sampler_first[id] + k)];
             if (a.id != b.id || a.cluster != b.cluster || a.dead != b.dead || a.pocket != b.pocket || a.geom != b.geom ||
                 a.first != b.first || a.count != b.count || a.area != b.area || a.W != b.W)
                 return false;

@@ -88,13 +88,13 @@ public:
             const int id = ids_[k];
             summaries_.emplace_back(id, h.facing_summary[size_t(id)]);
             for (int c = h.sampler_first[size_t(id)]; c < h.sampler_first[size_t(id) + 1]; ++c)
-                samplers_.emplace_back(c, h.sampler_children[size_t(c)]);
+                samplers_.emplace_back(c, h.sampler_records[size_t(c)]);
         }
         area_prefix_.assign(h.area_prefix.begin(), h.area_prefix.end());
         if (whole_) {  // (an unclustered object: placed whole)
             surface_geom_ = h.surface_geom;
             facing_summary_ = h.facing_summary;
-            sampler_children_ = h.sampler_children;
+            sampler_records_ = h.sampler_records;
         }
     }
     void restore(Hierarchy& h, int threads) {
@@ -116,12 +116,12 @@ public:
         if (whole_) {
             h.surface_geom.swap(surface_geom_);
             h.facing_summary.swap(facing_summary_);
-            h.sampler_children.swap(sampler_children_);
+            h.sampler_records.swap(sampler_records_);
             return;
         }
         for (auto& [i, g] : geoms_) h.surface_geom[size_t(i)] = g;
         for (auto& [id, f] : summaries_) h.facing_summary[size_t(id)] = std::move(f);
-        for (const auto& [k, sc] : samplers_) h.sampler_children[size_t(k)] = sc;
+        for (const auto& [k, sc] : samplers_) h.sampler_records[size_t(k)] = sc;
     }
 
     // The hierarchy holds a drag's placement of objects() (set by the step that places them).
@@ -171,12 +171,12 @@ private:
     std::vector<std::pair<size_t, Poly>> prims_;
     std::vector<std::pair<int, SurfaceGeom>> geoms_;
     std::vector<std::pair<int, Hierarchy::FacingSummary>> summaries_;
-    std::vector<std::pair<int, Hierarchy::SamplerChild>> samplers_;
+    std::vector<std::pair<int, Hierarchy::SamplerRecord>> samplers_;
     std::vector<double> area_prefix_;
     bool whole_ = false;
     std::vector<SurfaceGeom> surface_geom_;
     std::vector<Hierarchy::FacingSummary> facing_summary_;
-    std::vector<Hierarchy::SamplerChild> sampler_children_;
+    std::vector<Hierarchy::SamplerRecord> sampler_records_;
 };
 
 namespace {

@@ -504,8 +504,8 @@ public:
         memo_.weights.clear();
     }
 
-    // A child's weight toward d, from the samplers' copy of the cluster tree.
-    double weight(const Hierarchy::SamplerChild& n) const {
+    // A record's weight toward d, from the samplers' copy of the cluster tree.
+    double weight(const Hierarchy::SamplerRecord& n) const {
         if (n.dead || !(n.area > 0)) return 0.0;
         double b = 0;
         if (n.cluster) {
@@ -517,14 +517,14 @@ public:
     }
     // A surface root, drawn by u in [0, 1) (rescaled at each level, so strata carry down), and
     // the probability of drawing it; nullptr when the cluster has nothing to draw.
-    const Hierarchy::SamplerChild* draw(double u, double* prob) const {
+    const Hierarchy::SamplerRecord* draw(double u, double* prob) const {
         int id = node_;
         double p = 1.0;
-        const Hierarchy::SamplerChild* got = nullptr;
+        const Hierarchy::SamplerRecord* got = nullptr;
         // (Below the top, a cluster's range is read from its own record: one read a level.)
         int first = h_.sampler_first[size_t(id)], m = h_.sampler_first[size_t(id) + 1] - first;
         for (bool cluster = h_.nodes[size_t(id)].is_cluster(); cluster;) {
-            const Hierarchy::SamplerChild* ch = h_.sampler_children.data() + first;
+            const Hierarchy::SamplerRecord* ch = h_.sampler_records.data() + first;
             double total = 0;
             const double* ws = weights_of(id, ch, m, total);
             if (!(total > 0)) return nullptr;
@@ -553,7 +553,7 @@ private:
     static constexpr size_t kSlots = 1024;  // a power of two; filled to half at most
     // Cluster id's children's weights (m of them from ch) and their sum, from the memo or
     // made now (and kept while the memo has room).
-    const double* weights_of(int id, const Hierarchy::SamplerChild* ch, int m, double& total) const {
+    const double* weights_of(int id, const Hierarchy::SamplerRecord* ch, int m, double& total) const {
         size_t k = (uint32_t(id) * 2654435761u) & (kSlots - 1);
         while (memo_.node[k] >= 0 && memo_.node[k] != id) k = (k + 1) & (kSlots - 1);
         if (memo_.node[k] == id) {
@@ -961,7 +961,7 @@ void draw_far_cluster(PointRays& pr, int src, int rcv_leaf, int pocket) {
         for (int k = 0; k < pr.rays; ++k) {
             const double* u = strata.at(k);
             double prob = 0;
-            const Hierarchy::SamplerChild* c = tree.draw(u[0], &prob);
+            const Hierarchy::SamplerRecord* c = tree.draw(u[0], &prob);
             if (!c) break;
             if (c->pocket != pocket || !(prob > 0)) continue;
             const SurfaceGeom& g = h.surface_geom[size_t(c->geom)];

@@ -139,7 +139,7 @@ TEST(Hierarchy, SamplerTreeHoldsEachClusterSurfacesOnceWithinTheFanOut) {
         std::vector<int> held;  // surface_order positions the records hold
         double area = 0;
         for (int k = first; k < first + m; ++k) {
-            const Hierarchy::SamplerChild& sc = h.sampler_children[size_t(k)];
+            const Hierarchy::SamplerRecord& sc = h.sampler_records[size_t(k)];
             const Node& e = h.nodes[size_t(sc.id)];
             area += sc.area;
             if (sc.cluster) {

@@ -330,11 +330,11 @@ TEST(Preview, ItsPlacementIsTheWholeOnesUpToRounding) {
         EXPECT_EQ(part.surface_geom[i].normal.y, whole.surface_geom[i].normal.y) << "surface " << i;
         ASSERT_TRUE(near(part.area_prefix[i + 1], whole.area_prefix[i + 1]));
     }
-    ASSERT_EQ(part.sampler_children.size(), whole.sampler_children.size());
-    for (size_t k = 0; k < whole.sampler_children.size(); ++k) {
-        ASSERT_TRUE(near(part.sampler_children[k].area, whole.sampler_children[k].area)) << "record " << k;
-        for (size_t b = 0; b < whole.sampler_children[k].W.size(); ++b)
-            ASSERT_TRUE(near(part.sampler_children[k].W[b], whole.sampler_children[k].W[b])) << "record " << k;
+    ASSERT_EQ(part.sampler_records.size(), whole.sampler_records.size());
+    for (size_t k = 0; k < whole.sampler_records.size(); ++k) {
+        ASSERT_TRUE(near(part.sampler_records[k].area, whole.sampler_records[k].area)) << "record " << k;
+        for (size_t b = 0; b < whole.sampler_records[k].W.size(); ++b)
+            ASSERT_TRUE(near(part.sampler_records[k].W[b], whole.sampler_records[k].W[b])) << "record " << k;
     }
     for (size_t i = 0; i < whole.nodes.size(); ++i)
         EXPECT_EQ(part.has_facing_summary(int(i)), whole.has_facing_summary(int(i))) << "node " << i;

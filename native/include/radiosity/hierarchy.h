@@ -275,7 +275,7 @@ public:
     // where the tree has many: each level's read is a cache miss, once per ray. Refreshed
     // with surface_geom.
     static constexpr size_t kSamplerFanOut = 16;
-    struct SamplerChild {
+    struct SamplerRecord {
         int id = -1;
         bool cluster = false, dead = false;
         int pocket = -1, geom = -1;     // a surface root's pocket and index in surface_geom
@@ -283,7 +283,7 @@ public:
         double area = 0;
         std::array<double, kBins> W{};  // a cluster's Node::W; a surface root's normal in W[0..2]
     };
-    std::vector<SamplerChild> sampler_children;
+    std::vector<SamplerRecord> sampler_records;
     std::vector<int> sampler_first;  // per node (clusters): where its records' range starts
     // Remakes surface_geom, area_prefix, the facing summaries and the samplers' tree from the
     // nodes; call it after the clusters' geometry (refresh_cluster_geometry) is current.

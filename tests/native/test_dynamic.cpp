@@ -170,44 +170,6 @@ TEST(Dynamic, KeptLinksStayCurrentOverSeveralUpdates) {
     check("first box again");
 }
 
-TEST(Dynamic, ShaftTestIsConservativeAndTight) {
-    // Aabb::meets_shaft (the probe's filter before a link's dry run): whenever a segment
-    // between the two boxes passes through the third, it says so; and it rejects a box
-    // beside the thin end that the capsule about the centres' segment would keep.
-    Rng rng(11);
-    auto box = [&](double s) {
-        Aabb b;
-        Vec3 c{rng.next() * 4, rng.next() * 4, rng.next() * 4};
-        Vec3 e{rng.next() * s, rng.next() * s, rng.next() * s};
-        b.grow(c - e);
-        b.grow(c + e);
-        return b;
-    };
-    int hits = 0;
-    for (int t = 0; t < 2000; ++t) {
-        Aabb a = box(1.5), b = box(0.2), c = box(0.6);
-        bool seen = false;
-        for (int k = 0; k < 200 && !seen; ++k) {
-            auto in = [&](const Aabb& x) {
-                return Vec3{x.lo.x + rng.next() * (x.hi.x - x.lo.x), x.lo.y + rng.next() * (x.hi.y - x.lo.y),
-                            x.lo.z + rng.next() * (x.hi.z - x.lo.z)};
-            };
-            seen = c.meets_segment(in(a), in(b));
-        }
-        hits += seen;
-        if (seen) EXPECT_TRUE(c.meets_shaft(a, b)) << "trial " << t;
-    }
-    EXPECT_GT(hits, 100);  // the trials do exercise hits
-    // A tall wall-like box a, a small box b far away, c just beside b off the hull.
-    Aabb a, b, c;
-    a.grow({0, 0, 0}), a.grow({0.1, 4, 4});
-    b.grow({10, 1.9, 1.9}), b.grow({10.2, 2.1, 2.1});
-    c.grow({9.5, 3.0, 1.9}), c.grow({9.7, 3.4, 2.1});
-    EXPECT_FALSE(c.meets_shaft(a, b));
-    b.grow({10.2, 3.5, 2.1});  // b now reaches over c: c lies in the hull
-    EXPECT_TRUE(c.meets_shaft(a, b));
-}
-
 TEST(Dynamic, DimmingUnrefinesAndBrighteningRefinesBack) {
     // Two lights: dimming one changes where refinement is needed.
     auto scene = []() {

@@ -53,6 +53,7 @@ double fastest(int reps, F&& f) {
 std::string micro(const Solver& solver, int threads) {
     const Hierarchy& h = solver.hierarchy();
     const LinkStore& links = solver.links();
+    const Enclosure& enclosure = solver.enclosure();
     auto direct = [](int) { return Rgb{}; };
     GatherPlan plan;
     CouplingSums fsum;
@@ -61,11 +62,11 @@ std::string micro(const Solver& solver, int threads) {
     double t_build = 1e300, t_radio = 1e300;
     for (int r = 0; r < reps; ++r) {
         t_build = std::min(t_build, fastest(1, [&] { plan.build(h, links, threads); }));
-        t_radio = std::min(t_radio, fastest(1, [&] { plan.prepare_radiometry(h, links, direct, threads); }));
+        t_radio = std::min(t_radio, fastest(1, [&] { plan.prepare_radiometry(h, links, enclosure, direct, threads); }));
     }
     const double t_unit = fastest(reps, [&] { plan.sweep(true, &fsum, threads); });
     const double t_direct = fastest(reps, [&] { coupling_sums(h, links, fsum, threads); });
-    plan.prepare_radiometry(h, links, direct, threads);
+    plan.prepare_radiometry(h, links, enclosure, direct, threads);
     const double t_sweep = fastest(reps, [&] { plan.sweep(false, nullptr, threads); });
     const double n = double(std::max<int64_t>(1, plan.link_count()));
     char line[400];

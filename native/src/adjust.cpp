@@ -264,7 +264,7 @@ bool Solver::update_materials(Control* control) {
 }
 
 AdjustSystem Solver::adjust_system(const Change& ch, const UpdateRun& u) {
-    return AdjustSystem({h_, links_, settings_, stats_, ch, refinement_context(&u),
+    return AdjustSystem({h_, links_, gathering_.enclosure(), settings_, stats_, ch, refinement_context(&u),
                          [this](const std::function<void()>& judge, const std::vector<char>* only) {
                              at_first_bounce(judge, only);
                          },

@@ -270,23 +270,20 @@ void AdjustSystem::link_changed() {
 
 void AdjustSystem::redecide_enclosures() {
     const Change& ch = c_.change;
-    Hierarchy& h = c_.h;
+    const Hierarchy& h = c_.h;
+    Enclosure& e = c_.enclosure;
+    e.fit(h);  // the elements split since the last closure pass take their parents' answers
     // A move can open or close a pocket (the floor a box stood on now sees the sky).
     // Every decider of an enclosure answer asks again, but casts again only the escape
     // rays that pass through a moved object's old or new box (all of them if it moved).
-    std::vector<char> is_decider(h.nodes.size(), 0);
-    for (const Node& n : h.nodes)
-        if (!n.is_cluster() && !n.dead && n.enclosed >= 0 && n.decider >= 0) is_decider[n.decider] = 1;
-    std::vector<int> deciders;
-    for (size_t i = 0; i < is_decider.size(); ++i)
-        if (is_decider[i]) deciders.push_back(int(i));
+    const std::vector<int> deciders = e.deciders(h);
     parallel_for(deciders.size(), c_.settings.threads, [&](size_t k) {
-        Node& d = h.nodes[deciders[k]];
-        if (ch.moved[d.object]) d.enclosed = -1;
-        c_.decide_enclosed(deciders[k], ch.moved[d.object] ? nullptr : &ch.clips);
+        const int d = deciders[k];
+        const bool moved = ch.moved[h.nodes[d].object];
+        if (moved) e.forget(d);
+        c_.decide_enclosed(d, moved ? nullptr : &ch.clips);
     }, 16);
-    for (Node& n : h.nodes)
-        if (!n.is_cluster() && !n.dead && n.decider >= 0) n.enclosed = h.nodes[n.decider].enclosed;
+    e.follow_deciders(h);
 }
 
 }  // namespace radiosity

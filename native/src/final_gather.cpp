@@ -511,12 +511,11 @@ void trace_point(const Run& run, Point& pt, const Point* old, Counts& counts, Sc
         return;
     }
     if (pt.covered) return;
-    const Node& L = s.h.nodes[size_t(pt.leaf)];
     trace_lamps(run, pt, old, counts);
     std::vector<Use>& use = scratch.use;
     uses(run, pt.leaf, scratch.reaching, use);
     // (A shared point's closure and near field are its lenders'.)
-    const bool enclosed = L.enclosed == 1 && !emitters_only;
+    const bool enclosed = s.enclosure.enclosed(pt.leaf) == 1 && !emitters_only;
     const double dark = c.share > 0 && !emitters_only ? nearest_dark(s, use, pt.x) : std::numeric_limits<double>::infinity();
     const bool unchanged = near_unchanged(run, pt, old);
     const PointCouplings couplings = trace_transfers(run, pt, old, counts, use, enclosed, emitters_only);

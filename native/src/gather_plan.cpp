@@ -10,6 +10,7 @@
 #include <map>
 #include <tuple>
 
+#include "radiosity/enclosure.h"
 #include "radiosity/parallel.h"
 
 namespace radiosity {
@@ -286,10 +287,10 @@ void GatherPlan::build_flux_groups(const Hierarchy& h, const std::vector<int32_t
     g_flux_.assign(ng, Rgb{});
 }
 
-void GatherPlan::prepare_radiometry(const Hierarchy& h, const LinkStore& links,
+void GatherPlan::prepare_radiometry(const Hierarchy& h, const LinkStore& links, const Enclosure& enclosure,
                                     const std::function<Rgb(int)>& direct, int threads) {
     if (radiometry_) return;
-    prepare_elements(h, direct, threads);
+    prepare_elements(h, enclosure, direct, threads);
     prepare_clusters(h);
     prepare_sends(h, links, threads);
     for (size_t k = 0; k < cvalue_.size(); ++k) cvalue_[k] = links[size_t(plink_id_[size_t(cluster_links_from_) + k])].value;
@@ -301,7 +302,8 @@ void GatherPlan::prepare_radiometry(const Hierarchy& h, const LinkStore& links,
 
 // Elements: areas and radiances, and at the leaves the materials, closure factors and direct
 // light; then each inner element's children's area, as the pull-up divides by it.
-void GatherPlan::prepare_elements(const Hierarchy& h, const std::function<Rgb(int)>& direct, int threads) {
+void GatherPlan::prepare_elements(const Hierarchy& h, const Enclosure& enclosure, const std::function<Rgb(int)>& direct,
+                                  int threads) {
     const size_t ne = size_t(n_elem_);
     e_area_.assign(ne, 0.0);
     e_child_area_.assign(ne, 0.0);
@@ -323,9 +325,10 @@ void GatherPlan::prepare_elements(const Hierarchy& h, const std::function<Rgb(in
         L_[i] = n.L;
         if (e_child_[i] < 0) {
             e_rho_[i] = n.rho;
-            e_closure_[i] = n.closure;
-            e_closure_own_[i] = n.closure_own;
-            e_fill_[i] = n.closure_fill;
+            const ClosureFactors& k = enclosure.factors(int(id));
+            e_closure_[i] = k.c_inherited;
+            e_closure_own_[i] = k.c_own;
+            e_fill_[i] = k.fill;
             e_direct_[i] = direct(int(id));
         }
     }, 2048);

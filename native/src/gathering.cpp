@@ -25,10 +25,20 @@ void Gathering::collect(const Hierarchy& h) {
         const Node& n = h.nodes[i];
         if (!n.dead && !n.is_cluster() && n.is_leaf()) leaves_.push_back(int(i));
     }
+    enclosure_.fit(h);
     plan_.invalidate();  // links, nodes or materials may have changed since it was built
 }
 
-double Gathering::bytes(size_t links, size_t nodes) const { return held_bytes(leaves_) + plan_.bytes(links, nodes); }
+std::vector<int> Gathering::enclosed_leaves() const {
+    std::vector<int> out;
+    for (int leaf : leaves_)
+        if (enclosure_.enclosed(leaf) == 1) out.push_back(leaf);
+    return out;
+}
+
+double Gathering::bytes(size_t links, size_t nodes) const {
+    return held_bytes(leaves_) + enclosure_.bytes(nodes) + plan_.bytes(links, nodes);
+}
 
 void Gathering::ensure_plan(const Context& c, bool radiometry) {
     const bool valid = plan_.valid(c.links.size(), c.h.nodes.size());
@@ -38,8 +48,11 @@ void Gathering::ensure_plan(const Context& c, bool radiometry) {
         plan_.build(c.h, c.links, c.settings.threads);
         ++c.stats.gather_plans;
     }
-    if (radiometry)
-        plan_.prepare_radiometry(c.h, c.links, [&c](int id) { return c.direct_light.direct(id); }, c.settings.threads);
+    if (radiometry) {
+        enclosure_.fit(c.h);  // nodes made since collect take their parents' factors
+        plan_.prepare_radiometry(c.h, c.links, enclosure_, [&c](int id) { return c.direct_light.direct(id); },
+                                 c.settings.threads);
+    }
     c.stats.seconds_gather_plan += seconds_since(t0);
 }
 
@@ -138,16 +151,17 @@ void Gathering::pull_up_clusters(Hierarchy& h) {
 // get their couplings corrected toward a sum of 1. Leaves that see open space are left as
 // computed.
 void Gathering::set_closure(const Context& c, const CouplingSums& sums, const std::function<void(int)>& decide_enclosed) {
+    enclosure_.fit(c.h);
     parallel_for(leaves_.size(), c.settings.threads, [&](size_t i) {
-        Node& n = c.h.nodes[leaves_[i]];
-        const double f = sums.total[leaves_[i]], own = sums.own[leaves_[i]], inherited = f - own;
-        n.closure = n.closure_own = 1.0;
-        n.closure_fill = 0.0;
+        const int leaf = leaves_[i];
+        const Node& n = c.h.nodes[leaf];
+        const double f = sums.total[leaf], own = sums.own[leaf], inherited = f - own;
+        ClosureFactors k;  // none: unit factors, no fill
         // closure_factors' range: a sum far off 1 (DRAFT's can be) is a missing link, not a
         // small error.
         if (c.settings.closure_rays > 0 && f > 0.25 && f < 4.0) {
-            if (n.enclosed < 0) decide_enclosed(leaves_[i]);
-            if (n.enclosed == 1) {
+            if (enclosure_.enclosed(leaf) < 0) decide_enclosed(leaf);
+            if (enclosure_.enclosed(leaf) == 1) {
                 // The leaf's own links were evaluated for it; links at its ancestors and
                 // clusters carry a coupling averaged over a larger receiver whose view may
                 // be wider (a ceiling patch in the gap behind a lamp sees the lamp through
@@ -165,10 +179,7 @@ void Gathering::set_closure(const Context& c, const CouplingSums& sums, const st
                 // A furnace stays exact: there every radiance is the leaf's own. (Figures:
                 // docs/decisions.md, "Closure correction at leaves" and "Figures behind code
                 // comments".)
-                const ClosureFactors k = closure_factors(own, inherited);  // gather_plan.h
-                n.closure_own = k.c_own;
-                n.closure = k.c_inherited;
-                n.closure_fill = k.fill;
+                k = closure_factors(own, inherited);  // gather_plan.h
             }
         }
         // Guard, open or closed: the iteration contracts only if every leaf reflects less
@@ -176,12 +187,13 @@ void Gathering::set_closure(const Context& c, const CouplingSums& sums, const st
         // pair linked twice) at reflectance near 1 would diverge; such a leaf is scaled back
         // to a gain just below 1.
         constexpr double kMaxGain = 0.9995;
-        const double gain = n.rho.max() * (own * n.closure_own + inherited * n.closure + n.closure_fill);
+        const double gain = n.rho.max() * (own * k.c_own + inherited * k.c_inherited + k.fill);
         if (gain > kMaxGain) {
-            n.closure *= kMaxGain / gain;
-            n.closure_own *= kMaxGain / gain;
-            n.closure_fill *= kMaxGain / gain;
+            k.c_inherited *= kMaxGain / gain;
+            k.c_own *= kMaxGain / gain;
+            k.fill *= kMaxGain / gain;
         }
+        enclosure_.set_factors(leaf, k);
     }, 32);
 }
 

@@ -650,11 +650,6 @@ void Hierarchy::subdivide(int id) {
         if (!(e.emission.r == p.emission.r && e.emission.g == p.emission.g && e.emission.b == p.emission.b))
             e.L = cmax(p.L - p.emission, Rgb{}) + e.emission;
         e.Lmin = e.Lmax = e.L;
-        e.closure = p.closure;
-        e.closure_own = p.closure_own;
-        e.closure_fill = p.closure_fill;
-        e.enclosed = p.enclosed;
-        e.decider = p.decider;
         e.pocket = p.pocket;
         e.key = mix(p.key, uint64_t(k + 1));
     }

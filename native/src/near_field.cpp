@@ -117,7 +117,7 @@ Rgb radiance_at(const Run& run, int m_id, const Vec3& sp, uint64_t seed, Counts&
                       h.nodes[size_t(l.src)].is_cluster());
     }
     ClosureFactors cf;
-    if (m.enclosed == 1) cf = couplings.closure();
+    if (s.enclosure.enclosed(m_id) == 1) cf = couplings.closure();
     g += closure_gathered(own, all, cf.c_own, cf.c_inherited, cf.fill, m.L);
     if (wall) wall->couple(h, sp, m.normal);
     return m.emission + h.rho_at(m_id, sp) * g;  // a texture's value at sp, not the leaf's mean

@@ -75,6 +75,7 @@ void Solver::final_gather(double from, double to, const FinalGather::Moves* move
     }
     direct_light_.find_contacts(h_, scene_, settings_.threads);
     h_.index_emitters();  // the near field asks per point whether a cluster emits
+    gathering_.enclosure().fit(h_);  // a leaf split since the last collect reads its parent's answer
     FinalGather::Config c;
     c.rays = settings_.gather_rays;
     c.min_rays = settings_.gather_min_rays;
@@ -84,7 +85,7 @@ void Solver::final_gather(double from, double to, const FinalGather::Moves* move
     c.seed = settings_.seed;
     c.cycles_points = settings_.cycles_corner_points;
     c.sealed_solids = settings_.gather_sealed_solids;
-    const FinalGather::Solution s{scene_, h_, *vis_, links_,
+    const FinalGather::Solution s{scene_, h_, *vis_, links_, gathering_.enclosure(),
                                   [this](int surface, const Vec3& p) { return direct_light_.contact(h_, surface, p); },
                                   &topology_.tri_prim()};
     auto progress = [&](double f) {

@@ -708,7 +708,7 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
         for (const auto& op : placed) vis_->set_object_transform(op.first, op.second);
         h_.place_objects(placed, false, &saved.prims(), settings_.threads);
         vis_->commit();
-        const FinalGather::Solution s{scene_, h_, *vis_, links_,
+        const FinalGather::Solution s{scene_, h_, *vis_, links_, gathering_.enclosure(),
                                       [this](int surface, const Vec3& q) { return direct_light_.contact(h_, surface, q); },
                                       &topology_.tri_prim()};
         out = preview_patches(scene_, output_.preview(s, p, k));

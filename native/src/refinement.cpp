@@ -172,7 +172,7 @@ bool Refinement::split_for_closure(const std::vector<int>& leaves, const std::ve
     const Oracle o = oracle();
     for (int leaf : leaves) {
         const Node& n = c_.h.nodes[leaf];
-        if (n.enclosed != 1 || std::fabs(fsum[leaf] - 1.0) <= tol) continue;
+        if (std::fabs(fsum[leaf] - 1.0) <= tol) continue;
         const bool far = !focus.empty() && !meets_any_box(focus, n.box);
         // Element ancestors only: a cluster link split on the receiver side relinks a whole
         // object, far more links than one leaf's sum can justify.

@@ -36,6 +36,7 @@ void Solver::solve(Control* control) {
     lap_rays_ = 0;  // a new Visibility counts from 0
     links_.clear();
     direct_light_.clear();   // the hierarchy is rebuilt
+    gathering_.enclosure().clear();
     topology_.commit(scene_, edits_);  // objects removed since are left out
     build_scene();
     stats_.seconds_build = since(t0);

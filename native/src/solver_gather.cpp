@@ -38,7 +38,7 @@ bool Solver::compute_closure(const UpdateRun* u) {
         gathering_.set_closure(gather_context(), sums, [this](int leaf) { decide_enclosed(leaf, nullptr); });
         lap("closure decide");
         const bool split = settings_.closure_rays > 0 && pass < settings_.closure_refine_passes &&
-                           refinement(u).split_for_closure(gathering_.leaves(), sums.total, focus, new_from);
+                           refinement(u).split_for_closure(gathering_.enclosed_leaves(), sums.total, focus, new_from);
         lap("closure split");
         if (!split) return pass < settings_.closure_refine_passes || settings_.closure_rays <= 0;
     }
@@ -66,29 +66,26 @@ void Solver::escape_rays(const Node& n, std::vector<std::pair<Vec3, Vec3>>& rays
 // `moved_boxes`, the node was decided before and did not move itself: only rays through a
 // moved object's old or new box can have changed outcome.
 void Solver::decide_enclosed(int id, const std::vector<Aabb>* moved_boxes) {
-    Node& n = h_.nodes[id];
+    Enclosure& e = gathering_.enclosure();
     std::vector<std::pair<Vec3, Vec3>> rays;
-    escape_rays(n, rays);
+    escape_rays(h_.nodes[id], rays);
     auto meets = [&](int r) { return meets_any(*moved_boxes, rays[r].first, rays[r].second); };
-    if (moved_boxes && n.enclosed == 1) {
+    if (moved_boxes && e.enclosed(id) == 1) {
         for (int r = 0; r < int(rays.size()); ++r)
             if (meets(r) && !vis_->occluded(rays[r].first, rays[r].second, 0.0)) {
-                n.enclosed = 0;
-                n.escape_ray = int8_t(r);
+                e.open(id, r);
                 return;
             }
         return;  // every ray still blocked
     }
-    if (moved_boxes && n.enclosed == 0 && n.escape_ray >= 0 && !meets(n.escape_ray)) return;  // witness still clear
-    n.decider = id;
+    const int witness = e.escape_ray(id);
+    if (moved_boxes && e.enclosed(id) == 0 && witness >= 0 && !meets(witness)) return;  // witness still clear
     for (int r = 0; r < int(rays.size()); ++r)
         if (!vis_->occluded(rays[r].first, rays[r].second, 0.0)) {
-            n.enclosed = 0;
-            n.escape_ray = int8_t(r);
+            e.decide(id, r);
             return;
         }
-    n.enclosed = 1;
-    n.escape_ray = -1;
+    e.decide(id, -1);
 }
 
 }  // namespace radiosity

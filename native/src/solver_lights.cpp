@@ -164,7 +164,8 @@ Rgb Solver::leaf_irradiance(int id) const {
             if (c > 0 && h_.holds_pocket(l.src, n.pocket)) acc += l.value * c;  // gather_plan.cpp's rule
         }
     const Rgb own = n.in_links.empty() ? Rgb{} : n.G;
-    return closure_gathered(own, acc, n.closure_own, n.closure, n.closure_fill, n.L) + direct_light_.direct(id);
+    const ClosureFactors& k = gathering_.enclosure().factors(id);
+    return closure_gathered(own, acc, k.c_own, k.c_inherited, k.fill, n.L) + direct_light_.direct(id);
 }
 
 std::vector<float> Solver::corner_irradiance(int object) const {

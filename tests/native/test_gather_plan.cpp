@@ -9,6 +9,7 @@
 #include <functional>
 #include <ostream>
 
+#include "radiosity/enclosure.h"
 #include "radiosity/gather_plan.h"
 #include "radiosity/gathering.h"
 #include "radiosity/transfer.h"
@@ -24,6 +25,7 @@ using Direct = std::function<Rgb(int)>;
 struct ReferenceSweep {
     Hierarchy& h;
     LinkStore& links;
+    const Enclosure& enclosure;
     Direct direct;
 
     void push_down(int id, Rgb acc, bool unit, CouplingSums* sums, double& delta) {
@@ -36,7 +38,8 @@ struct ReferenceSweep {
                 sums->own[size_t(id)] = own.mean();
                 return;
             }
-            Rgb Lnew = n.emission + n.rho * (own * n.closure_own + (acc - own) * n.closure + n.L * n.closure_fill + direct(id));
+            const ClosureFactors& k = enclosure.factors(id);
+            Rgb Lnew = n.emission + n.rho * (own * k.c_own + (acc - own) * k.c_inherited + n.L * k.fill + direct(id));
             delta = std::max(delta, std::fabs((Lnew - n.L).max()));
             delta = std::max(delta, std::fabs((n.L - Lnew).max()));
             n.L = Lnew;
@@ -101,6 +104,7 @@ bool same(const Rgb& a, const Rgb& b) { return std::memcmp(&a, &b, sizeof(Rgb)) 
 struct Solved {
     Hierarchy h;
     LinkStore links;
+    Enclosure enclosure;
 };
 
 Solved solved(const SceneDesc& scene, double eps, bool clustering) {
@@ -109,13 +113,16 @@ Solved solved(const SceneDesc& scene, double eps, bool clustering) {
     st.use_clustering = clustering;
     Solver solver(scene, st);
     solver.solve();
-    Solved s{solver.hierarchy(), solver.links()};
+    Solved s{solver.hierarchy(), solver.links(), solver.enclosure()};
+    s.enclosure.fit(s.h);
     for (size_t i = 0; i < s.h.nodes.size(); ++i) {
         Node& n = s.h.nodes[i];
         n.L = n.emission + Rgb{0.1 * double(i % 7), 0.05 * double(i % 5), 0.02 * double(i % 11)};
-        n.closure = 0.9 + 0.01 * double(i % 13);
-        n.closure_own = 0.95 + 0.01 * double(i % 7);
-        n.closure_fill = 0.01 * double(i % 5);
+        ClosureFactors k;
+        k.c_inherited = 0.9 + 0.01 * double(i % 13);
+        k.c_own = 0.95 + 0.01 * double(i % 7);
+        k.fill = 0.01 * double(i % 5);
+        s.enclosure.set_factors(int(i), k);
     }
     return s;
 }
@@ -155,10 +162,10 @@ TEST_P(GatherPlanTest, SweepsAreBitIdenticalToASweepOverTheHierarchy) {
     // A direct-light term that differs from leaf to leaf (lights.cpp's role).
     const Direct direct = [](int id) { return Rgb{0.001 * (id % 3), 0.002 * (id % 5), 0.0}; };
     Solved ref = start, got = start;
-    ReferenceSweep reference{ref.h, ref.links, direct};
+    ReferenceSweep reference{ref.h, ref.links, ref.enclosure, direct};
     GatherPlan plan;
     plan.build(got.h, got.links, 2);
-    plan.prepare_radiometry(got.h, got.links, direct, 2);
+    plan.prepare_radiometry(got.h, got.links, got.enclosure, direct, 2);
     EXPECT_EQ(plan.link_count(), [&] {
         int64_t n = 0;
         for (const Node& q : start.h.nodes) n += q.dead ? 0 : int64_t(q.in_links.size());
@@ -184,7 +191,7 @@ TEST_P(GatherPlanTest, SweepsAreBitIdenticalToASweepOverTheHierarchy) {
         return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
     };
     CouplingSums f_ref = fresh(), f_got = fresh();
-    ReferenceSweep{ref.h, ref.links, direct}.sweep(true, &f_ref);
+    ReferenceSweep{ref.h, ref.links, ref.enclosure, direct}.sweep(true, &f_ref);
     GatherPlan unit_plan;
     unit_plan.build(got.h, got.links, 1);
     EXPECT_FALSE(unit_plan.has_radiometry());
@@ -231,7 +238,7 @@ TEST(GatherPlan, WriteBackWithoutASweepChangesNothing) {
     Solved before = s;
     GatherPlan plan;
     plan.build(s.h, s.links, 1);
-    plan.prepare_radiometry(s.h, s.links, [](int) { return Rgb{}; }, 1);
+    plan.prepare_radiometry(s.h, s.links, s.enclosure, [](int) { return Rgb{}; }, 1);
     CouplingSums sums;
     sums.reset(s.h.nodes.size());
     plan.sweep(true, &sums, 1);  // a unit sweep leaves the radiometry alone

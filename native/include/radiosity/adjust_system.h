@@ -2,14 +2,15 @@
 // kept links up to date with the geometry. Links inside a moved object turn with it, the changed
 // clusters' links go and are made anew, the environment's links whose rays may pass through a
 // changed box are evaluated again (replayed rays), and enclosures are decided again where escape
-// rays meet a changed box. It owns nothing: the hierarchy, links, settings and stats are the
-// solver's, handed in a Context for one update with the Change it works from, and with the
-// solver's first-bounce judging, enclosure test and phase timer as callbacks.
+// rays meet a changed box. It owns nothing: the hierarchy, links, enclosure table, settings and
+// stats are the solver's, handed in a Context for one update with the Change it works from, and
+// with the solver's first-bounce judging, enclosure test and phase timer as callbacks.
 #pragma once
 #include <functional>
 #include <map>
 #include <vector>
 
+#include "radiosity/enclosure.h"
 #include "radiosity/hierarchy.h"
 #include "radiosity/link_store.h"
 #include "radiosity/refinement.h"
@@ -40,10 +41,11 @@ public:
     };
 
     // What one adjustment reads and changes, held by the solver: links are turned, killed,
-    // re-evaluated and made, nodes' enclosure flags decided again, the stats counted.
+    // re-evaluated and made, nodes' enclosure answers decided again, the stats counted.
     struct Context {
         Hierarchy& h;
         LinkStore& links;
+        Enclosure& enclosure;  // the answers decide_enclosed writes (Gathering::enclosure)
         const Settings& settings;
         Stats& stats;
         const Change& change;

@@ -18,6 +18,7 @@
 #include <memory>
 #include <vector>
 
+#include "radiosity/enclosure.h"
 #include "radiosity/gather_plan.h"
 #include "radiosity/hierarchy.h"
 #include "radiosity/link.h"
@@ -45,6 +46,7 @@ public:
         const Hierarchy& h;
         const Visibility& vis;
         const LinkStore& links;
+        const Enclosure& enclosure;  // which leaves are enclosed (their points' closure)
         // The surface of another polygon lying on a surface at a point, turned against it (a
         // box's bottom on a floor: lights.cpp's contact test), or -1.
         std::function<int(int surface, const Vec3& p)> contact;

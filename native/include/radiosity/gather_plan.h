@@ -32,6 +32,8 @@
 
 namespace radiosity {
 
+class Enclosure;  // enclosure.h
+
 // Per node (leaves only filled): the sum of a leaf's couplings from unit senders (mean over
 // colours), and the part of it through links at the leaf itself; the rest reaches it through
 // links at its ancestors and its clusters. The closure correction weighs them apart.
@@ -81,9 +83,10 @@ public:
     // The structure: element trees, clusters, the active links (every live node's in_links)
     // and the flux groups. Discards the radiometric part.
     void build(const Hierarchy& h, const LinkStore& links, int threads);
-    // The radiometric part, once per build: each leaf's emission, reflectance, closure factor
-    // and direct light (`direct(node)`), radiances as the starting point, cluster senders.
-    void prepare_radiometry(const Hierarchy& h, const LinkStore& links,
+    // The radiometric part, once per build: each leaf's emission, reflectance, closure factors
+    // (`enclosure`, fitted to the nodes) and direct light (`direct(node)`), radiances as the
+    // starting point, cluster senders.
+    void prepare_radiometry(const Hierarchy& h, const LinkStore& links, const Enclosure& enclosure,
                             const std::function<Rgb(int)>& direct, int threads);
     // Valid since the last build and not invalidated. `links` and `nodes` are the current
     // sizes: a plan built from fewer is stale even if nobody invalidated it.
@@ -161,7 +164,8 @@ private:
     void build_flux_groups(const Hierarchy& h, const std::vector<int32_t>& c_value_begin, const ClusterLinkEnds& ends,
                            int threads);
     // prepare_radiometry()'s steps, in order.
-    void prepare_elements(const Hierarchy& h, const std::function<Rgb(int)>& direct, int threads);
+    void prepare_elements(const Hierarchy& h, const Enclosure& enclosure, const std::function<Rgb(int)>& direct,
+                          int threads);
     void prepare_clusters(const Hierarchy& h);
     void prepare_sends(const Hierarchy& h, const LinkStore& links, int threads);
     Rgb sender_radiance(const PlanLink& p) const;

@@ -1,13 +1,16 @@
 // Gathering: solves the linked system by iteration (paper 2). Jacobi sweeps gather through the
 // links, push irradiance down the hierarchy, reflect it at the leaves and pull radiance back up;
 // they run on a gather plan (gather_plan.h) it owns, made from the leaf elements it lists. It
-// also sets each leaf's closure factors, which the sweeps apply. The hierarchy, links, direct
-// light and stats stay the solver's, handed in at each call; the solver says when they changed.
+// also owns the enclosure table (enclosure.h) and sets each leaf's closure factors there, which
+// the sweeps apply; whether a leaf is enclosed is the solver's escape rays' to write. The
+// hierarchy, links, direct light and stats stay the solver's, handed in at each call; the
+// solver says when they changed.
 #pragma once
 #include <functional>
 #include <vector>
 
 #include "radiosity/direct_light.h"
+#include "radiosity/enclosure.h"
 #include "radiosity/gather_plan.h"
 #include "radiosity/hierarchy.h"
 #include "radiosity/link_store.h"
@@ -28,14 +31,20 @@ public:
         Stats& stats;
     };
 
-    // The leaf elements listed anew and the plan dropped. The plan is a snapshot of links,
-    // trees, materials, closure factors and direct light: whatever changes those must call this
-    // before the next sweep.
+    // The leaf elements listed anew, the enclosure table fitted to the nodes and the plan
+    // dropped. The plan is a snapshot of links, trees, materials, closure factors and direct
+    // light: whatever changes those must call this before the next sweep.
     void collect(const Hierarchy& h);
-    // The leaf elements at the last collect().
+    // The leaf elements at the last collect(), and those of them that are enclosed.
     const std::vector<int>& leaves() const { return leaves_; }
-    // Heap bytes held: the leaf list and the plan (GatherPlan::bytes, at `links` stored links
-    // and `nodes` nodes).
+    std::vector<int> enclosed_leaves() const;
+    // Per node: whether it is enclosed, and its closure factors (set_closure). The answers are
+    // written by the solver's escape rays and an update's AdjustSystem; a full solve, which
+    // builds the hierarchy anew, clears it.
+    const Enclosure& enclosure() const { return enclosure_; }
+    Enclosure& enclosure() { return enclosure_; }
+    // Heap bytes held: the leaf list, the enclosure table and the plan (GatherPlan::bytes, at
+    // `links` stored links and `nodes` nodes).
     double bytes(size_t links, size_t nodes) const;
 
     // One sweep, its radiances copied back to the nodes at once.
@@ -64,6 +73,7 @@ private:
     void ensure_plan(const Context& c, bool radiometry);
 
     std::vector<int> leaves_;  // leaf elements (collect)
+    Enclosure enclosure_;      // per node, fitted by collect
     GatherPlan plan_;          // dropped by collect, built by ensure_plan
 };
 

@@ -52,18 +52,7 @@ struct Node {
     Rgb Lmin, Lmax;  // range of leaf radiance below (sender-side error term of the oracle)
     std::array<Rgb, kBins> S{};      // clusters: sum over surfaces of L * A * max(0, +-n_axis)
     std::array<double, kBins> W{};   // clusters: sum over surfaces of A * max(0, +-n_axis)
-    // Leaves: form-factor closure correction (see gathering.cpp), as factors on the couplings
-    // through links at ancestors and clusters (closure) and through the leaf's own links.
-    double closure = 1.0, closure_own = 1.0;
-    // Enclosed leaves whose couplings sum short of 1: the missing part, taken to see the
-    // leaf's own radiance (gathering.cpp).
-    double closure_fill = 0.0;
-    int8_t enclosed = -1;            // leaves: no escape ray found open space (1), did (0), unknown (-1)
-    // The node whose escape rays decided `enclosed` (itself, or the ancestor it inherited the
-    // answer from) and the index of the ray that found open space (-1: none did). After a
-    // move only the rays that pass through a moved object's old or new box are cast again.
-    int decider = -1;
-    int8_t escape_ray = -1;
+    // (Whether a leaf is enclosed, and its closure factors: Enclosure, enclosure.h.)
     bool dead = false;               // un-refined away (the slot is not reused)
     // Elements: the pocket the surface faces into (Pockets::compute): a set of surfaces,
     // across objects, whose escape rays meet only each other -- the inside of a closed crate and

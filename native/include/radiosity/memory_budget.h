@@ -28,7 +28,7 @@ struct MemoryView {
     const Hierarchy& h;              // nodes, tables, and the leaves under the output points
     const LinkStore& links;
     const Visibility* vis;           // Embree's BVHs; null before the scene is built
-    const Gathering& gathering;      // the leaf list and the gather plan
+    const Gathering& gathering;      // the leaf list, the enclosure table and the gather plan
     const DirectLight& direct_light;
     const FinalGather& output;       // the trace, once made
     const Pockets& pockets;          // their escape rays
@@ -43,8 +43,9 @@ public:
     double limit() const { return limit_; }
 
     // Estimated bytes the solve holds with `more` links and nodes: nodes and links in their
-    // chunks, Embree's BVHs, the gather plan, the direct light, the tables (measure_tables),
-    // and the final gather's trace (the one made, or the forecast of the next).
+    // chunks, Embree's BVHs, the gathering's leaf list, enclosure table and plan, the direct
+    // light, the tables (measure_tables), and the final gather's trace (the one made, or the
+    // forecast of the next).
     double estimate(const MemoryView& v, size_t more_links = 0, size_t more_nodes = 0) const;
     // Whether that estimate passes the limit (refinement asks before it links or splits).
     bool over(const MemoryView& v, size_t more_links, size_t more_nodes) const {

@@ -76,9 +76,9 @@ public:
     bool refine_links(const std::vector<int>& ids, bool* touched = nullptr);
     // refine_links over every active link.
     bool refine_active(bool* touched = nullptr);
-    // Splits, on the receiver side, the element links above enclosed `leaves` whose sums of
-    // couplings (`fsum`, per node) are off 1; true if any split. Away from the `focus` boxes
-    // (none: no focus) only links from `new_from` on split.
+    // Splits, on the receiver side, the element links above `leaves` (enclosed ones:
+    // Gathering::enclosed_leaves) whose sums of couplings (`fsum`, per node) are off 1; true if
+    // any split. Away from the `focus` boxes (none: no focus) only links from `new_from` on split.
     bool split_for_closure(const std::vector<int>& leaves, const std::vector<double>& fsum,
                            const std::vector<Aabb>& focus, int64_t new_from);
 

@@ -151,6 +151,8 @@ public:
         return *vis_;
     }
     const LinkStore& links() const { return links_; }
+    // Per node: whether it is enclosed, and its closure factors (enclosure.h).
+    const Enclosure& enclosure() const { return gathering_.enclosure(); }
     const Settings& settings() const { return settings_; }
     const SceneDesc& scene() const { return scene_; }
     double reference_radiance() const { return L_ref_; }
@@ -223,8 +225,8 @@ private:
         bool operator==(const LinkShape& o) const { return links == o.links && nodes == o.nodes && elements == o.elements; }
     };
     LinkShape link_shape() const { return {links_.size(), h_.nodes.size(), stats_.element_nodes}; }
-    // Whether a node's escape rays find open space (Node::enclosed); with `moved_boxes`, only
-    // the rays through them are cast again.
+    // Whether a node's escape rays find open space (Enclosure::enclosed); with `moved_boxes`,
+    // only the rays through them are cast again.
     void escape_rays(const Node& n, std::vector<std::pair<Vec3, Vec3>>& rays) const;
     void decide_enclosed(int id, const std::vector<Aabb>* moved_boxes);
     // adjust.cpp

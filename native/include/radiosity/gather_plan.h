@@ -3,10 +3,11 @@
 // hierarchy and links and rebuilt whenever they change.
 //
 // Why: a sweep over the hierarchy itself walks each receiver's in_links into the Link array
-// (152 bytes a link) and reads senders from 696-byte Nodes, so it is memory-bound. The plan
-// keeps per receiver a contiguous range of 16-byte (sender slot, K) records, radiances in one
-// dense array indexed by slot (elements surface by surface, each quadtree breadth first, then
-// clusters), and each quadtree as index ranges, so a sweep streams through small arrays.
+// (152 bytes a link) and reads senders from Nodes of several hundred bytes, so it is
+// memory-bound. The plan keeps per receiver a contiguous range of 16-byte (sender slot, K)
+// records, radiances in one dense array indexed by slot (elements surface by surface, each
+// quadtree breadth first, then clusters), and each quadtree as index ranges, so a sweep
+// streams through small arrays.
 // Surfaces with the same ancestor clusters and the same normal share the flux that cluster
 // links bring them (walked once per group instead of once per surface).
 //

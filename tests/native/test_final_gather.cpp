@@ -617,3 +617,38 @@ TEST(FinalGather, LargeClustersOfFewNormalsAreDrawnByRejectionUnbiased) {
     expect_unbiased(coupling_estimates(s, src, {plate, wall}, x, n, rcv, 2000, 9000), "a two-normal cluster's coupling",
                     2.0);
 }
+
+TEST(FinalGather, AnElementSendersTransferIsItsChildrensSummed) {
+    // An element sender's point transfer uses the exact point-to-polygon kernel: with nothing
+    // between, the couplings of its four quadtree children add up to the element's.
+    SceneDesc sc;
+    scenes::add_grid(sc, "panel", -1, {Vec3{0, 1, 1}, Vec3{1, 1, 1}, Vec3{1, 0, 1}, Vec3{0, 0, 1}}, 1, 1, Rgb::all(0.5), {},
+                     false);  // facing down
+    scenes::add_grid(sc, "floor", -1, {Vec3{-1, -1, 0}, Vec3{2, -1, 0}, Vec3{2, 2, 0}, Vec3{-1, 2, 0}}, 1, 1, Rgb::all(0.5),
+                     {}, false);
+    Hierarchy h;
+    h.build(sc, true);
+    h.set_pocket_sets();
+    auto root_of = [&](int object) {
+        const Node& o = h.nodes[size_t(h.object_node[size_t(object)])];
+        return o.is_cluster() ? h.surface_geom[size_t(o.surf_begin)].root : h.object_node[size_t(object)];
+    };
+    const int panel = root_of(0), floor = root_of(1);
+    ASSERT_LT(h.nodes[size_t(panel)].normal.z, -0.99);
+    h.subdivide(panel);
+    Visibility vis;
+    vis.commit();
+    for (const Vec3& at : {Vec3{0.3, 0.4, 0}, Vec3{-0.6, 1.7, 0}, Vec3{1.0, 0.0, 0}}) {
+        const Vec3 x = h.to_internal(at), n{0, 0, 1};
+        std::vector<std::pair<int, float>> samples;
+        PointRayStream whole(vis);
+        const double F = point_transfer(h, whole, panel, x, n, floor, 64, 5, samples).F;
+        double sum = 0;
+        for (int c : h.nodes[size_t(panel)].children) {
+            PointRayStream part(vis);
+            sum += point_transfer(h, part, c, x, n, floor, 16, 5, samples).F;
+        }
+        ASSERT_GT(F, 0.0);
+        EXPECT_NEAR(sum, F, 1e-9 * F) << at.x << " " << at.y;
+    }
+}

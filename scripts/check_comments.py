@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Check tracked sources, READMEs, docs/*.md and bench/results/*.md for two kinds of stale text.
+"""Check tracked sources, READMEs, docs/*.md and bench/results/*.md for three kinds of stale text.
 
 1. Session or issue numbers ("session N", "session-N", "issue N.M", "issues N and M", also
    split over a line break): they point at a planning history the reader does not have; a
@@ -8,6 +8,8 @@
    exist: a citation of a moved or deleted file sends the reader nowhere. Not checked in
    bench/results/*.md, which record measurements at a named commit and may cite a file as it
    was then.
+3. Commit hashes (7 to 12 lowercase hex digits, letters and digits both): history, not what
+   the code does. Also allowed in bench/results/*.md only.
 
 Prints each finding as `path:line: message`, then a one-line summary; exits 1 on any finding.
 Run from anywhere inside the repository (scripts/test.sh runs it first).
@@ -26,6 +28,18 @@ NUMBER_PATTERNS = [
     (re.compile(r"\bissues?\s+#?\d+(\.\d+)?", re.IGNORECASE), "issue number"),
     (re.compile(r"\bissue-\d+", re.IGNORECASE), "issue number"),
 ]
+
+# A short commit hash: a hex word with both a digit and a letter, not part of a longer word, a
+# 0x literal or a #colour.
+HASH_CANDIDATE = re.compile(r"(?<![\w#])[0-9a-f]{7,12}(?!\w)")
+
+
+def commit_hashes(line):
+    for m in HASH_CANDIDATE.finditer(line):
+        word = m.group(0)
+        if re.search(r"[0-9]", word) and re.search(r"[a-f]", word):
+            yield word
+
 
 PATH_PREFIXES = ("native", "addon", "tests", "bench", "scripts", "docs", "example_blends", "fuzz")
 # A candidate starts at a prefix not glued to a longer path and runs to a space, a quote, a
@@ -124,6 +138,8 @@ def check_file(root, path):
                                        f"'{end.group(1)}' + '{lines[number].strip()[:20]}'"))
         if is_result_page(path):
             continue
+        for word in commit_hashes(line):
+            findings.append(("hash", f"{path}:{number}: commit hash: '{word}'"))
         for cited in cited_paths(line):
             if not any(os.path.exists(os.path.join(base, cited)) for base in bases):
                 findings.append(("path", f"{path}:{number}: cites a missing path: {cited}"))
@@ -139,9 +155,10 @@ def main():
     for _, message in findings:
         print(message)
     numbers = sum(1 for kind, _ in findings if kind == "number")
-    paths = len(findings) - numbers
+    hashes = sum(1 for kind, _ in findings if kind == "hash")
+    paths = len(findings) - numbers - hashes
     print(f"check_comments: {len(files)} files, {numbers} session/issue numbers, "
-          f"{paths} missing paths")
+          f"{hashes} commit hashes, {paths} missing paths")
     return 1 if findings else 0
 
 

@@ -19,10 +19,10 @@ factor is measured with light: a grid of quads with the node's Roughness and She
 base under a uniform white world, COMBINED bake (the glossy lobes and subsurface set to 0). That
 is the output's factor under diffuse light and, by reciprocity, the albedo for light arriving
 along the normal. Under uniform light from every side the albedo is higher (1.065 at roughness
-1) and under light from along the normal the output is Base Color whole; measured on a closed
-room lit by a lamp (bench/results/principled_legacy.md) this one factor is the closest to Cycles.
+1) and under light from along the normal the output is Base Color whole; in a closed room lit
+by a lamp this one factor is the closest to Cycles (bench/results/principled_legacy.md).
 
-One bake per distinct parameter set in a Blender session (about 0.1-0.3 s), kept in memory.
+One bake per distinct parameter set in a Blender session, kept in memory.
 """
 import bpy
 import numpy as np
@@ -39,7 +39,7 @@ _SKIP = {"Base Color", "Metallic", "Transmission", "Transmission Weight", "Emiss
 # bake); a subsurface random walk on a single sheet of quads measures what leaks out of its
 # back, not an albedo (subsurface is not modelled: materials.py reads Base Color).
 _LEGACY_ZERO = {"Specular", "Clearcoat", "Subsurface"}
-LEGACY_SAMPLES = 256        # per vertex; 81 vertices: about 0.1 % noise on the factor
+LEGACY_SAMPLES = 256        # per vertex: the factor's noise stays far below the solver's
 LEGACY_GRID = 8             # quads along each side of the measured sheet
 
 _cache = {}

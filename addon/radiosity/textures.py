@@ -17,8 +17,8 @@ tree Cycles can render is understood exactly as Cycles understands it:
 
 Everything happens in a temporary scene (its own Cycles settings, the copies, the colour
 attributes) that is deleted before returning, whatever happens: the user's scene, objects,
-meshes and materials are only read. Cost (measured, see tests/blender/test_textures_world.py):
-one Cycles session per bake type, about 0.1-0.5 s of set-up plus the corners and pieces.
+meshes and materials are only read. Cost: one Cycles session per bake type (its set-up) plus
+the corners and pieces.
 
 Limits: texture coordinates that depend on the original object (Generated coordinates of an
 object whose modifiers move it, Object Info, the object's own attributes the evaluated copy

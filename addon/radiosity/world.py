@@ -17,12 +17,12 @@ difference is the disc alone, whatever the nodes after the Sky Texture do to it)
 angular diameter is the node's sun size.
 
 Any other small bright spot (an HDRI's sun) falls inside a pixel that few map samples hit, so
-its energy is the luck of those samples (a 0.36-degree sun: 12 % too bright at 16 samples a
-pixel): the pixels that carry the most light are rendered again in small windows, 16 x 16
-times finer (_refine_hot_spots; the same sun: 0.4 %).
+its energy is the luck of those samples: the pixels that carry the most light are rendered
+again in small windows, 16 x 16 times finer (_refine_hot_spots; docs/decisions.md, "Reference
+and materials").
 
-Limits: a spot the map's samples miss altogether is missed (about 2M samples: a spot of 0.5
-degrees, a real sun, is hit about 10 times; one of 0.18 degrees, once, and measured missed);
+Limits: a spot the map's samples miss altogether is missed (a real sun, half a degree wide,
+is hit several times; a spot under about a fifth of a degree may not be);
 the world is seen by camera rays (a Light Path node that tells camera rays from diffuse
 ones gives the camera's answer); a sun disc inside a node group is not found (it stays in the
 map, with the map's resolution).

@@ -186,9 +186,8 @@ void trace_afresh(const Run& run, Point& pt, Counts& counts, Record& rec, uint32
     if (t.partial && rays < c.rays && total > 0 && weight > total / (4.0 * double(links)))
         retrace_with(refined_rays, 1);
     // Deep in a penumbra of the sender that brings most of the point's light (under a
-    // tenth of it seen), the estimate rests on the few rays that get through: 1 /
-    // sqrt(rays seen), 13 % for a floor corner in a floating crate's shadow that sees
-    // 6 % of the lamp with 1024 rays. Eight times the budget there.
+    // tenth of it seen), the estimate rests on the few rays that get through (its error
+    // goes as 1 / sqrt(rays seen)): eight times the budget there.
     if (t.partial && total > 0 && weight > 0.5 * total && t.F < 0.1 * t.F_unoccluded &&
         rays < kDeepRays * c.rays)
         retrace_with(std::min(kDeepRays * c.rays, 65535), 2);

@@ -733,7 +733,7 @@ void Solver::settle_preview() const {
         self.vis_->commit();
     } catch (...) {
         // An Embree error here leaves rays as the preview placed them: the solution must not
-        // be trusted. (Never seen: the same calls succeeded a moment ago.)
+        // be trusted.
         self.solved_ = false;
     }
 }

@@ -25,8 +25,8 @@ def test_high_matches_cycles(run_blender):
           f"{e['nrmse']:.4f}; NRMSE/rRMSE " + " ".join(f"{k} {v['nrmse']:.4f}/{v['rrmse']:.4f}"
                                                         for k, v in r["per_object"].items()
                                                         if "nrmse" in v))
-    # Measured (3.4 and bpy 5.0, at cab057a): NRMSE 0.027, rRMSE 0.231 (uncovered-only 0.192;
-    # the 88 covered corners carry 38 % of its squared error). NRMSE was judged over every corner,
-    # the emitter's included, before the corner-exact output (<= 0.05 then too).
+    # Measured (3.4 and bpy 5.0): NRMSE 0.027, rRMSE 0.231 (uncovered-only 0.192; the 88 covered
+    # corners carry 38 % of its squared error). NRMSE was judged over every corner, the
+    # emitter's included, before the corner-exact output (<= 0.05 then too).
     assert e["nrmse"] <= 0.05, r["per_object"]
     assert e["rrmse"] <= 0.30, r["per_object"]

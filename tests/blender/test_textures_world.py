@@ -60,9 +60,9 @@ def test_textured_floor_matches_cycles(run_blender, kind):
     print("\n" + _figures(r) + f"; texture evaluation {st['texture_seconds']} s "
           f"({st['texture_pieces']} pieces)")
     assert st["textured_objects"] == 1, st
-    # Measured on 3.4 with the final gather on (dbda0eb): checker NRMSE 0.0095,
-    # median 0.0026, uncovered rRMSE 0.061, all corners 0.090; image 0.0065, 0.0017, 0.035,
-    # 0.081. (Before the gather, 366281d: NRMSE 0.049 / 0.043, rRMSE 1.26 / 1.32.)
+    # Measured on 3.4 with the final gather on: checker NRMSE 0.0095, median 0.0026,
+    # uncovered rRMSE 0.061, all corners 0.090; image 0.0065, 0.0017, 0.035, 0.081. (Before the
+    # gather: NRMSE 0.049 / 0.043, rRMSE 1.26 / 1.32.)
     assert e["nrmse"] <= 0.015
     assert e["rel_p50"] <= 0.006
     assert e["rrmse_uncovered"] <= 0.08
@@ -74,8 +74,8 @@ def test_textured_floor_matches_cycles(run_blender, kind):
     assert ref[0] / ref[1] > 1.03
     assert abs((ours[0] / ours[1]) / (ref[0] / ref[1]) - 1.0) <= 0.01, (ours, ref)
     # Every corner within the 2 % goal: at HIGH, checker 0.0181 / 0.0173, image
-    # 0.0156 / 0.0144 (3.4 / bpy 5.x, each against its own Cycles); 0.0198 / 0.0170 on 3.4 at
-    # dbda0eb. With 16 rays a link or 512 gather rays the checker reads 2.4-2.7 % against either
+    # 0.0156 / 0.0144 (3.4 / bpy 5.x, each against its own Cycles); 0.0198 / 0.0170 on 3.4 with
+    # an earlier near field. With 16 rays a link or 512 gather rays the checker reads 2.4-2.7 % against either
     # Blender's reference (bench/results/presets_sweep.md): HIGH keeps 32 and 1024. Before
     # the near field took many stratified points and solved both sides of a contact together
     # (the cube's foot corners read 1.5-2.3x Cycles): 0.058 / 0.033; before the transport took
@@ -97,7 +97,7 @@ def test_sky_world_matches_cycles(run_blender):
     print("\n" + _figures(r) + f"; world evaluation {st['world_seconds']} s")
     assert st["world_sun"] and st["lights"] == 2, st      # the sun disc as a sun light + the map
     # Measured at HIGH: NRMSE 0.0052 / 0.0035, median 0.0046 / 0.0017, rRMSE 0.0178 / 0.0132
-    # (3.4 / bpy 5.x), means within 0.5 %. (With the earlier near field, dbda0eb: rRMSE 0.025;
+    # (3.4 / bpy 5.x), means within 0.5 %. (With an earlier near field: rRMSE 0.025;
     # before the gather: 0.20.) The acceptance: 2 % rRMSE over every corner.
     assert e["nrmse"] <= 0.015
     assert e["rel_p50"] <= 0.01

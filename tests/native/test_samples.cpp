@@ -1,5 +1,5 @@
 // Link samples: the sender radiance a link carries is that of the leaves its clear visibility
-// rays leave from, not the area average of the polygon (surface root) they lie on (f53c3ab).
+// rays leave from, not the area average of the polygon (surface root) they lie on.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -74,9 +74,9 @@ TEST(LinkSamples, HiddenBrightPartOfAHalfCoveredCeilingPolygonDoesNotLightTheFlo
     // The ceiling above the lamp reads about rho * 10 = 8 (it sees almost only the lamp's top),
     // the rest of the ceiling well under 1. Links from the floor to the ceiling (cluster links
     // and element links from subdivided senders) must carry the radiance of the uncovered half
-    // their rays reach, not the middle polygon's average. Before f53c3ab the DRAFT floor read
-    // 0.155 against 0.114 (36 % bright); after, 0.116 / 0.115 (DRAFT) and 0.1134 / 0.1132
-    // (MEDIUM, whose finer links missed the leak before too).
+    // their rays reach, not the middle polygon's average. With the polygon's average the DRAFT
+    // floor read 0.155 against 0.114 (36 % bright); with the leaves, 0.116 / 0.115 (DRAFT) and
+    // 0.1134 / 0.1132 (MEDIUM, whose finer links missed the leak too).
     for (const char* preset : {"DRAFT", "MEDIUM"}) {
         int fa = -1, fb = -1, ca = -1, cb = -1;
         Solver a(lamp_under_ceiling(false, fa, ca), Settings::preset(preset));

@@ -358,8 +358,8 @@ TEST(Topology, DeadLinksDoNotCountTowardTheLinkCap) {
     Settings st = settings();
     Solver probe(room(true, true), st);
     probe.solve();
-    // Room for one solve and the history links the round trips keep alive (1.29x at 57c68a1,
-    // 1.30x+ once link samples name leaves), not for the dead links (over 1.2x more).
+    // Room for one solve and the history links the round trips keep alive (about 1.3x), not
+    // for the dead links (over 1.2x more).
     st.max_links = int64_t(1.4 * double(probe.links().size()));
     Solver ref(room(true, true), st);
     ref.solve();

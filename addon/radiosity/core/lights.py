@@ -1,20 +1,19 @@
 """Blender lights and world -> solver input, in Cycles' units (bpy-free).
 
-Cycles' conversions, measured with tests/blender/scripts/measure_light_units.py (a lone
-rho = 0.5 floor, COMBINED vertex-colour bake against the analytic irradiance; ratios within
-0.1 %; Blender 3.4.1 and PyPI bpy 5.0.1; tests/blender/test_light_units.py keeps the figures):
+Cycles' conversions (how they were measured: docs/decisions.md, "Reference and materials";
+tests/blender/test_light_units.py holds every supported Blender to them):
 
 * point, spot: radiant intensity I = power x colour / (4 pi) W/sr in both versions, irradiance
   I cos / d^2; with a radius, the light is a disk of that radius facing the shaded point
-  (radius 0.5 at 1.5 m: 0.90-0.98 of the point-light value, the same in 3.4 and 5.0);
+  (the same in 3.4 and 5.0);
 * spot cone: smoothstep over the outer (1 - cos(size/2)) x blend of the cosine to the axis;
   Blender 3.x also multiplies by that cosine (spot_cos_falloff), 5.0 does not;
 * sun: irradiance = strength x colour on a surface facing it (W/m^2), both versions;
 * area: one-sided Lambertian emitter of radiance power x colour / (4 A) in 3.4, and
   power x colour / (pi A) in 5.0 (A the light's area, pi/4 size_x size_y for disk/ellipse);
-  4.0 is taken as the boundary (not measured: no 4.x here);
+  4.0 is taken as the boundary;
 * world: radiance = Background colour x strength, both versions;
-* the light's diffuse factor: ignored by Cycles 3.4 and 5.0 (measured); we honour it, as EEVEE
+* the light's diffuse factor: ignored by Cycles 3.4 and 5.0; we honour it, as EEVEE
   does (default 1 = Cycles' result), and ray visibility "Diffuse" off means no diffuse light.
 """
 from dataclasses import dataclass
@@ -106,8 +105,8 @@ def area_light_mesh(shape, size_x, size_y, matrix, segments=DISK_SEGMENTS):
     area light facing the light's -Z: one quad for squares and rectangles; disks and ellipses
     as an equal-area octagon in three quads. Few large pieces matter: the solver's oracle judges
     each emitter piece's link on its own, so a light cut into thirty slivers refines what it
-    lights far less (measured: a 32-gon fan gave 6.6 % NRMSE on the lit floor, the octagon
-    ~2-3 %); the octagon's outline differs from the disk only in the penumbrae."""
+    lights far less (docs/decisions.md, "Reference and materials"); the octagon's outline
+    differs from the disk only in the penumbrae."""
     local = area_polygon_local(shape, size_x, size_y, segments)
     n = len(local)
     verts = local

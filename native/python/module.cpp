@@ -197,12 +197,53 @@ py::dict object_cost_dict(const Solver::ObjectCost& c) {
     return d;
 }
 
-}  // namespace
+// Solver.preview: with the objects of `moves` ({object_id: 4x4 matrix}, as move_object takes)
+// placed there, direct light re-traced and the rest as solved, the corners that change
+// ({object_id: (corner indices, (k,3) values)}; the others keep corner_radiance's value) and
+// what it re-traced. Changes nothing of the solution. `work`: as Solver::preview's (-1:
+// Settings.preview_work; 0: every point).
+py::tuple preview(PySolver& s, const py::dict& moves, int64_t work) {
+    s.solved();
+    std::map<int, std::array<double, 16>> mv;
+    for (const auto& item : moves) {
+        const int id = item.first.cast<int>();
+        const auto m = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(item.second);
+        if (!m || m.ndim() != 2 || m.shape(0) != 4 || m.shape(1) != 4) throw py::value_error("matrix must be 4x4");
+        std::copy(m.data(), m.data() + 16, mv[id].begin());
+    }
+    FinalGather::PreviewCounts k;
+    std::vector<CornerPatch> patches;
+    {
+        py::gil_scoped_release release;
+        patches = s.solver->preview(mv, &k, work);
+    }
+    py::dict out;
+    for (const CornerPatch& p : patches)  // three values a corner
+        out[py::int_(p.object)] = py::make_tuple(
+            py::array_t<int32_t>(py::ssize_t(p.corners.size()), p.corners.data()), rgb_array(p.values));
+    return py::make_tuple(out, preview_counts_dict(k));
+}
 
-PYBIND11_MODULE(radiosity_native, m) {
-    m.doc() = "Clustering-based hierarchical radiosity solver (native core of the Blender add-on)";
-    py::register_exception<Cancelled>(m, "Cancelled");
+// Solver.leaf_mesh: the solution's leaves of one object as a mesh with their values.
+py::dict leaf_mesh(const PySolver& s, int object, bool lighting_only) {
+    s.solved();
+    LeafMesh lm = s.solver->leaf_mesh(object, lighting_only);
+    py::array_t<double> verts({py::ssize_t(lm.vertices.size()), py::ssize_t(3)});
+    double* v = verts.mutable_data();
+    for (const Vec3& p : lm.vertices) *v++ = p.x, *v++ = p.y, *v++ = p.z;
+    py::array_t<float> vals({py::ssize_t(lm.values.size()), py::ssize_t(3)});
+    float* c = vals.mutable_data();
+    for (const Rgb& x : lm.values) *c++ = float(x.r), *c++ = float(x.g), *c++ = float(x.b);
+    py::dict d;
+    d["vertices"] = verts;
+    d["loop_totals"] = py::array_t<int32_t>(py::ssize_t(lm.loop_totals.size()), lm.loop_totals.data());
+    d["corner_verts"] = py::array_t<int32_t>(py::ssize_t(lm.corner_verts.size()), lm.corner_verts.data());
+    d["values"] = vals;
+    d["source_face"] = py::array_t<int32_t>(py::ssize_t(lm.source_face.size()), lm.source_face.data());
+    return d;
+}
 
+void bind_settings(py::module_& m) {
     py::class_<Settings>(m, "Settings")
         .def(py::init<>())
         .def_static("preset", &Settings::preset)
@@ -233,8 +274,10 @@ PYBIND11_MODULE(radiosity_native, m) {
         .def_readwrite("closure_refine_passes", &Settings::closure_refine_passes)
         .def_readwrite("seed", &Settings::seed)
         .def("validate", &Settings::validate);
+}
 
-    // Blender lights and world (native/include/radiosity/lights.h).
+// Blender lights and world (native/include/radiosity/lights.h).
+void bind_lights(py::module_& m) {
     py::enum_<LightDesc::Type>(m, "LightType")
         .value("POINT", LightDesc::Type::Point)
         .value("SPOT", LightDesc::Type::Spot)
@@ -270,7 +313,9 @@ PYBIND11_MODULE(radiosity_native, m) {
         }, py::arg("radiance"))
         .def_property_readonly("has_environment", [](const LightDesc& l) { return bool(l.env); })
         .def("validate", &LightDesc::validate);
+}
 
+void bind_scene(py::module_& m) {
     py::class_<SceneDesc>(m, "Scene")
         .def(py::init<>())
         .def("add_cluster", &SceneDesc::add_cluster, py::arg("name"), py::arg("parent") = -1)
@@ -283,11 +328,11 @@ PYBIND11_MODULE(radiosity_native, m) {
         .def_property_readonly("light_count", [](const SceneDesc& s) { return s.lights().size(); })
         .def_property_readonly("object_count", [](const SceneDesc& s) { return s.objects().size(); })
         .def_property_readonly("polygon_count", &SceneDesc::polygon_count);
+}
 
-    py::class_<PySolver>(m, "Solver")
-        .def(py::init<const SceneDesc&, const Settings&>(), py::arg("scene"), py::arg("settings"))
-        .def("solve", [](PySolver& s) { s.run(&Solver::solve); })
-        .def("start", [](PySolver& s) { s.start(&Solver::solve); })
+// Edits of the kept solution, applied by the next update().
+void bind_solver_edits(py::class_<PySolver>& cls) {
+    cls
         .def("move_object", [](PySolver& s, int object, const Arr<double>& m) {
             s.idle();
             if (m.ndim() != 2 || m.shape(0) != 4 || m.shape(1) != 4) throw py::value_error("matrix must be 4x4");
@@ -342,7 +387,12 @@ PYBIND11_MODULE(radiosity_native, m) {
         .def("set_light", [](PySolver& s, int index, const LightDesc& l) {
             s.idle();
             s.solver->set_light(index, l);
-        }, py::arg("index"), py::arg("light"))
+        }, py::arg("index"), py::arg("light"));
+}
+
+// Solves and updates, in the caller's thread or as a background job.
+void bind_solver_runs(py::class_<PySolver>& cls) {
+    cls
         .def("update", [](PySolver& s) { s.run(&Solver::update); })
         .def("start_update", [](PySolver& s) { s.start(&Solver::update); })
         .def("running", [](PySolver& s) { return s.job.running(); })
@@ -351,7 +401,12 @@ PYBIND11_MODULE(radiosity_native, m) {
         .def("wait", [](PySolver& s, double timeout) {
             py::gil_scoped_release release;
             return s.job.wait(timeout);
-        }, py::arg("timeout") = -1.0)
+        }, py::arg("timeout") = -1.0);
+}
+
+// What a solution gives: corner values, the live drag's, the leaves, stats and costs.
+void bind_solver_output(py::class_<PySolver>& cls) {
+    cls
         .def("corner_radiance", [](const PySolver& s, int object) {
             s.solved();
             return rgb_array(s.solver->corner_radiance(object));
@@ -361,48 +416,12 @@ PYBIND11_MODULE(radiosity_native, m) {
         // change ({object_id: (corner indices, (k,3) values)}; the others keep corner_radiance's
         // value) and what it re-traced. Changes nothing of the solution. `work`: as
         // Solver::preview's (-1: Settings.preview_work; 0: every point).
-        .def("preview", [](PySolver& s, const py::dict& moves, int64_t work) {
-            s.solved();
-            std::map<int, std::array<double, 16>> mv;
-            for (const auto& item : moves) {
-                const int id = item.first.cast<int>();
-                const auto m = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(item.second);
-                if (!m || m.ndim() != 2 || m.shape(0) != 4 || m.shape(1) != 4) throw py::value_error("matrix must be 4x4");
-                std::copy(m.data(), m.data() + 16, mv[id].begin());
-            }
-            FinalGather::PreviewCounts k;
-            std::vector<CornerPatch> patches;
-            {
-                py::gil_scoped_release release;
-                patches = s.solver->preview(mv, &k, work);
-            }
-            py::dict out;
-            for (const CornerPatch& p : patches)  // three values a corner
-                out[py::int_(p.object)] = py::make_tuple(
-                    py::array_t<int32_t>(py::ssize_t(p.corners.size()), p.corners.data()), rgb_array(p.values));
-            return py::make_tuple(out, preview_counts_dict(k));
-        }, py::arg("moves"), py::arg("work") = -1)
+        .def("preview", &preview, py::arg("moves"), py::arg("work") = -1)
         .def("corner_irradiance", [](const PySolver& s, int object) {
             s.solved();
             return rgb_array(s.solver->corner_irradiance(object));
         }, py::arg("object_id"))
-        .def("leaf_mesh", [](const PySolver& s, int object, bool lighting_only) {
-            s.solved();
-            LeafMesh lm = s.solver->leaf_mesh(object, lighting_only);
-            py::array_t<double> verts({py::ssize_t(lm.vertices.size()), py::ssize_t(3)});
-            double* v = verts.mutable_data();
-            for (const Vec3& p : lm.vertices) *v++ = p.x, *v++ = p.y, *v++ = p.z;
-            py::array_t<float> vals({py::ssize_t(lm.values.size()), py::ssize_t(3)});
-            float* c = vals.mutable_data();
-            for (const Rgb& x : lm.values) *c++ = float(x.r), *c++ = float(x.g), *c++ = float(x.b);
-            py::dict d;
-            d["vertices"] = verts;
-            d["loop_totals"] = py::array_t<int32_t>(py::ssize_t(lm.loop_totals.size()), lm.loop_totals.data());
-            d["corner_verts"] = py::array_t<int32_t>(py::ssize_t(lm.corner_verts.size()), lm.corner_verts.data());
-            d["values"] = vals;
-            d["source_face"] = py::array_t<int32_t>(py::ssize_t(lm.source_face.size()), lm.source_face.data());
-            return d;
-        }, py::arg("object_id"), py::arg("lighting_only") = false)
+        .def("leaf_mesh", &leaf_mesh, py::arg("object_id"), py::arg("lighting_only") = false)
         .def("radiance_at", [](const PySolver& s, int object, int face, std::array<double, 3> p) {
             s.solved();
             Rgb c = s.solver->radiance_at(object, face, {p[0], p[1], p[2]});
@@ -418,4 +437,21 @@ PYBIND11_MODULE(radiosity_native, m) {
             for (const Solver::ObjectCost& c : s.solver->object_costs()) out.append(object_cost_dict(c));
             return out;
         });
+}
+
+}  // namespace
+
+PYBIND11_MODULE(radiosity_native, m) {
+    m.doc() = "Clustering-based hierarchical radiosity solver (native core of the Blender add-on)";
+    py::register_exception<Cancelled>(m, "Cancelled");
+    bind_settings(m);
+    bind_lights(m);
+    bind_scene(m);
+    py::class_<PySolver> solver(m, "Solver");
+    solver.def(py::init<const SceneDesc&, const Settings&>(), py::arg("scene"), py::arg("settings"))
+        .def("solve", [](PySolver& s) { s.run(&Solver::solve); })
+        .def("start", [](PySolver& s) { s.start(&Solver::solve); });
+    bind_solver_edits(solver);
+    bind_solver_runs(solver);
+    bind_solver_output(solver);
 }

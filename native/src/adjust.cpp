@@ -106,7 +106,7 @@ void Solver::set_texture_pieces(int object, std::vector<TexturePiece> pieces, bo
 }
 
 // Bottom-up clean-up of elements no link refers to any more (3.4): memory for links
-// returns at once; element slots are marked dead (not reused).
+// returns at once; element slots are retired (Hierarchy::retire_below), not reused.
 void Solver::prune_elements() {
     std::vector<int> refs(h_.nodes.size(), 0);
     for (const Link& l : links_)
@@ -120,15 +120,7 @@ void Solver::prune_elements() {
         if (!n.children.empty() && kids_empty) {
             bool all_leaves = true;
             for (int c : h_.nodes[id].children) all_leaves &= h_.nodes[c].children.empty();
-            if (all_leaves) {
-                for (int c : h_.nodes[id].children) {
-                    h_.nodes[c].dead = true;
-                    std::vector<int>().swap(h_.nodes[c].in_links);
-                    std::vector<int>().swap(h_.nodes[c].out_links);
-                }
-                stats_.element_nodes -= int64_t(h_.nodes[id].children.size());
-                h_.nodes[id].children.clear();
-            }
+            if (all_leaves) stats_.element_nodes -= h_.retire_below(id);
         }
         return empty && h_.nodes[id].children.empty();
     };

@@ -1150,7 +1150,7 @@ int Hierarchy::add_object(const SceneDesc& scene, int oi, bool use_clustering) {
     return top;
 }
 
-int Hierarchy::remove_object(int oi) {
+Hierarchy::Removed Hierarchy::remove_object(int oi) {
     const std::vector<int> ids = object_nodes(oi);
     auto detach = [this](int id) {
         std::vector<int>& kids = nodes[nodes[id].parent].children;
@@ -1175,20 +1175,41 @@ int Hierarchy::remove_object(int oi) {
         for (int id : ids)
             if (nodes[id].parent == root) detach(id);
     }
+    int elements = 0;
     for (int id : ids) {
-        Node& n = nodes[id];
-        n.dead = true;
-        n.pocket = 0;
-        n.pocket_set = -1;
-        std::vector<int>().swap(n.in_links);
-        std::vector<int>().swap(n.out_links);
+        elements += retire(id);
+        nodes[id].pocket = 0;
+        nodes[id].pocket_set = -1;
     }
     for (Primitive& p : prims)
         if (p.object == oi) p.object = -1;
     rebuild_surface_order();
     for (int a = deepest; a >= 0; a = nodes[a].parent) refresh_cluster_geometry(a);
     refresh_surface_geom();  // its samplers' tree reads the clusters' areas and facing bins
-    return deepest;
+    return {deepest, elements};
+}
+
+int Hierarchy::retire(int id) {
+    Node& n = nodes[size_t(id)];
+    n.dead = true;
+    std::vector<int>().swap(n.in_links);
+    std::vector<int>().swap(n.out_links);
+    return n.is_cluster() ? 0 : 1;
+}
+
+int Hierarchy::retire_below(int id) {
+    int retired = 0;
+    std::vector<int> stack(nodes[size_t(id)].children.begin(), nodes[size_t(id)].children.end());
+    while (!stack.empty()) {
+        const int c = stack.back();
+        stack.pop_back();
+        std::vector<int>& kids = nodes[size_t(c)].children;
+        stack.insert(stack.end(), kids.begin(), kids.end());
+        kids.clear();
+        retired += retire(c);
+    }
+    nodes[size_t(id)].children.clear();
+    return retired;
 }
 
 int Hierarchy::side_met(int prim, const Vec3& d) const {

@@ -72,20 +72,7 @@ bool Solver::light_coarsen(const UpdateRun* u) {
     for (const Link& l : links_)
         if (!l.dead) referenced[l.src] = referenced[l.rcv] = 1;
     const std::vector<int> drop = direct_light_.coarsen(h_, light_sight(), threshold_, referenced);
-    for (int id : drop) {
-        std::vector<int> stack(h_.nodes[id].children.begin(), h_.nodes[id].children.end());
-        while (!stack.empty()) {
-            Node& c = h_.nodes[stack.back()];
-            stack.pop_back();
-            for (int k : c.children) stack.push_back(k);
-            c.children.clear();
-            c.dead = true;
-            std::vector<int>().swap(c.in_links);
-            std::vector<int>().swap(c.out_links);
-            --stats_.element_nodes;
-        }
-        h_.nodes[id].children.clear();
-    }
+    for (int id : drop) stats_.element_nodes -= h_.retire_below(id);
     if (!drop.empty()) collect_receivers(u);
     return !drop.empty();
 }

@@ -121,9 +121,9 @@ void Topology::remove_objects(const Context& c, AdjustSystem::Change& ch) {
     for (int r : removes) {
         const Aabb b = h.object_box(r);
         if (!b.empty()) ch.clips.push_back(b);
-        for (int id : h.object_nodes(r))
-            if (!h.nodes[id].is_cluster()) --c.stats.element_nodes;
-        ch.chains.push_back(changed_chain(h, ch, h.remove_object(r)));
+        const Hierarchy::Removed gone = h.remove_object(r);
+        c.stats.element_nodes -= gone.elements;
+        ch.chains.push_back(changed_chain(h, ch, gone.deepest));
         c.vis.remove_object(r);
         if (size_t(r) < tri_prim_.size()) tri_prim_[r].clear();
         blank_object(c.scene, c.edits, r);

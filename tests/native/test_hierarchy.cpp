@@ -72,6 +72,30 @@ TEST(Hierarchy, AppliedMaterialsAreThoseAFreshBuildGives) {
     for (size_t i = 0; i < h.nodes.size(); ++i) EXPECT_EQ(h.nodes[i].L.max(), 0.25) << i;
 }
 
+TEST(Hierarchy, RetiringCountsTheElementsAndFreesTheirLinks) {
+    // retire_below: every node below a twice-split element dies with empty link lists and the
+    // element becomes a leaf; remove_object counts the element nodes it retired.
+    SceneDesc s = two_box_room();
+    Hierarchy h;
+    h.build(s, true);
+    const int split = h.surfaces[0].root;
+    h.subdivide(split);
+    h.subdivide(h.nodes[split].children[1]);
+    const std::vector<int> below = {h.nodes[split].children[0], h.nodes[h.nodes[split].children[1]].children[2]};
+    for (int id : below) h.nodes[id].in_links = h.nodes[id].out_links = {0, 1};
+    EXPECT_EQ(h.retire_below(split), 8);
+    EXPECT_TRUE(h.nodes[split].is_leaf());
+    EXPECT_FALSE(h.nodes[split].dead);
+    for (int id : below) {
+        EXPECT_TRUE(h.nodes[id].dead) << id;
+        EXPECT_TRUE(h.nodes[id].in_links.empty() && h.nodes[id].out_links.empty()) << id;
+    }
+    int elements = 0;
+    for (int id : h.object_nodes(1)) elements += h.nodes[id].is_cluster() ? 0 : 1;
+    ASSERT_GT(elements, 0);
+    EXPECT_EQ(h.remove_object(1).elements, elements);
+}
+
 TEST(Hierarchy, SurfaceTotalsCountLiveSurfacesOnly) {
     // Hierarchy::surface_totals: area, and area x largest emission and reflectance channel,
     // over every oriented surface (a two-sided floor twice, a one-sided lamp once), in the

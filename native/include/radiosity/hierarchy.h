@@ -3,7 +3,7 @@
 // -> oriented surfaces (one per side of an input polygon) -> element quadtrees.
 // Hierarchy owns that tree and the geometry it is made of (primitives, surfaces, texture
 // pieces): it builds them from a SceneDesc and keeps them consistent as elements split and
-// objects move, come and go. It sets its nodes' materials (reflectance, emission) from the
+// are retired, and as objects move, come and go. It sets its nodes' materials (reflectance, emission) from the
 // scene; their radiance fields are the solver's to write.
 #pragma once
 #include <algorithm>
@@ -152,10 +152,22 @@ public:
     // the clusters' surface ranges and the geometry of the clusters above are rebuilt.
     // Returns the topmost node created (-1: no cluster was made, e.g. unclustered or no surface).
     int add_object(const SceneDesc& scene, int object, bool use_clustering);
-    // Takes an object out: its nodes die and leave the tree, so do collection clusters left
-    // empty (a fresh build makes no node for them), and its primitives belong to no object any
-    // more (object -1). Returns the deepest surviving cluster that held it (the root at worst).
-    int remove_object(int object);
+    // Takes an object out: its nodes are retired and leave the tree, so do collection clusters
+    // left empty (a fresh build makes no node for them), and its primitives belong to no object
+    // any more (object -1).
+    struct Removed {
+        int deepest = -1;  // the deepest surviving cluster that held it (the root at worst)
+        int elements = 0;  // element nodes retired (retire)
+    };
+    Removed remove_object(int object);
+    // --- Retiring nodes (un-refinement, removed objects). A retired node is marked dead (its
+    // slot is not reused, so ids stay stable) and its link lists are freed; its links are the
+    // link store's to kill. Each returns how many element nodes it retired: what the solver's
+    // element count (Stats::element_nodes) loses.
+    // Node `id` alone; its place in the tree is the caller's to change.
+    int retire(int id);
+    // Every node below `id`, which becomes a leaf.
+    int retire_below(int id);
     // Surfaces of removed objects keep their slot (ids stay stable) with a dead root.
     bool surface_dead(int s) const { return nodes[surfaces[s].root].dead; }
     // The side of primitive `prim` that a ray travelling along d arrives at: its front when d
@@ -181,7 +193,7 @@ public:
     // Whether light can pass between a and b at all: some pocket has surfaces below both.
     bool share_pocket(int a, int b) const;
     // A link's sample element, or the nearest ancestor of it that an un-refinement left alive
-    // (prune_elements marks un-refined elements dead; their radiance is no longer kept).
+    // (retire_below marks un-refined elements dead; their radiance is no longer kept).
     int live_element(int id) const {
         while (nodes[size_t(id)].dead && nodes[size_t(id)].parent >= 0 && !nodes[size_t(nodes[size_t(id)].parent)].is_cluster())
             id = nodes[size_t(id)].parent;

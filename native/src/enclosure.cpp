@@ -1,9 +1,37 @@
-// Enclosure (enclosure.h): the per-node table of enclosure answers and closure factors.
+// Enclosure (enclosure.h): the per-node table of enclosure answers and closure factors, and
+// the escape rays that decide the answers.
 #include "radiosity/enclosure.h"
 
+#include <utility>
+
+#include "radiosity/geometry.h"
 #include "radiosity/held_bytes.h"
+#include "radiosity/settings.h"
+#include "radiosity/visibility.h"
 
 namespace radiosity {
+
+namespace {
+
+// The escape rays of a node (Enclosure's "Deciding"), as segments. Deterministic per node key.
+void escape_rays(const Hierarchy& h, const Settings& settings, const Node& n,
+                 std::vector<std::pair<Vec3, Vec3>>& rays) {
+    const double far = 4.0 * h.scene_diag;
+    const double lift = 1e-5 * h.scene_diag;  // off its own surface; tnear 0 sees neighbours
+    Rng rng(Hierarchy::mix(settings.seed, n.key));
+    Vec3 u, v;
+    frame(n.normal, u, v);
+    rays.clear();
+    for (int r = 0; r < settings.closure_rays; ++r) {
+        double r1 = rng.next(), r2 = rng.next();
+        Vec3 d = cosine_direction(u, v, n.normal, r1, r2);
+        const double s2 = rng.next(), s1 = rng.next();  // named: the order is every compiler's
+        Vec3 o = n.poly.sample(s1, s2) + n.normal * lift;
+        rays.emplace_back(o, o + d * far);
+    }
+}
+
+}  // namespace
 
 void Enclosure::fit(const Hierarchy& h) {
     const size_t from = size(), to = h.nodes.size();
@@ -48,6 +76,28 @@ void Enclosure::follow_deciders(const Hierarchy& h) {
         const Node& n = h.nodes[i];
         if (!n.is_cluster() && !n.dead && decider_[i] >= 0) enclosed_[i] = enclosed_[size_t(decider_[i])];
     }
+}
+
+void Enclosure::decide(const Sight& s, int id, const std::vector<Aabb>* moved_boxes) {
+    std::vector<std::pair<Vec3, Vec3>> rays;
+    escape_rays(s.h, s.settings, s.h.nodes[size_t(id)], rays);
+    auto meets = [&](int r) { return meets_any(*moved_boxes, rays[r].first, rays[r].second); };
+    if (moved_boxes && enclosed(id) == 1) {
+        for (int r = 0; r < int(rays.size()); ++r)
+            if (meets(r) && !s.vis.occluded(rays[r].first, rays[r].second, 0.0)) {
+                reopen(id, r);
+                return;
+            }
+        return;  // every ray still blocked
+    }
+    const int witness = escape_ray(id);
+    if (moved_boxes && enclosed(id) == 0 && witness >= 0 && !meets(witness)) return;  // witness still clear
+    for (int r = 0; r < int(rays.size()); ++r)
+        if (!s.vis.occluded(rays[r].first, rays[r].second, 0.0)) {
+            record(id, r);
+            return;
+        }
+    record(id, -1);
 }
 
 }  // namespace radiosity

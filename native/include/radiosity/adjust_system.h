@@ -54,7 +54,7 @@ public:
         Refinement::Context refining;
         AtFirstBounce at_first_bounce;
         // Decides node `id`'s enclosure again, casting only the escape rays through `boxes`
-        // (all of them when null; Solver::decide_enclosed). Called from several threads at once.
+        // (all of them when null; Enclosure::decide). Called from several threads at once.
         std::function<void(int id, const std::vector<Aabb>* boxes)> decide_enclosed;
         // Ends a timed phase of the update (Solver::lap).
         std::function<void(const char* phase)> lap;

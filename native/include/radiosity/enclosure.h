@@ -4,10 +4,10 @@
 // indexed by node id, kept apart from the nodes because only the closure correction and the
 // output read it.
 //
-// Gathering owns it and sets the factors; the solver's escape rays decide the answers
-// (Solver::decide_enclosed), and an update's AdjustSystem has its deciders ask again after a
-// move. The gather plan copies the factors for its sweeps; the final gather reads both for
-// the output points of enclosed leaves.
+// It decides the answers itself, with each node's escape rays (decide), when a closure pass
+// meets a leaf not yet answered and when an update's AdjustSystem has its deciders ask again
+// after a move. Gathering owns it and sets the factors. The gather plan copies the factors for
+// its sweeps; the final gather reads both for the output points of enclosed leaves.
 //
 // An element split after its parent was answered takes the parent's answer, decider and
 // factors until it is a leaf in a closure pass itself: fit() gives them to every node made
@@ -22,6 +22,9 @@
 #include "radiosity/hierarchy.h"
 
 namespace radiosity {
+
+struct Settings;
+class Visibility;
 
 class Enclosure {
 public:
@@ -42,18 +45,21 @@ public:
     // move only the rays that pass through a moved object's old or new box are cast again.
     int decider(int node) const { return at(decider_, node, -1); }
     int escape_ray(int node) const { return at(escape_ray_, node, int8_t(-1)); }
-    // The node decided with its own escape rays: `open_ray` the first that found open space,
-    // -1 when none did (enclosed).
-    void decide(int node, int open_ray) {
-        decider_[size_t(node)] = node;
-        enclosed_[size_t(node)] = open_ray < 0 ? 1 : 0;
-        escape_ray_[size_t(node)] = int8_t(open_ray);
-    }
-    // An enclosed decider's ray `ray` finds open space after a move.
-    void open(int node, int ray) {
-        enclosed_[size_t(node)] = 0;
-        escape_ray_[size_t(node)] = int8_t(ray);
-    }
+
+    // --- Deciding. A node's escape rays leave from random points of its polygon, lifted off
+    // it, in cosine-distributed directions, and reach beyond the scene; the same per node key.
+    // What they are cast into: the hierarchy (the node's polygon, the scene's size), Embree's
+    // scene and the settings (seed, rays per node). Held for one call only.
+    struct Sight {
+        const Hierarchy& h;
+        const Visibility& vis;
+        const Settings& settings;
+    };
+    // Decides (or, after a move, decides again) whether node `id`'s escape rays find open
+    // space, and makes it its own decider. With `moved_boxes`, it was decided before and did
+    // not move: only rays through a moved object's old or new box can have changed outcome.
+    // Called from several threads at once, each for its own node (fitted already).
+    void decide(const Sight& s, int id, const std::vector<Aabb>* moved_boxes);
     // The answer forgotten (the decider moved: all its rays are cast again).
     void forget(int node) { enclosed_[size_t(node)] = -1; }
     // The deciders of the live elements' known answers, ascending.
@@ -69,6 +75,18 @@ public:
     void set_factors(int node, const ClosureFactors& f) { factors_[size_t(node)] = f; }
 
 private:
+    // The node decided with its own escape rays: `open_ray` the first that found open space,
+    // -1 when none did (enclosed).
+    void record(int node, int open_ray) {
+        decider_[size_t(node)] = node;
+        enclosed_[size_t(node)] = open_ray < 0 ? 1 : 0;
+        escape_ray_[size_t(node)] = int8_t(open_ray);
+    }
+    // An enclosed decider's ray `ray` finds open space after a move.
+    void reopen(int node, int ray) {
+        enclosed_[size_t(node)] = 0;
+        escape_ray_[size_t(node)] = int8_t(ray);
+    }
     template <class T, class U>
     static T at(const std::vector<U>& v, int node, T none) {
         return size_t(node) < v.size() ? T(v[size_t(node)]) : none;

@@ -225,10 +225,6 @@ private:
         bool operator==(const LinkShape& o) const { return links == o.links && nodes == o.nodes && elements == o.elements; }
     };
     LinkShape link_shape() const { return {links_.size(), h_.nodes.size(), stats_.element_nodes}; }
-    // Whether a node's escape rays find open space (Enclosure::enclosed); with `moved_boxes`,
-    // only the rays through them are cast again.
-    void escape_rays(const Node& n, std::vector<std::pair<Vec3, Vec3>>& rays) const;
-    void decide_enclosed(int id, const std::vector<Aabb>* moved_boxes);
     // adjust.cpp
     // move_object's matrix as a placement in the internal frame (InputError when not rigid).
     Rigid pose_of(int object, const double m[16]) const;

@@ -3,8 +3,8 @@
 // -> oriented surfaces (one per side of an input polygon) -> element quadtrees.
 // Hierarchy owns that tree and the geometry it is made of (primitives, surfaces, texture
 // pieces): it builds them from a SceneDesc and keeps them consistent as elements split and
-// are retired, and as objects move, come and go. It sets its nodes' materials (reflectance, emission) from the
-// scene; their radiance fields are the solver's to write.
+// are retired, and as objects move, come and go. It sets its nodes' materials (reflectance,
+// emission) from the scene; their radiance fields are the solver's to write.
 #pragma once
 #include <algorithm>
 #include <array>

@@ -111,7 +111,7 @@ void Solver::prune_elements() {
     std::vector<int> refs(h_.nodes.size(), 0);
     for (const Link& l : links_)
         if (!l.dead) ++refs[l.src], ++refs[l.rcv];
-    direct_light_.keep(h_, light_sight(), threshold_, refs);  // children the direct light needs
+    direct_light_.keep(h_, light_sight(), tolerances_.threshold, refs);  // children the direct light needs
     std::function<bool(int)> prune = [&](int id) -> bool {  // true: the subtree has no reference
         Node& n = h_.nodes[id];
         bool empty = refs[id] == 0;
@@ -143,9 +143,9 @@ std::vector<float> Solver::snapshot() const {
 
 std::vector<char> Solver::changed_senders(const std::vector<float>& snap) const {
     // A judgement compares errors proportional to the sender's radiance (and its range) with
-    // threshold_: a relative change of a few percent can tip it, a change of a sender too dim
+    // tolerances_.threshold: a relative change of a few percent can tip it, a change of a sender too dim
     // to matter cannot. Nodes made since the snapshot count as changed.
-    const double floor = 0.01 * threshold_, rel = 0.02;
+    const double floor = 0.01 * tolerances_.threshold, rel = 0.02;
     std::vector<char> d(h_.nodes.size(), 1);
     const size_t known = std::min(h_.nodes.size(), snap.size() / 6);
     parallel_for(known, settings_.threads, [&](size_t i) {
@@ -244,7 +244,7 @@ bool Solver::update_materials(Control* control) {
         h_.apply_materials(scene_);
         compute_reference();  // the threshold follows the new emission and reflectance
     }
-    if (L_ref_ <= 0 || stats_.no_emitters) {
+    if (tolerances_.reference <= 0 || stats_.no_emitters) {
         // Dark now: a zero reference makes the oracle's threshold 0, and the update would
         // refine every link to the caps. Dark before: solve() made no links,
         // so there is nothing to update. solve() handles both.
@@ -287,7 +287,7 @@ void Solver::refit_tolerances() {
     if (box.empty() || !(box.diagonal() > 0)) return;
     h_.scene_box = box;
     h_.scene_diag = box.diagonal();
-    min_area_ = settings_.min_area_fraction * h_.scene_diag * h_.scene_diag;
+    tolerances_.min_area = settings_.min_area_fraction * h_.scene_diag * h_.scene_diag;
     fit_ray_epsilon();
 }
 
@@ -339,13 +339,13 @@ bool Solver::update_adjust(UpdateRun& u, Control* control) {
     if (u.topology) {
         // Area and emission changed: the reference radiance, and with it the oracle's
         // threshold. Beyond the tolerance changed_senders() uses, every link is judged again.
-        const double old_threshold = threshold_;
+        const double old_threshold = tolerances_.threshold;
         compute_reference();
-        if (L_ref_ <= 0) {
+        if (tolerances_.reference <= 0) {
             solve_instead(control, nullptr);
             return false;
         }
-        u.rejudge_all = std::fabs(threshold_ - old_threshold) > 0.02 * old_threshold;
+        u.rejudge_all = std::fabs(tolerances_.threshold - old_threshold) > 0.02 * old_threshold;
         lap("topology");
     }
     // X: the moved objects' nodes and the clusters above them (their geometry changed).
@@ -451,7 +451,7 @@ void Solver::update_resolve(const UpdateRun& u) {
 void Solver::update_judged(const UpdateRun& u, int round, int64_t judged_from, const std::vector<char>& moved_light,
                            std::vector<int>& ids, std::vector<int>& unsettle) const {
     const std::vector<float> judged_now = round == 0 ? judging_radiance(snapshot()) : std::vector<float>();
-    const double floor = 0.01 * threshold_;
+    const double floor = 0.01 * tolerances_.threshold;
     for (size_t i = 0; i < links_.size(); ++i) {
         const Link& l = links_[i];
         if (!l.active || !(int64_t(i) >= judged_from || l.rejudge || moved_light[l.src])) continue;

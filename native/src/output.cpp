@@ -65,7 +65,7 @@ std::vector<float> Solver::gathered_or_leaves(int object, std::vector<float> gat
 }
 
 void Solver::final_gather(double from, double to, const FinalGather::Moves* moves) {
-    if (settings_.gather_rays <= 0 || L_ref_ <= 0) {
+    if (settings_.gather_rays <= 0 || tolerances_.reference <= 0) {
         output_.clear();
         return;
     }

@@ -27,7 +27,7 @@ void Solver::set_progress(double f) const {
 void Solver::solve(Control* control) {
     control_ = control;
     solved_ = false;
-    light_known_ = false;
+    tolerances_.light_known = false;
     settle_preview();
     preview_saved_.reset();  // (a drag's memory, made again at the next drag)
     const auto t0 = Clock::now();
@@ -46,7 +46,7 @@ void Solver::solve(Control* control) {
     edits_.take_moves();      // not applied: a move reaches a full solve as a placement (solve_instead)
     edits_.take_materials();  // in scene_ already
     output_.clear();  // output.cpp: traced at the end, when there is light
-    if (L_ref_ <= 0) {
+    if (tolerances_.reference <= 0) {
         stats_.no_emitters = true;
         stats_.warnings.push_back("the scene has no emitter: every radiance is 0");
     } else {
@@ -86,7 +86,7 @@ void Solver::build_scene() {
         if (h_.prims[pi].object >= 0) prims_of[size_t(h_.prims[pi].object)].push_back(int(pi));  // -1: skipped
     topology_.build_geometry(scene_, h_, *vis_, prims_of);
     stats_.element_nodes = int64_t(h_.surfaces.size());
-    min_area_ = settings_.min_area_fraction * h_.scene_diag * h_.scene_diag;
+    tolerances_.min_area = settings_.min_area_fraction * h_.scene_diag * h_.scene_diag;
 
     // Placements from earlier moves survive a full re-solve.
     edits_.fit_poses(scene_.objects().size());
@@ -136,7 +136,7 @@ bool Solver::link_and_refine() {
         iterate_to(nullptr, loose, round_sweeps, 0.2 + 0.6 * round / settings_.max_refine_rounds,
                    0.2 + 0.6 * (round + 0.5) / settings_.max_refine_rounds);
         lap("gather");
-        light_known_ = true;
+        tolerances_.light_known = true;
         ++stats_.refine_rounds;
         const LinkShape was = link_shape();
         bool touched = false;
@@ -210,8 +210,8 @@ void Solver::compute_reference() {
     const double rho_mean = t.area > 0 ? std::min(t.reflectance / t.area, 0.95) : 0.0;
     // The Blender lights and world, added to the emitting surfaces.
     const double ae = t.emission + DirectLight::power(scene_, h_, t.area) * std::max(rho_mean, 0.1);
-    L_ref_ = t.area > 0 ? ae / t.area / (1.0 - rho_mean) : 0.0;
-    threshold_ = settings_.error_threshold * L_ref_;
+    tolerances_.reference = t.area > 0 ? ae / t.area / (1.0 - rho_mean) : 0.0;
+    tolerances_.threshold = settings_.error_threshold * tolerances_.reference;
 }
 
 void Solver::compute_stats() {

@@ -16,7 +16,7 @@ void Solver::collect_receivers(const UpdateRun* u) {
 void Solver::iterate_to(const UpdateRun* u, double tolerance, int max_iterations, double p0, double p1,
                         bool keep_plan) {
     if (!keep_plan) collect_receivers(u);
-    gathering_.iterate_to(gather_context(), tolerance, max_iterations, L_ref_, [this] { check_cancel(); },
+    gathering_.iterate_to(gather_context(), tolerance, max_iterations, tolerances_.reference, [this] { check_cancel(); },
                           [&](double f) { set_progress(p0 + (p1 - p0) * f); });
 }
 

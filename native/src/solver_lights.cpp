@@ -52,7 +52,7 @@ void Solver::light_update(const UpdateRun& u) {
 bool Solver::light_refine(const UpdateRun* u) {
     if (scene_.lights().empty()) return false;
     if (direct_light_.take_recheck()) light_coarsen(u);
-    return direct_light_.refine(h_, light_sight(), threshold_, gathering_.leaves(), [this](int id) {
+    return direct_light_.refine(h_, light_sight(), tolerances_.threshold, gathering_.leaves(), [this](int id) {
         // A shadow's edge splits below the area floor too (may_split_below_floor): a floor
         // leaf across it sends its half-lit average under the object that casts it.
         const Oracle o = oracle();  // made here: the element count grows with each split
@@ -71,7 +71,7 @@ bool Solver::light_coarsen(const UpdateRun* u) {
     std::vector<char> referenced(h_.nodes.size(), 0);
     for (const Link& l : links_)
         if (!l.dead) referenced[l.src] = referenced[l.rcv] = 1;
-    const std::vector<int> drop = direct_light_.coarsen(h_, light_sight(), threshold_, referenced);
+    const std::vector<int> drop = direct_light_.coarsen(h_, light_sight(), tolerances_.threshold, referenced);
     for (int id : drop) stats_.element_nodes -= h_.retire_below(id);
     if (!drop.empty()) collect_receivers(u);
     return !drop.empty();

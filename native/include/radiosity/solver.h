@@ -155,7 +155,7 @@ public:
     const Enclosure& enclosure() const { return gathering_.enclosure(); }
     const Settings& settings() const { return settings_; }
     const SceneDesc& scene() const { return scene_; }
-    double reference_radiance() const { return L_ref_; }
+    double reference_radiance() const { return tolerances_.reference; }
 
     // --- Lights and world (solver_lights.cpp, leaf_mesh.cpp).
     // Replaces light `index` of the scene; the next update() recomputes the direct light.
@@ -188,7 +188,7 @@ private:
     Oracle oracle() const {
         return Oracle(h_, settings_, direct_light_, threshold_state(), stats_.element_nodes);
     }
-    Oracle::Threshold threshold_state() const { return {threshold_, L_ref_, min_area_, light_known_}; }
+    const Oracle::Threshold& threshold_state() const { return tolerances_; }
     // solver.cpp: the refinement (refinement.h) on the solver's hierarchy, links and stats with
     // the threshold state of now and the update's replay boxes (`u`), so one is made for each
     // step that links, splits or un-refines (its Context alone for the AdjustSystem, which
@@ -340,11 +340,12 @@ private:
     MemoryBudget memory_;          // the memory cap and what the solve holds (memory_budget.h)
     Stats stats_;
     Control* control_ = nullptr;
-    double L_ref_ = 0, threshold_ = 0, min_area_ = 0;
-    // Whether the nodes' radiance L estimates the light (false from a solve's start until
-    // its first gathering): only then may a link's threshold follow its receiver's light.
-    // A member: it is the solution's, set by a solve and still true in every update after.
-    bool light_known_ = false;
+    // The oracle's threshold state: the reference radiance (compute_reference), the
+    // scene-wide threshold made from it, the element area floor (refit_tolerances), and
+    // whether the nodes' radiance L estimates the light yet (false from a solve's start until
+    // its first gathering: only then may a link's threshold follow its receiver's light). The
+    // solution's: set by a solve and kept by every update after it.
+    Oracle::Threshold tolerances_;
     bool solved_ = false;
     PendingEdits edits_;  // moves and materials since the last update, and each object's placement
     Topology topology_;   // objects added and removed, and each object's triangles in Embree (topology.h)

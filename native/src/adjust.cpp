@@ -260,9 +260,6 @@ AdjustSystem Solver::adjust_system(const Change& ch, const UpdateRun& u) {
                          [this](const std::function<void()>& judge, const std::vector<char>* only) {
                              at_first_bounce(judge, only);
                          },
-                         [this](int id, const std::vector<Aabb>* boxes) {
-                             gathering_.enclosure().decide({h_, *vis_, settings_}, id, boxes);
-                         },
                          [this](const char* phase) { lap(phase); }});
 }
 

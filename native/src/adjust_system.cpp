@@ -281,7 +281,7 @@ void AdjustSystem::redecide_enclosures() {
         const int d = deciders[k];
         const bool moved = ch.moved[h.nodes[d].object];
         if (moved) e.forget(d);
-        c_.decide_enclosed(d, moved ? nullptr : &ch.clips);
+        e.decide({h, c_.refining.vis, c_.settings}, d, moved ? nullptr : &ch.clips);
     }, 16);
     e.follow_deciders(h);
 }

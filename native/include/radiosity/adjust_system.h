@@ -45,7 +45,7 @@ public:
     struct Context {
         Hierarchy& h;
         LinkStore& links;
-        Enclosure& enclosure;  // the answers decide_enclosed writes (Gathering::enclosure)
+        Enclosure& enclosure;  // the answers it decides again (Gathering::enclosure)
         const Settings& settings;
         Stats& stats;
         const Change& change;
@@ -53,9 +53,6 @@ public:
         // state of now (Solver::refinement_context).
         Refinement::Context refining;
         AtFirstBounce at_first_bounce;
-        // Decides node `id`'s enclosure again, casting only the escape rays through `boxes`
-        // (all of them when null; Enclosure::decide). Called from several threads at once.
-        std::function<void(int id, const std::vector<Aabb>* boxes)> decide_enclosed;
         // Ends a timed phase of the update (Solver::lap).
         std::function<void(const char* phase)> lap;
     };

@@ -143,8 +143,8 @@ std::vector<float> Solver::snapshot() const {
 
 std::vector<char> Solver::changed_senders(const std::vector<float>& snap) const {
     // A judgement compares errors proportional to the sender's radiance (and its range) with
-    // tolerances_.threshold: a relative change of a few percent can tip it, a change of a sender too dim
-    // to matter cannot. Nodes made since the snapshot count as changed.
+    // the threshold: a relative change of a few percent can tip it, a change of a sender too
+    // dim to matter cannot. Nodes made since the snapshot count as changed.
     const double floor = 0.01 * tolerances_.threshold, rel = 0.02;
     std::vector<char> d(h_.nodes.size(), 1);
     const size_t known = std::min(h_.nodes.size(), snap.size() / 6);

@@ -16,8 +16,8 @@ void Solver::collect_receivers(const UpdateRun* u) {
 void Solver::iterate_to(const UpdateRun* u, double tolerance, int max_iterations, double p0, double p1,
                         bool keep_plan) {
     if (!keep_plan) collect_receivers(u);
-    gathering_.iterate_to(gather_context(), tolerance, max_iterations, tolerances_.reference, [this] { check_cancel(); },
-                          [&](double f) { set_progress(p0 + (p1 - p0) * f); });
+    gathering_.iterate_to(gather_context(), tolerance, max_iterations, tolerances_.reference,
+                          [this] { check_cancel(); }, [&](double f) { set_progress(p0 + (p1 - p0) * f); });
 }
 
 // The closure correction (Gathering::set_closure) on the links as they stand, then the links

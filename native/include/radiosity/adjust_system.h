@@ -4,7 +4,7 @@
 // changed box are evaluated again (replayed rays), and enclosures are decided again where escape
 // rays meet a changed box. It owns nothing: the hierarchy, links, enclosure table, settings and
 // stats are the solver's, handed in a Context for one update with the Change it works from, and
-// with the solver's first-bounce judging, enclosure test and phase timer as callbacks.
+// with the solver's first-bounce judging and phase timer as callbacks.
 #pragma once
 #include <functional>
 #include <map>

@@ -2,7 +2,7 @@
 // links, push irradiance down the hierarchy, reflect it at the leaves and pull radiance back up;
 // they run on a gather plan (gather_plan.h) it owns, made from the leaf elements it lists. It
 // also owns the enclosure table (enclosure.h) and sets each leaf's closure factors there, which
-// the sweeps apply; whether a leaf is enclosed is the solver's escape rays' to write. The
+// the sweeps apply; whether a leaf is enclosed the table decides with its escape rays. The
 // hierarchy, links, direct light and stats stay the solver's, handed in at each call; the
 // solver says when they changed.
 #pragma once
@@ -39,8 +39,8 @@ public:
     const std::vector<int>& leaves() const { return leaves_; }
     std::vector<int> enclosed_leaves() const;
     // Per node: whether it is enclosed, and its closure factors (set_closure). The answers are
-    // written by the solver's escape rays and an update's AdjustSystem; a full solve, which
-    // builds the hierarchy anew, clears it.
+    // decided by Enclosure::decide, asked by the closure pass and an update's AdjustSystem; a
+    // full solve, which builds the hierarchy anew, clears it.
     const Enclosure& enclosure() const { return enclosure_; }
     Enclosure& enclosure() { return enclosure_; }
     // Heap bytes held: the leaf list, the enclosure table and the plan (GatherPlan::bytes, at

@@ -21,7 +21,7 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 
 void Solver::move_object(int object, const double m[16]) {
     settle_preview();
-    if (!solved_) throw std::logic_error("move_object: solve the scene first");
+    if (!solved()) throw std::logic_error("move_object: solve the scene first");
     topology_.check_live(scene_, object, "move_object");
     edits_.record_move(object, pose_of(object, m));
 }
@@ -33,12 +33,12 @@ int Solver::add_cluster(const std::string& name, int parent) {
 
 int Solver::add_object(ObjectDesc object) {
     settle_preview();
-    return topology_.add_object(scene_, std::move(object), solved_);
+    return topology_.add_object(scene_, std::move(object), solved());
 }
 
 void Solver::remove_object(int object) {
     settle_preview();
-    topology_.remove_object(scene_, edits_, object, solved_);
+    topology_.remove_object(scene_, edits_, object, solved());
 }
 
 Rigid Solver::pose_of(int object, const double m[16]) const {
@@ -175,12 +175,12 @@ std::vector<float> Solver::judging_radiance(const std::vector<float>& snap) cons
 void Solver::update(Control* control) {
     // The pipeline of an incremental update; each phase is a function below. A phase that
     // finds the update cannot be incremental solves in full instead and returns false.
-    if (!solved_) {
+    settle_preview();
+    if (!solved()) {
         solve(control);
         return;
     }
-    settle_preview();
-    preview_saved_.reset();  // (a drag's memory, made again at the next drag)
+    drag_.forget();  // (a drag's memory, made again at the next drag)
     UpdateRun u;
     u.topology = topology_.pending();
     u.materials_changed = edits_.materials();

@@ -24,161 +24,6 @@
 
 namespace radiosity {
 
-// The hierarchy's geometry that placing objects for a preview rewrites
-// (Hierarchy::place_objects, not whole): their nodes, the clusters above them, their primitives
-// and the surface tables where their surfaces and those clusters are. Saved before a drag's
-// first step places them, put back when anything but the next step of the same drag comes
-// (Solver::settle_preview): placing them again from the rest geometry would not give the same
-// bits (children's normals are their parents' when built, recomputed when placed). Between
-// two steps the hierarchy holds the last step's placement, and this copy is the solution's.
-class SavedGeometry {
-public:
-    // `prims`: per object of `objects`, its primitives.
-    void save(const Hierarchy& h, const std::vector<int>& objects, std::vector<std::vector<int>> prims, int threads) {
-        objects_ = objects;
-        object_prims_ = std::move(prims);
-        const std::vector<std::vector<int>>& prims_of = object_prims_;
-        boxes_.clear();
-        for (size_t j = 0; j < objects.size(); ++j) boxes_.push_back(h.object_box(objects[j], &prims_of[j]));
-        ids_.clear();
-        // (A stamp per node for this save: objects in one collection share the clusters above
-        // them, and an unclustered object's primitives' subtrees are its nodes.)
-        if (stamp_.size() < h.nodes.size()) {
-            stamp_.resize(h.nodes.size(), 0);
-            slot_.resize(h.nodes.size(), -1);
-        }
-        if (++generation_ == 0) {
-            std::fill(stamp_.begin(), stamp_.end(), 0);
-            generation_ = 1;
-        }
-        prims_.clear();
-        geoms_.clear();
-        summaries_.clear();
-        samplers_.clear();
-        whole_ = false;
-        // (Each object's nodes listed in parallel: a walk of its subtree, a cache miss a node.)
-        std::vector<std::vector<int>> own(objects.size());
-        parallel_for(objects.size(), threads, [&](size_t j) { own[j] = h.object_nodes(objects[j]); }, 1);
-        for (size_t j = 0; j < objects.size(); ++j) {
-            const int o = objects[j];
-            for (int id : own[j]) keep(id);
-            for (int a : h.clusters_above(o)) keep(a);
-            const int top = h.object_node[size_t(o)];
-            const bool clustered = top >= 0 && h.nodes[size_t(top)].is_cluster();
-            if (clustered)
-                for (int i = h.nodes[size_t(top)].surf_begin; i < h.nodes[size_t(top)].surf_end; ++i)
-                    geoms_.emplace_back(i, h.surface_geom[size_t(i)]);
-            else
-                whole_ = true;
-            for (int pi : prims_of[j]) {
-                const Primitive& pr = h.prims[size_t(pi)];
-                prims_.emplace_back(size_t(pi), pr.poly);
-                if (clustered) continue;  // (its cluster's subtree holds its surfaces)
-                for (int side : {pr.front, pr.back})
-                    if (side >= 0) add_subtree(h, h.surfaces[size_t(side)].root);
-            }
-        }
-        nodes_.resize(ids_.size());
-        parallel_for(ids_.size(), threads, [&](size_t k) {
-            const Node& n = h.nodes[size_t(ids_[k])];
-            nodes_[k] = {n.poly, n.normal, n.center, n.box, n.radius, n.area, n.rho_max, n.W, n.is_cluster()};
-        }, 512);
-        for (size_t k = 0; k < ids_.size(); ++k) {
-            if (!nodes_[k].cluster) continue;
-            const int id = ids_[k];
-            summaries_.emplace_back(id, h.facing_summary[size_t(id)]);
-            for (int c = h.sampler_first[size_t(id)]; c < h.sampler_first[size_t(id) + 1]; ++c)
-                samplers_.emplace_back(c, h.sampler_records[size_t(c)]);
-        }
-        area_prefix_.assign(h.area_prefix.begin(), h.area_prefix.end());
-        if (whole_) {  // (an unclustered object: placed whole)
-            surface_geom_ = h.surface_geom;
-            facing_summary_ = h.facing_summary;
-            sampler_records_ = h.sampler_records;
-        }
-    }
-    void restore(Hierarchy& h, int threads) {
-        holds_drag_ = false;
-        parallel_for(ids_.size(), threads, [&](size_t k) {
-            const Saved& v = nodes_[k];
-            Node& n = h.nodes[size_t(ids_[k])];
-            n.poly = v.poly;
-            n.normal = v.normal;
-            n.center = v.center;
-            n.box = v.box;
-            n.radius = v.radius;
-            n.area = v.area;
-            n.rho_max = v.rho_max;
-            n.W = v.W;
-        }, 512);
-        for (const auto& [i, poly] : prims_) h.prims[i].poly = poly;
-        h.area_prefix.swap(area_prefix_);
-        if (whole_) {
-            h.surface_geom.swap(surface_geom_);
-            h.facing_summary.swap(facing_summary_);
-            h.sampler_records.swap(sampler_records_);
-            return;
-        }
-        for (auto& [i, g] : geoms_) h.surface_geom[size_t(i)] = g;
-        for (auto& [id, f] : summaries_) h.facing_summary[size_t(id)] = std::move(f);
-        for (const auto& [k, sc] : samplers_) h.sampler_records[size_t(k)] = sc;
-    }
-
-    // The hierarchy holds a drag's placement of objects() (set by the step that places them).
-    bool holds_drag() const { return holds_drag_; }
-    void set_holds_drag() { holds_drag_ = true; }
-    // The objects saved, in the order given, with their primitives and their boxes as solved.
-    const std::vector<int>& objects() const { return objects_; }
-    const std::vector<std::vector<int>>& prims() const { return object_prims_; }
-    const Aabb& box(size_t j) const { return boxes_[j]; }
-    // A saved node's polygon and normal as solved.
-    const Poly& poly(int node) const { return nodes_[size_t(slot_[size_t(node)])].poly; }
-    const Vec3& normal(int node) const { return nodes_[size_t(slot_[size_t(node)])].normal; }
-
-private:
-    void keep(int id) {
-        if (id < 0 || stamp_[size_t(id)] == generation_) return;
-        stamp_[size_t(id)] = generation_;
-        slot_[size_t(id)] = int(ids_.size());
-        ids_.push_back(id);
-    }
-    void add_subtree(const Hierarchy& h, int root) {
-        std::vector<int> stack{root};
-        while (!stack.empty()) {
-            const int id = stack.back();
-            stack.pop_back();
-            keep(id);
-            for (int c : h.nodes[size_t(id)].children) stack.push_back(c);
-        }
-    }
-    struct Saved {
-        Poly poly;
-        Vec3 normal, center;
-        Aabb box;
-        double radius, area, rho_max;
-        decltype(Node::W) W;
-        bool cluster;
-    };
-    std::vector<int> ids_;      // the nodes saved
-    std::vector<Saved> nodes_;  // ... and what was saved of each
-    std::vector<uint32_t> stamp_;  // per node: the save that took it
-    std::vector<int> slot_;        // ... and its place in ids_
-    uint32_t generation_ = 0;
-    bool holds_drag_ = false;
-    std::vector<int> objects_;
-    std::vector<std::vector<int>> object_prims_;
-    std::vector<Aabb> boxes_;
-    std::vector<std::pair<size_t, Poly>> prims_;
-    std::vector<std::pair<int, SurfaceGeom>> geoms_;
-    std::vector<std::pair<int, Hierarchy::FacingSummary>> summaries_;
-    std::vector<std::pair<int, Hierarchy::SamplerRecord>> samplers_;
-    std::vector<double> area_prefix_;
-    bool whole_ = false;
-    std::vector<SurfaceGeom> surface_geom_;
-    std::vector<Hierarchy::FacingSummary> facing_summary_;
-    std::vector<Hierarchy::SamplerRecord> sampler_records_;
-};
-
 namespace {
 
 // The lists one thread reuses from point to point in a preview.
@@ -571,7 +416,7 @@ struct PlacedPolygon {
 
 // The dragged objects' polygons where the preview places them, carried from where the solution
 // has them (`saved`: their geometry as solved, and their primitives).
-std::vector<PlacedPolygon> placed_polygons(const Hierarchy& h, const FinalGather::Preview& p, const SavedGeometry& saved,
+std::vector<PlacedPolygon> placed_polygons(const Hierarchy& h, const FinalGather::Preview& p, const LiveDrag& saved,
                                            int threads) {
     // As DirectLight::find_contacts: coplanar within 1e-7 of the scene, facing the other way, the point inside.
     const double tol = 1e-7 * h.scene_diag;
@@ -639,23 +484,26 @@ std::vector<CornerPatch> preview_patches(const SceneDesc& scene, const std::vect
 
 std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 16>>& moves,
                                          FinalGather::PreviewCounts* counts, int64_t work) {
-    if (!solved_) throw std::logic_error("preview: solve the scene first");
+    if (!solved()) throw std::logic_error("preview: solve the scene first");
     if (settings_.gather_rays <= 0 || !output_.traced())
         throw std::logic_error("preview: needs the final gather's trace (gather_rays > 0)");
     const std::vector<std::pair<int, Rigid>> placed = preview_placements(moves);
     std::vector<int> objects;
     for (const auto& op : placed) objects.push_back(op.first);
-    if (!preview_saved_) preview_saved_ = std::make_shared<SavedGeometry>();
-    SavedGeometry& saved = *preview_saved_;
+    LiveDrag& saved = drag_;
     // A step that places the objects the last step placed goes on from there; any other puts
     // them back first.
-    if (saved.holds_drag() && saved.objects() != objects) settle_preview();
+    if (saved.holds() && saved.objects() != objects) settle_preview();
     if (counts) *counts = FinalGather::PreviewCounts{};
     if (placed.empty()) return {};
-    if (!saved.holds_drag()) {
+    if (!saved.holds()) {
         std::vector<std::vector<int>> prims;
-        for (int o : objects) prims.push_back(topology_.own_prims(o));
-        saved.save(h_, objects, std::move(prims), settings_.threads);
+        std::vector<Rigid> poses;
+        for (int o : objects) {
+            prims.push_back(topology_.own_prims(o));
+            poses.push_back(edits_.poses()[size_t(o)]);
+        }
+        saved.save(h_, objects, std::move(prims), std::move(poses), settings_.threads);
     }
     FinalGather::Preview p;
     preview_moves(placed, saved, p);
@@ -701,13 +549,10 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
     p.moved_nodes.erase(std::unique(p.moved_nodes.begin(), p.moved_nodes.end()), p.moved_nodes.end());
     // The objects stay placed after the step (Embree's and the hierarchy's placements) until
     // settle_preview; a failure on the way puts them back at once.
-    saved.set_holds_drag();
+    saved.place(h_, *vis_, placed, settings_.threads);
     FinalGather::PreviewCounts k;
     std::vector<CornerPatch> out;
     try {
-        for (const auto& op : placed) vis_->set_object_transform(op.first, op.second);
-        h_.place_objects(placed, false, &saved.prims(), settings_.threads);
-        vis_->commit();
         const FinalGather::Solution s{scene_, h_, *vis_, links_, gathering_.enclosure(),
                                       [this](int surface, const Vec3& q) { return direct_light_.contact(h_, surface, q); },
                                       &topology_.tri_prim()};
@@ -720,23 +565,7 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
     return out;
 }
 
-void Solver::settle_preview() const {
-    if (!preview_saved_ || !preview_saved_->holds_drag()) return;
-    // (The placement a drag keeps is not the solution's state, which this puts back as it
-    // was, bit for bit: const for the readers that call it. No Solver is made const.)
-    Solver& self = const_cast<Solver&>(*this);
-    SavedGeometry& saved = *self.preview_saved_;
-    saved.restore(self.h_, settings_.threads);
-    try {
-        // (Embree's from the same poses: the same floats.)
-        for (int o : saved.objects()) self.vis_->set_object_transform(o, edits_.poses()[size_t(o)]);
-        self.vis_->commit();
-    } catch (...) {
-        // An Embree error here leaves rays as the preview placed them: the solution must not
-        // be trusted.
-        self.solved_ = false;
-    }
-}
+void Solver::settle_preview() const { drag_.settle(); }
 
 std::vector<std::pair<int, Rigid>> Solver::preview_placements(const std::map<int, std::array<double, 16>>& moves) const {
     std::vector<std::pair<int, Rigid>> placed;
@@ -751,7 +580,7 @@ std::vector<std::pair<int, Rigid>> Solver::preview_placements(const std::map<int
     return placed;
 }
 
-void Solver::preview_moves(const std::vector<std::pair<int, Rigid>>& placed, const SavedGeometry& saved,
+void Solver::preview_moves(const std::vector<std::pair<int, Rigid>>& placed, const LiveDrag& saved,
                            FinalGather::Preview& p) const {
     const size_t no = scene_.objects().size();
     p.moved.assign(no, 0);

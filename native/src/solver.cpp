@@ -29,7 +29,7 @@ void Solver::solve(Control* control) {
     solved_ = false;
     tolerances_.light_known = false;
     settle_preview();
-    preview_saved_.reset();  // (a drag's memory, made again at the next drag)
+    drag_.forget();  // (a drag's memory, made again at the next drag)
     const auto t0 = Clock::now();
     stats_ = Stats{};
     lap_t_ = t0;

@@ -22,6 +22,7 @@
 #include "radiosity/lights.h"
 #include "radiosity/link.h"
 #include "radiosity/link_store.h"
+#include "radiosity/live_drag.h"
 #include "radiosity/memory_budget.h"
 #include "radiosity/oracle.h"
 #include "radiosity/pending_edits.h"
@@ -35,8 +36,6 @@
 #include "radiosity/visibility.h"
 
 namespace radiosity {
-
-class SavedGeometry;  // preview.cpp
 
 struct Cancelled : std::runtime_error {
     Cancelled() : std::runtime_error("cancelled") {}
@@ -61,7 +60,8 @@ public:
 
     // Full solve from scratch. Throws Cancelled when control->cancel is set.
     void solve(Control* control = nullptr);
-    bool solved() const { return solved_; }
+    // (Not when a drag step's placement could not be taken back: LiveDrag::lost.)
+    bool solved() const { return solved_ && !drag_.lost(); }
 
     // Outgoing radiance of the front side at every Blender corner of the object, RGB
     // interleaved (corner_count * 3).
@@ -277,7 +277,7 @@ private:
     // with their placements, validated as move_object validates them.
     std::vector<std::pair<int, Rigid>> preview_placements(const std::map<int, std::array<double, 16>>& moves) const;
     // What the step knows of them (carries, old and new boxes; `saved`: their geometry as solved).
-    void preview_moves(const std::vector<std::pair<int, Rigid>>& placed, const SavedGeometry& saved,
+    void preview_moves(const std::vector<std::pair<int, Rigid>>& placed, const LiveDrag& saved,
                        FinalGather::Preview& p) const;
     // Puts back the placement the last drag step kept (Embree's and the hierarchy's), if any:
     // whatever is not the next step of that drag reads or changes the solution's placement.
@@ -352,10 +352,10 @@ private:
     std::chrono::steady_clock::time_point lap_t_;
     int64_t lap_rays_ = 0;  // rays cast when lap_t_ was taken
     Pockets pockets_;  // closed pockets and the escape rays that found them
-    // What a drag's placement rewrites, saved to be put back (preview.cpp): between the steps
-    // of one drag the hierarchy and Embree hold the last step's placement, put back by
-    // settle_preview. Kept from drag to drag for its memory.
-    std::shared_ptr<SavedGeometry> preview_saved_;
+    // The live drag's placement (live_drag.h): between the steps of one drag the hierarchy
+    // and Embree hold the last step's placement, put back by settle_preview, which const
+    // readers call too (the placement a drag holds is not the solution's state).
+    mutable LiveDrag drag_;
 };
 
 }  // namespace radiosity

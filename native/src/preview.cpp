@@ -482,41 +482,43 @@ std::vector<CornerPatch> preview_patches(const SceneDesc& scene, const std::vect
 
 }  // namespace
 
-std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 16>>& moves,
-                                         FinalGather::PreviewCounts* counts, int64_t work) {
-    if (!solved()) throw std::logic_error("preview: solve the scene first");
-    if (settings_.gather_rays <= 0 || !output_.traced())
-        throw std::logic_error("preview: needs the final gather's trace (gather_rays > 0)");
-    const std::vector<std::pair<int, Rigid>> placed = preview_placements(moves);
-    std::vector<int> objects;
-    for (const auto& op : placed) objects.push_back(op.first);
-    LiveDrag& saved = drag_;
-    // A step that places the objects the last step placed goes on from there; any other puts
-    // them back first.
-    if (saved.holds() && saved.objects() != objects) settle_preview();
-    if (counts) *counts = FinalGather::PreviewCounts{};
-    if (placed.empty()) return {};
-    if (!saved.holds()) {
-        std::vector<std::vector<int>> prims;
-        std::vector<Rigid> poses;
-        for (int o : objects) {
-            prims.push_back(topology_.own_prims(o));
-            poses.push_back(edits_.poses()[size_t(o)]);
-        }
-        saved.save(h_, objects, std::move(prims), std::move(poses), settings_.threads);
+namespace {
+
+// What a step knows of the objects it places (`placed`, in `saved`'s order; `poses`: where
+// the solution has every object): per object whether it moved and its carry from the
+// solution's placement, and the moved boxes, old and new (the new carried from the old).
+void step_moves(const std::vector<std::pair<int, Rigid>>& placed, const std::vector<Rigid>& poses,
+                const LiveDrag& saved, size_t objects, FinalGather::Preview& p) {
+    p.moved.assign(objects, 0);
+    p.carry.assign(objects, Rigid{});
+    for (size_t j = 0; j < placed.size(); ++j) {
+        const auto& [object, to] = placed[j];
+        const Rigid& c = p.carry[size_t(object)] = to.relative_to(poses[size_t(object)]);
+        const Aabb& was = saved.box(j);
+        Aabb now;
+        for (int k = 0; k < 8; ++k)
+            now.grow(c.point({(k & 1) ? was.hi.x : was.lo.x, (k & 2) ? was.hi.y : was.lo.y, (k & 4) ? was.hi.z : was.lo.z}));
+        p.clips.push_back(was);
+        p.clips.push_back(now);
+        p.moved[size_t(object)] = 1;
     }
-    FinalGather::Preview p;
-    preview_moves(placed, saved, p);
-    p.work = work < 0 ? settings_.preview_work : work;
-    // (DirectLight::contact's test, with the moved objects where they are now.)
-    const std::vector<PlacedPolygon> polys = placed_polygons(h_, p, saved, settings_.threads);
-    const double tol = 1e-7 * h_.scene_diag;
-    const double inside_tol = 1e-9 * h_.scene_diag;
-    p.covered = [&](int surface, const Vec3& x, const Vec3& n) {
-        if (surface >= 0 && size_t(surface) < direct_light_.contacts().size())
-            for (int t : direct_light_.contacts()[size_t(surface)]) {
-                const Node& m = h_.nodes[size_t(h_.surfaces[size_t(t)].root)];
-                if (m.object >= 0 && p.moved[size_t(m.object)]) continue;  // where it was
+    for (Aabb& c : p.clips) c = c.grown(1e-5);  // ray ends are lifted off surfaces: a hair of margin (as update())
+    for (size_t k = 1; k < p.clips.size(); k += 2) p.now.push_back(p.clips[k]);
+}
+
+// The step's cover tests (FinalGather::Preview::covered, lifted): DirectLight::contact's test,
+// with the moved objects where they are now (`polys`, which must outlive p's use of them).
+void set_cover_tests(const Hierarchy& h, const DirectLight& direct, const std::vector<PlacedPolygon>& polys,
+                     FinalGather::Preview& p) {
+    const double tol = 1e-7 * h.scene_diag;
+    const double inside_tol = 1e-9 * h.scene_diag;
+    const std::vector<std::vector<int>>& contacts = direct.contacts();
+    const std::vector<char>& moved = p.moved;
+    p.covered = [&h, &contacts, &moved, &polys, tol, inside_tol](int surface, const Vec3& x, const Vec3& n) {
+        if (surface >= 0 && size_t(surface) < contacts.size())
+            for (int t : contacts[size_t(surface)]) {
+                const Node& m = h.nodes[size_t(h.surfaces[size_t(t)].root)];
+                if (m.object >= 0 && moved[size_t(m.object)]) continue;  // where it was
                 if (within_edges(m.poly, m.normal, x, inside_tol)) return true;
             }
         for (const PlacedPolygon& q : polys) {
@@ -529,27 +531,64 @@ std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 
     // (Slid along what it stood on, a face stays in that plane: still covered there, as in the
     // bake. The polygons under its new place are not its contacts; finding them would be a
     // search a step.)
-    p.lifted = [&](int surface, const Vec3& x) {
-        if (surface < 0 || size_t(surface) >= direct_light_.contacts().size()) return false;
+    p.lifted = [&h, &contacts, &moved, tol](int surface, const Vec3& x) {
+        if (surface < 0 || size_t(surface) >= contacts.size()) return false;
         bool touched = false;
-        for (int t : direct_light_.contacts()[size_t(surface)]) {
-            const Node& m = h_.nodes[size_t(h_.surfaces[size_t(t)].root)];
-            if (m.object >= 0 && p.moved[size_t(m.object)]) continue;  // moves with it
+        for (int t : contacts[size_t(surface)]) {
+            const Node& m = h.nodes[size_t(h.surfaces[size_t(t)].root)];
+            if (m.object >= 0 && moved[size_t(m.object)]) continue;  // moves with it
             if (std::fabs(dot(x - m.poly.v[0], m.normal)) <= tol) return false;
             touched = true;
         }
         return touched;
     };
-    // Clusters holding a dragged object (their sampling of surfaces changes with it).
+}
+
+// The clusters holding any of `objects` (their sampling of surfaces changes with them), ascending.
+std::vector<int> clusters_holding(const Hierarchy& h, const std::vector<int>& objects) {
+    std::vector<int> out;
     for (int o : objects) {
-        const std::vector<int> up = h_.clusters_above(o);
-        p.moved_nodes.insert(p.moved_nodes.end(), up.begin(), up.end());
+        const std::vector<int> up = h.clusters_above(o);
+        out.insert(out.end(), up.begin(), up.end());
     }
-    std::sort(p.moved_nodes.begin(), p.moved_nodes.end());
-    p.moved_nodes.erase(std::unique(p.moved_nodes.begin(), p.moved_nodes.end()), p.moved_nodes.end());
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
+}  // namespace
+
+std::vector<CornerPatch> Solver::preview(const std::map<int, std::array<double, 16>>& moves,
+                                         FinalGather::PreviewCounts* counts, int64_t work) {
+    if (!solved()) throw std::logic_error("preview: solve the scene first");
+    if (settings_.gather_rays <= 0 || !output_.traced())
+        throw std::logic_error("preview: needs the final gather's trace (gather_rays > 0)");
+    const std::vector<std::pair<int, Rigid>> placed = preview_placements(moves);
+    std::vector<int> objects;
+    for (const auto& op : placed) objects.push_back(op.first);
+    // A step that places the objects the last step placed goes on from there; any other puts
+    // them back first.
+    if (drag_.holds() && drag_.objects() != objects) settle_preview();
+    if (counts) *counts = FinalGather::PreviewCounts{};
+    if (placed.empty()) return {};
+    if (!drag_.holds()) {
+        std::vector<std::vector<int>> prims;
+        std::vector<Rigid> poses;
+        for (int o : objects) {
+            prims.push_back(topology_.own_prims(o));
+            poses.push_back(edits_.poses()[size_t(o)]);
+        }
+        drag_.save(h_, objects, std::move(prims), std::move(poses), settings_.threads);
+    }
+    FinalGather::Preview p;
+    step_moves(placed, edits_.poses(), drag_, scene_.objects().size(), p);
+    p.work = work < 0 ? settings_.preview_work : work;
+    const std::vector<PlacedPolygon> polys = placed_polygons(h_, p, drag_, settings_.threads);
+    set_cover_tests(h_, direct_light_, polys, p);
+    p.moved_nodes = clusters_holding(h_, objects);
     // The objects stay placed after the step (Embree's and the hierarchy's placements) until
     // settle_preview; a failure on the way puts them back at once.
-    saved.place(h_, *vis_, placed, settings_.threads);
+    drag_.place(h_, *vis_, placed, settings_.threads);
     FinalGather::PreviewCounts k;
     std::vector<CornerPatch> out;
     try {
@@ -578,26 +617,6 @@ std::vector<std::pair<int, Rigid>> Solver::preview_placements(const std::map<int
         placed.emplace_back(object, to);
     }
     return placed;
-}
-
-void Solver::preview_moves(const std::vector<std::pair<int, Rigid>>& placed, const LiveDrag& saved,
-                           FinalGather::Preview& p) const {
-    const size_t no = scene_.objects().size();
-    p.moved.assign(no, 0);
-    p.carry.assign(no, Rigid{});
-    for (size_t j = 0; j < placed.size(); ++j) {
-        const auto& [object, to] = placed[j];
-        const Rigid& c = p.carry[size_t(object)] = to.relative_to(edits_.poses()[size_t(object)]);
-        const Aabb& was = saved.box(j);
-        Aabb now;
-        for (int k = 0; k < 8; ++k)
-            now.grow(c.point({(k & 1) ? was.hi.x : was.lo.x, (k & 2) ? was.hi.y : was.lo.y, (k & 4) ? was.hi.z : was.lo.z}));
-        p.clips.push_back(was);
-        p.clips.push_back(now);
-        p.moved[size_t(object)] = 1;
-    }
-    for (Aabb& c : p.clips) c = c.grown(1e-5);  // ray ends are lifted off surfaces: a hair of margin (as update())
-    for (size_t k = 1; k < p.clips.size(); k += 2) p.now.push_back(p.clips[k]);
 }
 
 }  // namespace radiosity

@@ -276,9 +276,6 @@ private:
     // preview.cpp: the objects of a drag's step placed away from where the solution has them,
     // with their placements, validated as move_object validates them.
     std::vector<std::pair<int, Rigid>> preview_placements(const std::map<int, std::array<double, 16>>& moves) const;
-    // What the step knows of them (carries, old and new boxes; `saved`: their geometry as solved).
-    void preview_moves(const std::vector<std::pair<int, Rigid>>& placed, const LiveDrag& saved,
-                       FinalGather::Preview& p) const;
     // Puts back the placement the last drag step kept (Embree's and the hierarchy's), if any:
     // whatever is not the next step of that drag reads or changes the solution's placement.
     void settle_preview() const;

@@ -6,6 +6,7 @@
 #include <array>
 #include <functional>
 
+#include "radiosity/corner_values.h"
 #include "radiosity/solver.h"
 
 namespace radiosity {
@@ -160,7 +161,7 @@ std::vector<float> Solver::corner_irradiance(int object) const {
     if (object < 0 || object >= int(scene_.objects().size()))
         throw std::out_of_range("unknown object " + std::to_string(object));
     // (output.cpp: the final gather's points, or the leaves)
-    return gathered_or_leaves(object, settings_.gather_rays > 0 ? output_.corner_irradiance(h_, object) : std::vector<float>{},
+    return gathered_or_leaves({h_, scene_, direct_light_, settings_.crease_angle_deg}, object, settings_.gather_rays > 0 ? output_.corner_irradiance(h_, object) : std::vector<float>{},
                               [this](int id) { return leaf_irradiance(id); });
 }
 

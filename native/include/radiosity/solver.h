@@ -307,12 +307,6 @@ private:
     // restored); `only`: per node, the leaves to set (the rest keep theirs).
     void at_first_bounce(const std::function<void()>& judge_links, const std::vector<char>* only = nullptr);
     DirectLight direct_light_;  // direct_light.h
-    // output.cpp: per-corner values of any per-leaf quantity (gather_rays = 0)
-    std::vector<float> corner_values(int object, const std::function<Rgb(int)>& leaf_value) const;
-    // output.cpp: the final gather's per-corner values `gathered` where it traced points, the
-    // leaves' (corner_values) at corners not written, or everywhere when it traced none.
-    std::vector<float> gathered_or_leaves(int object, std::vector<float> gathered,
-                                          const std::function<Rgb(int)>& leaf_value) const;
     // output.cpp: the final gather at every output point (the "output" phase of a solve or an
     // update), progress from `from` to `to`.
     // With `moves` (an update that moved objects or changed materials only): FinalGather::retrace.

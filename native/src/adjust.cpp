@@ -10,6 +10,7 @@
 
 #include "radiosity/parallel.h"
 #include "radiosity/solver.h"
+#include "report.h"
 #include "radiosity/transfer.h"
 
 namespace radiosity {
@@ -481,7 +482,7 @@ void Solver::update_output(const UpdateRun& u) {
         // A stale link's record is of the geometry before this update's moves: a later
         // update's replay (whose boxes are its own moves') would take outcomes it changed.
         if (u.topology || l.stale) l.ray_count = -1;
-    add_result_warnings();
+    add_result_warnings(h_, settings_, memory_.estimate(memory_view()), memory_.limit(), stats_);
     compute_stats();
     lap("stats");
     s.mode_incremental = true;

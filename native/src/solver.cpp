@@ -1,4 +1,5 @@
 #include "radiosity/solver.h"
+#include "report.h"
 
 #include <chrono>
 #include <cmath>
@@ -66,7 +67,7 @@ void Solver::solve(Control* control) {
         stats_.seconds_solve = since(t2);
     }
     if (stats_.element_nodes >= settings_.max_elements) stats_.capped = true;
-    add_result_warnings();
+    add_result_warnings(h_, settings_, memory_.estimate(memory_view()), memory_.limit(), stats_);
     compute_stats();
     lap("stats");
     stats_.seconds_total = since(t0);
@@ -151,26 +152,6 @@ bool Solver::link_and_refine() {
 
 // Warnings about the result that stands after a solve or an update (an update starts from
 // none: a warning of an earlier solve, such as a full-solve fallback, no longer applies).
-void Solver::add_result_warnings() {
-    if (h_.unfanned_polygons > 0)
-        stats_.warnings.push_back(std::to_string(h_.unfanned_polygons) +
-                                  " concave polygon(s) too large (over 4096 corners) or self-intersecting to "
-                                  "triangulate: some of their pieces face the wrong way; triangulate them in Blender");
-    const double held = memory_.estimate(memory_view());
-    if (held > memory_.limit())
-        stats_.warnings.push_back("the bake holds about " + std::to_string(int64_t(held / 1048576.0)) +
-                                  " MB, over max_memory_mb (" + std::to_string(int64_t(memory_.limit() / 1048576.0)) +
-                                  "): allow more memory, or use a coarser preset");
-    if (stats_.memory_capped)
-        stats_.warnings.push_back("refinement stopped at the memory cap (max_memory_mb " +
-                                  std::to_string(int64_t(memory_.limit() / 1048576.0)) +
-                                  "): the result is coarser than the threshold asks");
-    else if (stats_.capped)
-        stats_.warnings.push_back("refinement stopped at the element or link cap (max_elements " +
-                                  std::to_string(settings_.max_elements) + ", max_links " +
-                                  std::to_string(settings_.max_links) + "): the result is coarser than the threshold asks");
-}
-
 void Solver::lap(const char* phase) {
     const auto now = Clock::now();
     const double dt = std::chrono::duration<double>(now - lap_t_).count();
@@ -228,53 +209,8 @@ void Solver::compute_stats() {
     for (size_t o = 0; o < scene_.objects().size(); ++o) s.objects += !removed(int(o));
     s.clusters = 0;
     for (const Node& n : h_.nodes) s.clusters += n.is_cluster() && !n.dead;
-    s.links = s.cluster_links = s.surface_links = s.history_links = 0;
-    s.obj_env_links = s.env_env_links = s.obj_obj_links = 0;
-    for (const Link& l : links_) {
-        if (l.dead) continue;
-        if (l.occluded) { ++s.occluded_links; continue; }
-        if (!l.active) { ++s.history_links; continue; }
-        ++s.links;
-        (l.cluster ? s.cluster_links : s.surface_links)++;
-        int os = h_.nodes[l.src].object, orc = h_.nodes[l.rcv].object;
-        // A link end above object level (a collection or the root) counts as object side
-        // when it is a collection cluster; environment means polygons directly in the scene.
-        bool src_env = os >= 0 ? h_.object_of_env[os] != 0 : l.src == h_.root;
-        bool rcv_env = orc >= 0 ? h_.object_of_env[orc] != 0 : l.rcv == h_.root;
-        if (src_env && rcv_env) ++s.env_env_links;
-        else if (src_env != rcv_env) ++s.obj_env_links;
-        else ++s.obj_obj_links;
-    }
-    // Elements: leaves of surfaces that light reaches (a back face nothing lights costs none).
-    s.elements = 0;
-    for (size_t si = 0; si < h_.surfaces.size(); ++si) {
-        if (h_.surface_dead(int(si))) continue;  // of a removed object
-        const Node& sr = h_.nodes[h_.surfaces[si].root];
-        bool r = sr.emission.max() > 0;
-        std::vector<int> stack{h_.surfaces[si].root};
-        int64_t leaves = 0;
-        while (!stack.empty()) {
-            int id = stack.back();
-            stack.pop_back();
-            const Node& n = h_.nodes[id];
-            r = r || !n.in_links.empty() || !n.out_links.empty();
-            r = r || (n.children.empty() && direct_light_.direct(id).max() > 0);  // lit by a lamp
-            if (n.children.empty()) ++leaves;
-            for (int c : n.children) stack.push_back(c);
-        }
-        // Else reached through a cluster link only if the surface faces its sender (the
-        // clusters' lists are long: read only when nothing else says so).
-        auto faces_a_sender = [&] {
-            for (int a : h_.ancestors_of_surface(int(si)))
-                for (int li : h_.nodes[a].in_links) {
-                    const Link& l = links_[li];
-                    if (l.K > 0 && dot(sr.normal, l.dir) < 0 && h_.holds_pocket(l.src, sr.pocket)) return true;
-                }
-            return false;
-        };
-        r = r || faces_a_sender();
-        if (r) s.elements += leaves;
-    }
+    count_links(h_, links_, s);
+    s.elements = lit_elements(h_, links_, direct_light_);
     s.closed_pockets = pockets_.closed_pockets();
     s.pocket_surfaces = pockets_.pocket_surfaces();
     s.rays = vis_ ? int64_t(vis_->rays()) : 0;

@@ -287,8 +287,6 @@ private:
     // Nodes whose radiance (or its range below them) moved enough since `snap` to change an
     // oracle judgement of a link they send through.
     std::vector<char> changed_senders(const std::vector<float>& snap) const;
-    // The warnings the current result deserves (caps, untriangulated polygons).
-    void add_result_warnings();
     std::vector<float> snapshot() const;
     // Per node: the radiance a full solve settles links on (lit scene: first_bounce; else
     // the largest channel of `snap`).

@@ -4,7 +4,6 @@
 // run on the change, history links and lights, the warm-started re-solve with un-refinement,
 // and the output.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <functional>
 
@@ -14,11 +13,6 @@
 #include "radiosity/transfer.h"
 
 namespace radiosity {
-
-namespace {
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-}  // namespace
 
 void Solver::move_object(int object, const double m[16]) {
     settle_preview();
@@ -195,7 +189,7 @@ void Solver::update(Control* control) {
                                "frame changes)");
         return;
     }
-    control_ = control;
+    Run run(run_, control, int64_t(vis_->rays()));
     solved_ = false;  // a cancel leaves the kept solution inconsistent: the caller re-solves
     // What this update knows lives in `u` for its phases only, handed to each step that needs it.
     update_begin(u);
@@ -217,9 +211,6 @@ void Solver::solve_instead(Control* control, const char* why) {
 }
 
 void Solver::update_begin(UpdateRun& u) {
-    u.t0 = Clock::now();
-    lap_t_ = u.t0;
-    lap_rays_ = int64_t(vis_->rays());
     stats_.phases.clear();
     stats_.phase_rays.clear();
     stats_.warnings.clear();  // this update's own (add_result_warnings at the end)
@@ -363,7 +354,7 @@ void Solver::update_history(UpdateRun& u) {
     stats_.links_created = int64_t(links_.size()) - u.links_before;
     // History links whose view changed: coarsen back where the old shadow is gone.
     refinement(&u).recheck_history(u.recheck_history);
-    stats_.seconds_adjust = since(u.t0);
+    stats_.seconds_adjust = run_->clock.seconds();
     lap("history");
     light_update(u);  // solver_lights.cpp: drop light splits the new direct light does not need
     lap("lights");
@@ -486,7 +477,7 @@ void Solver::update_output(const UpdateRun& u) {
     compute_stats();
     lap("stats");
     s.mode_incremental = true;
-    s.seconds_total = since(u.t0);
+    s.seconds_total = run_->clock.seconds();
     // Per-phase times of this update (not of the first solve): no build; linking is the
     // link update; the rest is re-solving.
     s.seconds_build = 0;
@@ -494,7 +485,6 @@ void Solver::update_output(const UpdateRun& u) {
     s.seconds_solve = s.seconds_total - s.seconds_adjust;
     set_progress(1.0);
     solved_ = true;
-    control_ = nullptr;
 }
 
 }  // namespace radiosity

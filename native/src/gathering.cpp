@@ -10,14 +10,9 @@
 
 #include "radiosity/held_bytes.h"
 #include "radiosity/parallel.h"
+#include "radiosity/run_clock.h"
 
 namespace radiosity {
-
-namespace {
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-}  // namespace
 
 void Gathering::collect(const Hierarchy& h) {
     leaves_.clear();
@@ -53,7 +48,7 @@ void Gathering::ensure_plan(const Context& c, bool radiometry) {
         plan_.prepare_radiometry(c.h, c.links, enclosure_, [&c](int id) { return c.direct_light.direct(id); },
                                  c.settings.threads);
     }
-    c.stats.seconds_gather_plan += seconds_since(t0);
+    c.stats.seconds_gather_plan += RunClock::seconds_since(t0);
 }
 
 void Gathering::sweep(const Context& c) {
@@ -98,7 +93,7 @@ int Gathering::iterate_to(const Context& c, double tolerance, int max_iterations
         check_cancel();
         const auto t0 = std::chrono::steady_clock::now();
         double delta = plan_.sweep(false, nullptr, c.settings.threads) / scale;
-        c.stats.seconds_sweeps += seconds_since(t0);
+        c.stats.seconds_sweeps += RunClock::seconds_since(t0);
         ++c.stats.iterations;
         c.stats.link_sweeps += gathered;
         // Remaining error of a geometric iteration: delta * q / (1 - q), q the observed

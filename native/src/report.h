@@ -19,8 +19,10 @@ void count_links(const Hierarchy& h, const LinkStore& links, Stats& s);
 // light, or one facing a sender of a cluster link above it (a back face nothing lights
 // costs none).
 int64_t lit_elements(const Hierarchy& h, const LinkStore& links, const DirectLight& direct);
-// Appends to s.warnings what the result deserves: polygons that could not be triangulated,
-// memory over `limit` (the bake holds `held` bytes), a cap that stopped refinement.
+// Appends to s.warnings what the result that stands after a solve or an update deserves
+// (an update starts from none: an earlier solve's warning, such as a full-solve fallback, no
+// longer applies): polygons that could not be triangulated, memory over `limit` (the bake
+// holds `held` bytes), a cap that stopped refinement.
 void add_result_warnings(const Hierarchy& h, const Settings& settings, double held, double limit, Stats& s);
 
 }  // namespace radiosity

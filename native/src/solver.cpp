@@ -8,8 +8,7 @@
 namespace radiosity {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+using Clock = RunClock::Clock;
 }  // namespace
 
 Solver::Solver(SceneDesc scene, Settings settings)
@@ -18,29 +17,26 @@ Solver::Solver(SceneDesc scene, Settings settings)
 }
 
 void Solver::check_cancel() const {
-    if (control_ && control_->cancel.load(std::memory_order_relaxed)) throw Cancelled();
+    if (run_ && run_->control && run_->control->cancel.load(std::memory_order_relaxed)) throw Cancelled();
 }
 
 void Solver::set_progress(double f) const {
-    if (control_) control_->fraction.store(f, std::memory_order_relaxed);
+    if (run_ && run_->control) run_->control->fraction.store(f, std::memory_order_relaxed);
 }
 
 void Solver::solve(Control* control) {
-    control_ = control;
     solved_ = false;
     tolerances_.light_known = false;
     settle_preview();
     drag_.forget();  // (a drag's memory, made again at the next drag)
-    const auto t0 = Clock::now();
+    Run run(run_, control, 0);  // a new Visibility counts from 0
     stats_ = Stats{};
-    lap_t_ = t0;
-    lap_rays_ = 0;  // a new Visibility counts from 0
     links_.clear();
     direct_light_.clear();   // the hierarchy is rebuilt
     gathering_.enclosure().clear();
     topology_.commit(scene_, edits_);  // objects removed since are left out
     build_scene();
-    stats_.seconds_build = since(t0);
+    stats_.seconds_build = run.clock.seconds();
     lap("build");
     set_progress(0.05);
 
@@ -53,7 +49,7 @@ void Solver::solve(Control* control) {
     } else {
         const auto t1 = Clock::now();
         const bool closure_current = link_and_refine();
-        stats_.seconds_link = since(t1);
+        stats_.seconds_link = RunClock::seconds_since(t1);
         const auto t2 = Clock::now();
         if (!closure_current) {
             compute_closure(nullptr);
@@ -64,16 +60,15 @@ void Solver::solve(Control* control) {
         lap("gather");
         final_gather(0.9, 1.0);  // output.cpp
         lap("output");
-        stats_.seconds_solve = since(t2);
+        stats_.seconds_solve = RunClock::seconds_since(t2);
     }
     if (stats_.element_nodes >= settings_.max_elements) stats_.capped = true;
     add_result_warnings(h_, settings_, memory_.estimate(memory_view()), memory_.limit(), stats_);
     compute_stats();
     lap("stats");
-    stats_.seconds_total = since(t0);
+    stats_.seconds_total = run.clock.seconds();
     set_progress(1.0);
     solved_ = true;
-    control_ = nullptr;
 }
 
 // A full solve's first phase: the hierarchy and Embree's scene from scene_, with the
@@ -150,22 +145,8 @@ bool Solver::link_and_refine() {
     return false;
 }
 
-// Warnings about the result that stands after a solve or an update (an update starts from
-// none: a warning of an earlier solve, such as a full-solve fallback, no longer applies).
 void Solver::lap(const char* phase) {
-    const auto now = Clock::now();
-    const double dt = std::chrono::duration<double>(now - lap_t_).count();
-    lap_t_ = now;
-    const int64_t rays = vis_ ? int64_t(vis_->rays()) : 0, dr = rays - lap_rays_;
-    lap_rays_ = rays;
-    for (size_t i = 0; i < stats_.phases.size(); ++i)
-        if (stats_.phases[i].first == phase) {
-            stats_.phases[i].second += dt;
-            stats_.phase_rays[i].second += dr;
-            return;
-        }
-    stats_.phases.emplace_back(phase, dt);
-    stats_.phase_rays.emplace_back(phase, dr);
+    if (run_) run_->clock.lap(stats_, phase, vis_ ? int64_t(vis_->rays()) : 0);
 }
 
 Refinement::Context Solver::refinement_context(const UpdateRun* u) {

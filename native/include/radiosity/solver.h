@@ -6,7 +6,6 @@
 #pragma once
 #include <array>
 #include <atomic>
-#include <chrono>
 #include <functional>
 #include <map>
 #include <memory>
@@ -29,6 +28,7 @@
 #include "radiosity/pockets.h"
 #include "radiosity/refinement.h"
 #include "radiosity/rigid.h"
+#include "radiosity/run_clock.h"
 #include "radiosity/scene.h"
 #include "radiosity/settings.h"
 #include "radiosity/stats.h"
@@ -235,7 +235,6 @@ private:
     struct UpdateRun {
         bool topology = false;            // objects added or removed
         bool materials_changed = false;   // emission or reflectance changed (for the output)
-        std::chrono::steady_clock::time_point t0;
         int64_t links_before = 0;         // links made from here on are this update's
         std::vector<float> before;        // radiances before the update
         std::vector<float> judged_before; // ... as the oracle judges (judging_radiance)
@@ -317,7 +316,7 @@ private:
     void check_cancel() const;
     void set_progress(double f) const;
     void compute_stats();
-    // Adds the time since the previous lap to the named phase of stats_.phases.
+    // Ends a timed phase of the run under way (RunClock::lap on stats_, the rays of vis_).
     void lap(const char* phase);
 
     SceneDesc scene_;
@@ -328,7 +327,28 @@ private:
     Gathering gathering_;          // the sweeps and their plan (gathering.h)
     MemoryBudget memory_;          // the memory cap and what the solve holds (memory_budget.h)
     Stats stats_;
-    Control* control_ = nullptr;
+    // The run under way, a solve() or an update(), made on its stack (null between runs): its
+    // Control (cancellation, progress), which check_cancel and set_progress read, and its
+    // clock, which lap reads. Made, it takes `slot` (run_); at its end it puts back the run it
+    // interrupted (a solve in place of an update), whether its run returns or throws
+    // (Cancelled): no Control or clock outlives its run.
+    class Run {
+    public:
+        Run(Run*& slot, Control* control, int64_t rays) : control(control), clock(rays), slot_(slot), outer_(slot) {
+            slot_ = this;
+        }
+        ~Run() { slot_ = outer_; }
+        Run(const Run&) = delete;
+        Run& operator=(const Run&) = delete;
+
+        Control* const control;
+        RunClock clock;
+
+    private:
+        Run*& slot_;
+        Run* outer_;
+    };
+    Run* run_ = nullptr;
     // The oracle's threshold state: the reference radiance (compute_reference), the
     // scene-wide threshold made from it, the element area floor (refit_tolerances), and
     // whether the nodes' radiance L estimates the light yet (false from a solve's start until
@@ -338,8 +358,6 @@ private:
     bool solved_ = false;
     PendingEdits edits_;  // moves and materials since the last update, and each object's placement
     Topology topology_;   // objects added and removed, and each object's triangles in Embree (topology.h)
-    std::chrono::steady_clock::time_point lap_t_;
-    int64_t lap_rays_ = 0;  // rays cast when lap_t_ was taken
     Pockets pockets_;  // closed pockets and the escape rays that found them
     // The live drag's placement (live_drag.h): between the steps of one drag the hierarchy
     // and Embree hold the last step's placement, put back by settle_preview, which const

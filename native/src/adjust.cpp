@@ -361,7 +361,6 @@ void Solver::update_history(UpdateRun& u) {
 }
 
 void Solver::update_resolve(const UpdateRun& u) {
-    Stats& s = stats_;
     // Warm-started re-solve: the previous radiances are the starting point. Only links the
     // update touched, or whose sender's light changed enough to tip the oracle, are judged
     // again; a full solve's refine rounds judge every link.
@@ -384,21 +383,41 @@ void Solver::update_resolve(const UpdateRun& u) {
     lap("closure");
     iterate_to(&u, loose, settings_.max_iterations, 0.3, 0.6);
     lap("gather");
+    std::vector<char> moved_light = update_unrefine(u);
+    const RoundsEnd end = update_refine_rounds(u, std::move(moved_light), loose);
+    if (!end.solved_final_links) {
+        // Warm: a handful of sweeps when nothing changed since the last solve. When no link or
+        // leaf changed since the last closure pass, that pass stands and so does the plan.
+        if (!end.closure_current) {
+            compute_closure(&u);
+            lap("closure");
+        }
+        iterate_to(&u, settings_.tolerance, settings_.max_iterations, 0.9, 0.95, end.closure_current);
+        lap("gather");
+    }
+    prune_elements();
+    lap("prune");
+}
+
+std::vector<char> Solver::update_unrefine(const UpdateRun& u) {
     std::vector<char> moved_light = changed_senders(u.before);
     // A new threshold (objects added or removed) can tip any judgement.
     if (u.rejudge_all) std::fill(moved_light.begin(), moved_light.end(), 1);
     refinement(&u).unrefine_pass(&moved_light, !scene_.lights().empty());  // less light somewhere (3.4)
     lap("unrefine");
-    // The closure factors and the converged radiances belong to the links as they were
-    // before un-refinement and the rounds below: the last solve must see the final links.
-    bool solved_final_links = false;
-    // Whether the last closure pass and solve stand on the links and leaves as they are (the
-    // un-refinement above changed them since the first).
-    bool closure_current = false;
+    return moved_light;
+}
+
+Solver::RoundsEnd Solver::update_refine_rounds(const UpdateRun& u, std::vector<char> moved_light, double loose) {
+    // The closure factors and the converged radiances belong to the links as they were before
+    // un-refinement and these rounds: the last solve must see the final links. At the start
+    // neither the last closure pass nor the last solve stands (the un-refinement changed the
+    // links since).
+    RoundsEnd end;
     int64_t judged_from = u.links_before;  // links made since are new: judge them all
     for (int round = 0; round < settings_.max_refine_rounds; ++round) {
         check_cancel();
-        ++s.refine_rounds;
+        ++stats_.refine_rounds;
         const LinkShape was = link_shape();
         std::vector<int> ids, unsettle;
         update_judged(u, round, judged_from, moved_light, ids, unsettle);
@@ -414,27 +433,16 @@ void Solver::update_resolve(const UpdateRun& u) {
         else
             more = refinement(&u).refine_links(ids, &touched) || more;
         lap("refine");
-        closure_current = closure_current && !touched && unsettle.empty() && link_shape() == was;
+        end.closure_current = end.closure_current && !touched && unsettle.empty() && link_shape() == was;
         if (!more) break;
-        closure_current = compute_closure(&u);
+        end.closure_current = compute_closure(&u);
         lap("closure");
-        solved_final_links = round + 1 == settings_.max_refine_rounds;
-        iterate_to(&u, solved_final_links ? settings_.tolerance : loose, settings_.max_iterations, 0.6, 0.9);
+        end.solved_final_links = round + 1 == settings_.max_refine_rounds;
+        iterate_to(&u, end.solved_final_links ? settings_.tolerance : loose, settings_.max_iterations, 0.6, 0.9);
         lap("gather");
         moved_light = changed_senders(snap);
     }
-    if (!solved_final_links) {
-        // Warm: a handful of sweeps when nothing changed since the last solve. When no link or
-        // leaf changed since the last closure pass, that pass stands and so does the plan.
-        if (!closure_current) {
-            compute_closure(&u);
-            lap("closure");
-        }
-        iterate_to(&u, settings_.tolerance, settings_.max_iterations, 0.9, 0.95, closure_current);
-        lap("gather");
-    }
-    prune_elements();
-    lap("prune");
+    return end;
 }
 
 void Solver::update_judged(const UpdateRun& u, int round, int64_t judged_from, const std::vector<char>& moved_light,

@@ -261,7 +261,21 @@ private:
     bool update_materials(Control* control);  // emission and reflectance changes
     bool update_adjust(UpdateRun& u, Control* control);  // place the moved objects, AdjustSystem
     void update_history(UpdateRun& u);         // un-refine history links, lights
-    void update_resolve(const UpdateRun& u);   // closure, gathering, un-refinement, refine rounds
+    void update_resolve(const UpdateRun& u);   // closure, gathering, un-refinement, refine rounds, prune
+    // update_resolve's steps. History links taken back (3.4) where their sender's light changed
+    // since the update began (every sender after a new threshold); returns those senders.
+    std::vector<char> update_unrefine(const UpdateRun& u);
+    // How the refine rounds ended: whether the last round solved to the tolerance on the links
+    // as they end (the round cap reached), and whether the last closure pass and solve stand
+    // on the links and leaves as they are.
+    struct RoundsEnd {
+        bool solved_final_links = false;
+        bool closure_current = false;
+    };
+    // Rounds of judging the links against the new light (those update_judged picks, starting
+    // from the senders in `moved_light`), each followed by a closure pass and a solve to
+    // `loose`, until a round splits nothing or the round cap.
+    RoundsEnd update_refine_rounds(const UpdateRun& u, std::vector<char> moved_light, double loose);
     // A refine round's links to judge (new since `judged_from`, flagged, or from a sender whose
     // light moved) and, among them, the settled ones whose sender's first bounce grew.
     void update_judged(const UpdateRun& u, int round, int64_t judged_from, const std::vector<char>& moved_light,

@@ -176,6 +176,8 @@ class BakeRun:
             extra["no_emitter"] = True
         elif mode == "full" and not cached and self.job.full_reason:
             extra["full_reason"] = self.job.full_reason
+            if self.job.update_fallback:
+                extra["update_fallback"] = self.job.update_fallback
         if mode == "incremental":
             extra.update(self.job.changes)
         if self.live:

@@ -46,6 +46,9 @@ class Settings:
 class Cancelled(Exception):
     """Raised by wait() after cancel(): the job stopped and left no finished solution."""
 
+# Every code stats()["update_fallback"] may hold: why an update solved in full (None: it did not).
+update_fallbacks: tuple  # ('scene_size', 'pocket_moved', 'pocket_added_removed', 'no_light')
+
 class LightType:
     """Blender lights that are not surfaces, and the world (native/include/radiosity/lights.h)."""
     POINT: "LightType"
@@ -163,6 +166,7 @@ class Solver:
     def add_cluster(self, name: str, parent: int = -1) -> int: ...  # a collection for added objects
     def radiance_at(self, object_id: int, face: int, point: tuple) -> tuple: ...  # front-side radiance of the leaf at a world point
     def stats(self) -> dict: ...  # counts and seconds (native/include/radiosity/stats.h) plus 'mode': 'full' | 'incremental'
+    # ... and 'update_fallback': one of update_fallbacks when an update solved in full, else None
     # Dynamic environments (AdjustSystem). Record changes, then update() / start_update().
     def move_object(self, object_id: int, matrix: np.ndarray) -> None:
         """Rigid placement (float64 4x4, row-major, world units) relative to the geometry given to

@@ -176,6 +176,9 @@ py::dict stats_dict(const Stats& s) {
     for (const auto& p : s.phase_rays) phase_rays[py::str(p.first)] = p.second;
     d["phase_rays"] = phase_rays;
     d["mode"] = s.mode_incremental ? "incremental" : "full";
+    // Why an update solved in full, as a stable code (None: it did not).
+    d["update_fallback"] = s.update_fallback == UpdateFallback::none ? py::object(py::none())
+                                                                    : py::object(py::str(fallback_code(s.update_fallback)));
 #undef F
     return d;
 }
@@ -444,6 +447,10 @@ void bind_solver_output(py::class_<PySolver>& cls) {
 PYBIND11_MODULE(radiosity_native, m) {
     m.doc() = "Clustering-based hierarchical radiosity solver (native core of the Blender add-on)";
     py::register_exception<Cancelled>(m, "Cancelled");
+    // Every code stats()["update_fallback"] may hold (the add-on words each one).
+    py::list fallbacks;
+    for (UpdateFallback f : kUpdateFallbacks) fallbacks.append(fallback_code(f));
+    m.attr("update_fallbacks") = py::tuple(fallbacks);
     bind_settings(m);
     bind_lights(m);
     bind_scene(m);

@@ -14,6 +14,23 @@
 
 namespace radiosity {
 
+namespace {
+// The warning an update that solved in full adds for people (Stats::update_fallback is the
+// code programs read); none for a scene without light, whose own warning says so.
+const char* fallback_warning(UpdateFallback why) {
+    switch (why) {
+        case UpdateFallback::scene_size:
+            return "objects added or removed changed the scene's size: solved in full (the scene's frame changes)";
+        case UpdateFallback::pocket_moved: return "a move changed a closed pocket: solved in full";
+        case UpdateFallback::pocket_added_removed:
+            return "an object added or removed changed a closed pocket: solved in full";
+        case UpdateFallback::none:
+        case UpdateFallback::no_light: break;
+    }
+    return nullptr;
+}
+}  // namespace
+
 void Solver::move_object(int object, const double m[16]) {
     settle_preview();
     if (!solved()) throw std::logic_error("move_object: solve the scene first");
@@ -179,14 +196,14 @@ void Solver::update(Control* control) {
     UpdateRun u;
     u.topology = topology_.pending();
     u.materials_changed = edits_.materials();
+    stats_.update_fallback = UpdateFallback::none;  // (until a phase below solves in full)
     if (!edits_.any() && !u.topology) {
         stats_.mode_incremental = true;
         stats_.seconds_adjust = 0;
         return;
     }
     if (topology_.outgrows_frame(scene_, h_)) {
-        solve_instead(control, "objects added or removed changed the scene's size: solved in full (the scene's "
-                               "frame changes)");
+        solve_instead(control, UpdateFallback::scene_size);
         return;
     }
     Run run(run_, control, int64_t(vis_->rays()));
@@ -201,13 +218,14 @@ void Solver::update(Control* control) {
     update_output(u);
 }
 
-void Solver::solve_instead(Control* control, const char* why) {
+void Solver::solve_instead(Control* control, UpdateFallback why) {
     // A full solve builds from scene_: additions are in, removals are committed by solve(),
     // moves become placements.
     edits_.fit_poses(scene_.objects().size());  // a move can name an object added since
     for (const auto& [obj, pose] : edits_.take_moves()) edits_.place(obj, pose);
     solve(control);
-    if (why) stats_.warnings.push_back(why);
+    stats_.update_fallback = why;
+    if (const char* text = fallback_warning(why)) stats_.warnings.push_back(text);
 }
 
 void Solver::update_begin(UpdateRun& u) {
@@ -240,7 +258,7 @@ bool Solver::update_materials(Control* control) {
         // Dark now: a zero reference makes the oracle's threshold 0, and the update would
         // refine every link to the caps. Dark before: solve() made no links,
         // so there is nothing to update. solve() handles both.
-        solve_instead(control, nullptr);
+        solve_instead(control, UpdateFallback::no_light);
         return false;
     }
     h_.index_emitters();  // can_split: small emitting clusters still split (materials may have changed)
@@ -319,8 +337,7 @@ bool Solver::update_adjust(UpdateRun& u, Control* control) {
     // surfaces into a closed pocket, solve in full (rare: an object put into or taken out
     // of a closed crate).
     if (!pockets_.reseal(h_, pocket_sight(), known_surfaces, u.replaying ? &ch.clips : nullptr, &ch.moved)) {
-        solve_instead(control, u.topology ? "an object added or removed changed a closed pocket: solved in full"
-                                          : "a move changed a closed pocket: solved in full");
+        solve_instead(control, u.topology ? UpdateFallback::pocket_added_removed : UpdateFallback::pocket_moved);
         return false;
     }
     memory_.measure_tables(memory_view());
@@ -331,7 +348,7 @@ bool Solver::update_adjust(UpdateRun& u, Control* control) {
         const double old_threshold = tolerances_.threshold;
         compute_reference();
         if (tolerances_.reference <= 0) {
-            solve_instead(control, nullptr);
+            solve_instead(control, UpdateFallback::no_light);
             return false;
         }
         u.rejudge_all = std::fabs(tolerances_.threshold - old_threshold) > 0.02 * old_threshold;

@@ -89,5 +89,6 @@ def test_an_update_the_solver_runs_in_full_is_reported_as_full(native):
     lit.run()
     assert lit.mode == "full"               # ...which solved in full
     assert lit.full_reason.startswith("the solver solved in full"), lit.full_reason
+    assert lit.update_fallback == "no_light"
     st = lit.native_stats()
     assert "rays_cumulative" not in st and st["rays"] > 0

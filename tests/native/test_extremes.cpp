@@ -256,6 +256,7 @@ TEST(Extremes, SwitchingOffEveryLightByUpdateGivesZeros) {
     s.set_emission(1, {Rgb{}});
     s.update();
     expect_sane(s, "lights off");
+    EXPECT_EQ(s.stats().update_fallback, UpdateFallback::no_light);
     double peak = 0;
     for (float v : s.all_corner_radiance()) peak = std::max(peak, double(v));
     EXPECT_EQ(peak, 0.0) << "light left after switching every emitter off";

@@ -114,6 +114,7 @@ TEST(Pockets, MovingIntoAndOutOfAClosedCrateSolvesInFull) {
     s.update();
     EXPECT_TRUE(said());
     EXPECT_FALSE(s.stats().mode_incremental);
+    EXPECT_EQ(s.stats().update_fallback, UpdateFallback::pocket_moved);
     for (float v : s.corner_radiance(cube)) ASSERT_EQ(v, 0.f);
     s.move_object(cube, translation(Vec3{2.0, 1.5, 0.3} - out).data());
     s.update();
@@ -127,6 +128,7 @@ TEST(Pockets, MovingIntoAndOutOfAClosedCrateSolvesInFull) {
     s.update();
     EXPECT_TRUE(s.stats().mode_incremental);
     EXPECT_FALSE(said()) << "the previous update's fallback warning is not this one's";
+    EXPECT_EQ(s.stats().update_fallback, UpdateFallback::none);
 }
 
 TEST(Pockets, AMoveAwayFromAClosedPocketKeepsItsConfirmationWithoutARay) {

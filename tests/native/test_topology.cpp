@@ -288,6 +288,7 @@ TEST(Topology, ExtremeChangesStaySafe) {
         s.add_object(far);
         s.update();
         EXPECT_TRUE(has_warning(s, "scene's size")) << at;
+        EXPECT_EQ(s.stats().update_fallback, UpdateFallback::scene_size) << at;
         for (float v : s.all_corner_radiance()) ASSERT_TRUE(std::isfinite(v));
     }
     // Added and removed before an update: nothing to do for it.
@@ -327,6 +328,7 @@ TEST(Topology, AddingIntoAClosedPocketSolvesInFull) {
     inc.add_object(t.objects()[0]);
     inc.update();
     EXPECT_TRUE(has_warning(inc, "closed pocket"));
+    EXPECT_EQ(inc.stats().update_fallback, UpdateFallback::pocket_added_removed);
     scenes::add_box(s, "glow", -1, {2.5, 2.5, 1}, {3, 3, 1.5}, 1, Rgb::all(0.5), Rgb::all(3.0));
     Solver full(s, Settings::preset("DRAFT"));
     full.solve();

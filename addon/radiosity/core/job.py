@@ -95,6 +95,7 @@ class SolveJob:
         self.full_reason = None
         self._native_stats = None
         self.native_full = False    # the native update solved in full (its warning says why)
+        self.update_fallback = None  # ... and why, as the solver's code (stats.FALLBACK_WORDS)
         self._work_before = {}      # cumulative native work counters before an update
         session.track(self)
 
@@ -401,10 +402,14 @@ class SolveJob:
             return native_stats
         if native_stats.get("mode") == "full":
             self.native_full = True
-            why = [w for w in native_stats.get("warnings", None) or [] if "in full" in w]
-            # The one silent case (native adjust.cpp): the scene is dark now or was dark.
+            # The code goes into last_stats with full_reason (bake.py), for this job only: a
+            # cached rewrite of its colours solves nothing.
+            code = self.update_fallback = native_stats.pop("update_fallback", None)
+            # The solver's warning for it is its last; a scene dark now or before has none.
+            said = native_stats.get("warnings", None) or []
+            dark = not said or code in (None, "no_light")
             self.full_reason = "the solver solved in full: " + (
-                why[0] if why else "the scene has, or had, no light")
+                "the scene has, or had, no light" if dark else said[-1])
             return native_stats
         for key, before in self._work_before.items():
             if key in native_stats:

@@ -54,9 +54,9 @@ def from_json(text):
 
 # -- in plain words (the panel) -----------------------------------------------------------------
 # What a cached bake's "source" keeps of the bake that solved the colours it rewrites.
-SUMMARY_KEYS = ("mode", "seconds", "live", "full_reason", "moved", "added", "removed",
-                "replaced", "emission_changed", "reflectance_changed", "texture_changed",
-                "lights_changed", "no_emitter", "preset")
+SUMMARY_KEYS = ("mode", "seconds", "live", "full_reason", "update_fallback", "moved", "added",
+                "removed", "replaced", "emission_changed", "reflectance_changed",
+                "texture_changed", "lights_changed", "no_emitter", "preset")
 
 _REASONS = {
     "full bake requested": "a full bake was asked for",
@@ -68,13 +68,17 @@ _REASONS = {
         "lights were added, removed or changed type",
     "the kept solution is being updated by another bake":
         "another bake was updating the kept solution",
-    # The solver's reasons (adjust.cpp), in the words of someone who moves furniture.
-    "a move changed a closed pocket":
-        "an object moved into or out of a closed space (a box, a cupboard)",
-    "an object added or removed changed a closed pocket":
+}
+# The solver's reasons for solving an update in full, by the code it gives with them (stats
+# "update_fallback", native stats.h UpdateFallback; its warnings word them for developers and
+# may change), in the words of someone who moves furniture. Every code the module lists in
+# radiosity_native.update_fallbacks has words here (tests/python/test_update_fallback.py).
+FALLBACK_WORDS = {
+    "pocket_moved": "an object moved into or out of a closed space (a box, a cupboard)",
+    "pocket_added_removed":
         "an object added or removed opened or closed off a space (a box, a cupboard)",
-    "objects added or removed changed the scene's size (the scene's frame changes)":
-        "objects added or removed changed the size of the whole scene more than twofold",
+    "scene_size": "objects added or removed changed the size of the whole scene more than twofold",
+    "no_light": "the scene has, or had, no light",
 }
 _CHANGES = (("moved", "moved"), ("added", "added"), ("removed", "removed"),
             ("replaced", "changed shape"), ("emission_changed", "changed emission"),
@@ -86,8 +90,10 @@ def summary(stats):
     return {k: stats[k] for k in SUMMARY_KEYS if k in stats}
 
 
-def plain_reason(reason):
-    """full_reason as a user reads it."""
+def plain_reason(reason, fallback=None):
+    """full_reason as a user reads it; `fallback`: the solver's code when it solved in full."""
+    if fallback in FALLBACK_WORDS:
+        return FALLBACK_WORDS[fallback]
     if not reason:
         return None
     text = str(reason)
@@ -133,7 +139,7 @@ def describe(stats):
             details.append(f"Changed: {changed}")
     else:
         headline = f"{who}: solved from scratch, {seconds:.2f} s"
-        why = plain_reason(bake.get("full_reason"))
+        why = plain_reason(bake.get("full_reason"), bake.get("update_fallback"))
         if why:
             details.append(f"Why from scratch: {why}")
     if cached and stats.get("source"):

@@ -281,8 +281,9 @@ private:
     void update_judged(const UpdateRun& u, int round, int64_t judged_from, const std::vector<char>& moved_light,
                        std::vector<int>& ids, std::vector<int>& unsettle) const;
     void update_output(const UpdateRun& u);    // final gather, stats
-    // A full solve in place of an update (pending moves become placements); `why` is warned.
-    void solve_instead(Control* control, const char* why);
+    // A full solve in place of an update (pending moves become placements); `why` goes into
+    // the stats, with its warning.
+    void solve_instead(Control* control, UpdateFallback why);
     // The AdjustSystem (adjust_system.h) for `ch` on the solver's hierarchy, links and stats,
     // with the threshold state of now and u's replay boxes: made once the update knows them.
     AdjustSystem adjust_system(const Change& ch, const UpdateRun& u);

@@ -7,6 +7,32 @@
 
 namespace radiosity {
 
+// Why an update solved in full instead (Solver::update): a stable code for programs, where the
+// warning that goes with it is English for people and may be reworded.
+enum class UpdateFallback {
+    none,                  // the update was incremental, or no update ran
+    scene_size,            // objects added or removed changed the scene's size (its frame)
+    pocket_moved,          // a move changed a closed pocket (pockets.cpp)
+    pocket_added_removed,  // an object added or removed changed a closed pocket
+    no_light,              // the scene has, or had, no light (no warning of its own)
+};
+
+// The code's name, as the Python module reports it ("none" for none).
+inline const char* fallback_code(UpdateFallback f) {
+    switch (f) {
+        case UpdateFallback::none: return "none";
+        case UpdateFallback::scene_size: return "scene_size";
+        case UpdateFallback::pocket_moved: return "pocket_moved";
+        case UpdateFallback::pocket_added_removed: return "pocket_added_removed";
+        case UpdateFallback::no_light: return "no_light";
+    }
+    return "none";
+}
+
+// Every code but none, for the Python module to list.
+inline constexpr UpdateFallback kUpdateFallbacks[] = {UpdateFallback::scene_size, UpdateFallback::pocket_moved,
+                                                      UpdateFallback::pocket_added_removed, UpdateFallback::no_light};
+
 struct Stats {
     int64_t input_surfaces = 0;     // input polygons
     int64_t primitives = 0;         // after n-gon splitting
@@ -81,6 +107,8 @@ struct Stats {
     double seconds_contacts = 0;
     double seconds_build = 0, seconds_link = 0, seconds_solve = 0, seconds_total = 0;
     std::vector<std::string> warnings;
+    // Why the last update solved in full; its warning, when it has one, is the last of `warnings`.
+    UpdateFallback update_fallback = UpdateFallback::none;
     // Wall time of each phase of the last solve or update, in order (for profiling and the
     // benchmarks; names are stable: "build", "link", "closure", "gather", "refine", ...).
     std::vector<std::pair<std::string, double>> phases;

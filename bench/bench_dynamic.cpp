@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
         b.solve();
         s_no35 = b.stats();
         t_full_no35.push_back(s_no35.seconds_total);
-        a.move_object(2, translation(move).data());
+        a.move_object(2, translation(move));
         a.update();
         s_upd = a.stats();
         t_update.push_back(s_upd.seconds_total);
@@ -131,7 +131,7 @@ int main(int argc, char** argv) {
     d.solve();
     std::vector<double> steps;
     for (int k = 1; k <= drag_steps; ++k) {
-        d.move_object(2, translation(move * (double(k) / drag_steps)).data());
+        d.move_object(2, translation(move * (double(k) / drag_steps)));
         d.update();
         steps.push_back(d.stats().seconds_total);
     }

@@ -8,6 +8,7 @@
 // special value such as NaN, inf or 1e30), then a list of operations. Sizes are capped so a
 // run stays in the milliseconds: at most 6 objects of 8 polygons of up to 8 corners, and up
 // to 2 warped sheets of at most 6 x 6 quads (warped_sheet), moved by turns of any angle.
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -100,7 +101,7 @@ ObjectDesc object(Bytes& in, int index, int clusters) {
 
 // A rigid move (rotation about a lattice axis by a multiple of 15 degrees plus a lattice
 // translation), or rarely a far jump or a matrix the API must reject.
-std::vector<double> matrix(Bytes& in) {
+std::array<double, 16> matrix(Bytes& in) {
     const double a = in.below(24) * 15.0 * 3.14159265358979323846 / 180.0;
     const int axis = in.below(3);
     const double c = std::cos(a), s = std::sin(a);
@@ -109,7 +110,7 @@ std::vector<double> matrix(Bytes& in) {
     R[i * 3 + i] = c, R[i * 3 + j] = -s, R[j * 3 + i] = s, R[j * 3 + j] = c;
     static const double far[] = {0.0, 0.0, 1.0, 1e6, -1e6, 1e15};
     Vec3 t{in.coord() + in.pick(far), in.coord(), in.coord()};
-    std::vector<double> m = {R[0], R[1], R[2], t.x, R[3], R[4], R[5], t.y, R[6], R[7], R[8], t.z, 0, 0, 0, 1};
+    std::array<double, 16> m = {R[0], R[1], R[2], t.x, R[3], R[4], R[5], t.y, R[6], R[7], R[8], t.z, 0, 0, 0, 1};
     switch (in.below(16)) {
         case 0: m[in.below(16)] = std::nan(""); break;  // rejected
         case 1: m[0] *= 2; break;                         // scale: rejected
@@ -136,7 +137,7 @@ void any_rotation(Bytes& in, double R[9]) {
 
 // A move with a turn by any angle about any axis through the object's neighbourhood, and a
 // lattice translation: the object can end inside a wall or another object.
-std::vector<double> turned_matrix(Bytes& in) {
+std::array<double, 16> turned_matrix(Bytes& in) {
     double R[9];
     any_rotation(in, R);
     const Vec3 t{in.coord(), in.coord(), in.coord()};
@@ -249,8 +250,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         try {
             switch (in.below(8)) {
                 case 6: {
-                    std::vector<double> m = turned_matrix(in);
-                    solver.move_object(obj, m.data());
+                    const std::array<double, 16> m = turned_matrix(in);
+                    solver.move_object(obj, m);
                     break;
                 }
                 case 7:
@@ -264,8 +265,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                     break;
                 case 0:
                 case 1: {
-                    std::vector<double> m = matrix(in);
-                    solver.move_object(obj, m.data());
+                    const std::array<double, 16> m = matrix(in);
+                    solver.move_object(obj, m);
                     break;
                 }
                 case 2: {

@@ -200,6 +200,14 @@ py::dict object_cost_dict(const Solver::ObjectCost& c) {
     return d;
 }
 
+// A 4x4 matrix (row-major), as Solver::move_object and Solver::preview take it.
+std::array<double, 16> matrix16(const Arr<double>& m) {
+    if (m.ndim() != 2 || m.shape(0) != 4 || m.shape(1) != 4) throw py::value_error("matrix must be 4x4");
+    std::array<double, 16> a{};
+    std::copy(m.data(), m.data() + 16, a.begin());
+    return a;
+}
+
 // Solver.preview: with the objects of `moves` ({object_id: 4x4 matrix}, as move_object takes)
 // placed there, direct light re-traced and the rest as solved, the corners that change
 // ({object_id: (corner indices, (k,3) values)}; the others keep corner_radiance's value) and
@@ -210,9 +218,9 @@ py::tuple preview(PySolver& s, const py::dict& moves, int64_t work) {
     std::map<int, std::array<double, 16>> mv;
     for (const auto& item : moves) {
         const int id = item.first.cast<int>();
-        const auto m = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(item.second);
-        if (!m || m.ndim() != 2 || m.shape(0) != 4 || m.shape(1) != 4) throw py::value_error("matrix must be 4x4");
-        std::copy(m.data(), m.data() + 16, mv[id].begin());
+        const auto m = Arr<double>::ensure(item.second);
+        if (!m) throw py::value_error("matrix must be 4x4");
+        mv[id] = matrix16(m);
     }
     FinalGather::PreviewCounts k;
     std::vector<CornerPatch> patches;
@@ -338,8 +346,7 @@ void bind_solver_edits(py::class_<PySolver>& cls) {
     cls
         .def("move_object", [](PySolver& s, int object, const Arr<double>& m) {
             s.idle();
-            if (m.ndim() != 2 || m.shape(0) != 4 || m.shape(1) != 4) throw py::value_error("matrix must be 4x4");
-            s.solver->move_object(object, m.data());
+            s.solver->move_object(object, matrix16(m));
         }, py::arg("object_id"), py::arg("matrix"))
         // Objects added / removed since the solve; applied by the next update().
         .def("add_object", [](PySolver& s, const std::string& name, int cluster, const Arr<double>& verts,

@@ -215,7 +215,7 @@ std::vector<std::pair<int, Rigid>> Solver::preview_placements(const std::map<int
         topology_.check_live(scene_, object, "preview");
         const std::vector<Rigid>& poses = edits_.poses();  // an object added since has none yet
         if (size_t(object) >= poses.size() || h_.object_node[size_t(object)] < 0) continue;
-        const Rigid to = pose_of(object, m.data());
+        const Rigid to = pose_of(object, m);
         if (to == poses[size_t(object)]) continue;  // where the solution has it
         placed.emplace_back(object, to);
     }

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -624,7 +625,7 @@ TEST(Extremes, MoveInsideAnotherObjectAndFarAway) {
     const auto before = s.all_corner_radiance();
 
     // Into the closed crate: it sees nothing lit there.
-    s.move_object(3, translation(Vec3{0.7, 0.7, 0.3} - start).data());
+    s.move_object(3, translation(Vec3{0.7, 0.7, 0.3} - start));
     s.update();
     expect_sane(s, "inside the crate");
     double peak = 0, peak_full = 0;
@@ -641,7 +642,7 @@ TEST(Extremes, MoveInsideAnotherObjectAndFarAway) {
     EXPECT_LE(nrmse(s.all_corner_radiance(), full_in.all_corner_radiance()), 0.03);
 
     // A million metres away: finite, dark, and the room as without it.
-    s.move_object(3, translation({1e6, 0, 0}).data());
+    s.move_object(3, translation({1e6, 0, 0}));
     s.update();
     expect_sane(s, "1e6 away");
     peak = 0;
@@ -659,7 +660,7 @@ TEST(Extremes, MoveInsideAnotherObjectAndFarAway) {
     EXPECT_LE(nrmse(room_now, ref.all_corner_radiance()), 0.03);
 
     // And back where it started: as before.
-    s.move_object(3, translation({0, 0, 0}).data());
+    s.move_object(3, translation({0, 0, 0}));
     s.update();
     expect_sane(s, "back");
     EXPECT_LE(nrmse(s.all_corner_radiance(), before), 0.03);
@@ -897,7 +898,7 @@ TEST(Extremes, NonFiniteInputIsRejectedNamingTheObject) {
         for (int i = 0; i < 16; ++i) {
             auto m = translation({0.1, 0, 0});
             m[i] = bad;
-            EXPECT_THROW(s.move_object(0, m.data()), InputError) << "matrix entry " << i;
+            EXPECT_THROW(s.move_object(0, m), InputError) << "matrix entry " << i;
         }
     }
     EXPECT_THROW(s.set_emission(1, {Rgb{1, -1, 1}}), InputError);
@@ -928,7 +929,7 @@ TEST(Extremes, EmptySceneSolvesToNothing) {
     EXPECT_TRUE(s.stats().no_emitters);
     EXPECT_EQ(s.stats().primitives, 0);
     EXPECT_THROW(s.corner_radiance(0), std::out_of_range);
-    EXPECT_THROW(s.move_object(0, translation({1, 0, 0}).data()), InputError);
+    EXPECT_THROW(s.move_object(0, translation({1, 0, 0})), InputError);
     s.update();
     EXPECT_TRUE(s.solved());
 }
@@ -965,8 +966,8 @@ TEST(Extremes, ObjectsWithoutPolygons) {
     EXPECT_EQ(s.stats().skipped_polygons, 0);
     EXPECT_LE(nrmse(room, ref.all_corner_radiance()), 1e-6) << "loose vertices changed the solution";
     // Moving them is harmless.
-    s.move_object(2, translation({1, 2, 3}).data());
-    s.move_object(4, translation({1, 2, 3}).data());
+    s.move_object(2, translation({1, 2, 3}));
+    s.move_object(4, translation({1, 2, 3}));
     s.update();
     expect_sane(s, "moved empty objects");
 }
@@ -1153,7 +1154,7 @@ TEST(Extremes, SelfOverlappingPolygonNearOneDoesNotDiverge) {
     Solver solver(s, st);
     solver.solve();
     for (float v : solver.all_corner_radiance()) EXPECT_LE(v, 1e7f);  // no light beyond what E/(1-rho) allows
-    const double m[16] = {-0.96592582628906842, 0, -0.25881904510252035, 1.25, 0, 1, 0, 1.25,
+    const std::array<double, 16> m = {-0.96592582628906842, 0, -0.25881904510252035, 1.25, 0, 1, 0, 1.25,
                           0.25881904510252035,  0, -0.96592582628906842, 1.25, 0, 0, 0, 1};
     solver.move_object(1, m);
     solver.update();
@@ -1239,7 +1240,7 @@ TEST(Extremes, WarpedQuadsBakeAsTheirFlatTwinAndSurviveTurnedMoves) {
 
     // Into the wall at x = 3, turned.
     const auto m = turn_about(2, 0.6, {1.3, 1.25, 0.3}, {1.5, 0.3, 0});
-    warped.move_object(3, m.data());
+    warped.move_object(3, m);
     warped.update();
     expect_sane(warped, "crate turned into the wall");
     SceneDesc moved = scene(2e-5 * cell);
@@ -1259,7 +1260,7 @@ TEST(Extremes, CornellBlockMovedAndTurned) {
     s.solve();
     const Vec3 centre{0.186, 0.0825, 0.169};
     for (const auto& m : {turn_about(1, 0.4, centre, {0.09, 0, 0.12}), turn_about(1, 0.6, centre, {0.33, 0, 0.05})}) {
-        s.move_object(block, m.data());
+        s.move_object(block, m);
         s.update();
         expect_sane(s, "moved block");
         SceneDesc moved = scenes::cornell_box(4);

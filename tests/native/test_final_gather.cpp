@@ -392,7 +392,7 @@ TEST(FinalGather, MovingABottomlessBlockSealsTheFloorItComesToCover) {
     const SceneDesc before = scene({}), after = scene(to);
     Solver inc(before, Settings::preset("MEDIUM"));
     inc.solve();
-    for (int o = 1; o <= 5; ++o) inc.move_object(o, translation(to).data());
+    for (int o = 1; o <= 5; ++o) inc.move_object(o, translation(to));
     inc.update();
     Solver full(after, Settings::preset("MEDIUM"));
     full.solve();

@@ -159,8 +159,8 @@ TEST(OutputFlag, UpdatesAndThePreviewHonourIt) {
 
     // Moves, then an update (a retrace): the flag holds, the rest matches bit for bit.
     for (Solver* s : {&on, &off}) {
-        s->move_object(kCopy, drag.data());
-        s->move_object(2, translation({10, -15, 0}).data());
+        s->move_object(kCopy, drag);
+        s->move_object(2, translation({10, -15, 0}));
         s->update();
         EXPECT_TRUE(s->stats().mode_incremental);
     }

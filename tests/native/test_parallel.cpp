@@ -170,7 +170,7 @@ TEST(Parallel, SolutionsDoNotDependOnThreadsOrSchedule) {
         std::vector<float> got;
         auto work = [&](Control* control) {
             s.solve(control);
-            s.move_object(2, radiosity::testing::translation(Vec3{10, 15, 0}).data());
+            s.move_object(2, radiosity::testing::translation(Vec3{10, 15, 0}));
             s.update(control);
             got = s.all_corner_radiance();
         };

@@ -110,13 +110,13 @@ TEST(Pockets, MovingIntoAndOutOfAClosedCrateSolvesInFull) {
     s.solve();
     const int cube = int(s.scene().objects().size()) - 1;
     auto said = [&] { return has_warning(s, "closed pocket"); };
-    s.move_object(cube, translation(in - out).data());
+    s.move_object(cube, translation(in - out));
     s.update();
     EXPECT_TRUE(said());
     EXPECT_FALSE(s.stats().mode_incremental);
     EXPECT_EQ(s.stats().update_fallback, UpdateFallback::pocket_moved);
     for (float v : s.corner_radiance(cube)) ASSERT_EQ(v, 0.f);
-    s.move_object(cube, translation(Vec3{2.0, 1.5, 0.3} - out).data());
+    s.move_object(cube, translation(Vec3{2.0, 1.5, 0.3} - out));
     s.update();
     EXPECT_TRUE(said()) << "out of the crate again";
     EXPECT_FALSE(s.stats().mode_incremental);
@@ -124,7 +124,7 @@ TEST(Pockets, MovingIntoAndOutOfAClosedCrateSolvesInFull) {
     for (float v : s.corner_radiance(cube)) peak = std::max(peak, double(v));
     EXPECT_GT(peak, 0.01 * s.reference_radiance()) << "lit again";
     // Within the room a move keeps every pocket: incremental.
-    s.move_object(cube, translation(Vec3{2.1, 1.6, 0.3} - out).data());
+    s.move_object(cube, translation(Vec3{2.1, 1.6, 0.3} - out));
     s.update();
     EXPECT_TRUE(s.stats().mode_incremental);
     EXPECT_FALSE(said()) << "the previous update's fallback warning is not this one's";
@@ -158,7 +158,7 @@ TEST(Pockets, AMoveAwayFromAClosedPocketKeepsItsConfirmationWithoutARay) {
         st.replay_rays = replay == 1;
         Solver s(sc, st);
         s.solve();
-        s.move_object(stool, step.data());
+        s.move_object(stool, step);
         s.update();
         ASSERT_TRUE(s.stats().mode_incremental);
         for (const auto& [phase, rays] : s.stats().phase_rays)

@@ -41,7 +41,7 @@ Drag drag(const SceneDesc& scene, int object, const std::array<double, 16>& m) {
     Drag d;
     d.before = s.all_corner_radiance();
     d.shown = patched(s, s.preview({{object, m}}, &d.k));
-    s.move_object(object, m.data());
+    s.move_object(object, m);
     s.update();
     d.truth = s.all_corner_radiance();
     return d;
@@ -74,8 +74,8 @@ TEST(Preview, ChangesNothingOfTheSolution) {
     EXPECT_EQ(a.all_corner_radiance(), before);
     // The update after a preview is the update without one, bit for bit (Embree's placement
     // restored, no record touched).
-    a.move_object(2, m.data());
-    b.move_object(2, m.data());
+    a.move_object(2, m);
+    b.move_object(2, m);
     a.update();
     b.update();
     EXPECT_EQ(a.all_corner_radiance(), b.all_corner_radiance());
@@ -94,7 +94,7 @@ TEST(Preview, ChangesNothingOfTheSolution) {
     c.preview({{panel, turn}});
     EXPECT_TRUE(c.hierarchy().surface_geom_current());  // the samplers' tables put back too
     for (Solver* x : {&c, &e}) {
-        x->move_object(3, translation({-20, -30, 0}).data());
+        x->move_object(3, translation({-20, -30, 0}));
         x->update();
     }
     EXPECT_EQ(c.all_corner_radiance(), e.all_corner_radiance());
@@ -162,7 +162,7 @@ TEST(Preview, ADragGoesOnFromWhereItsLastStepLeftTheObject) {
     // A drag left placed, then an update of another move: the update as without the drag.
     a.preview({{2, pose(8)}});
     for (Solver* x : {&a, &c}) {
-        x->move_object(2, pose(3).data());
+        x->move_object(2, pose(3));
         x->update();
     }
     EXPECT_EQ(a.all_corner_radiance(), c.all_corner_radiance());
@@ -289,7 +289,7 @@ TEST(Preview, AStepWithLittleWorkRelightsTheNearestAndKeepsTheRest) {
     for (size_t i = box_begin; i < later.size(); ++i) ASSERT_EQ(later[i], full[i]) << "box value " << i << " base " << base[i] << " first " << first[i];
     // After an update the shown changes are forgotten: a step elsewhere shows each value
     // relit or as the new solution has it.
-    s.move_object(1, m.data());
+    s.move_object(1, m);
     s.update();
     const std::vector<float> now = s.all_corner_radiance();
     const std::array<double, 16> back = translation({0.4, 0, 0});

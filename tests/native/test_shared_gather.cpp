@@ -164,7 +164,7 @@ TEST(SharedGather, KeptProbesAreWhatCastingThemGives) {
         const int box = int(s.scene().objects().size()) - 1;
         int step = 0;
         for (const std::array<double, 16>& m : {translation({0.9, 0.5, 0}), turn}) {
-            s.move_object(box, m.data());
+            s.move_object(box, m);
             s.update();
             ASSERT_TRUE(s.stats().mode_incremental);
             probes[replay][step++] = s.output_probes();

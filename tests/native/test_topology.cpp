@@ -264,7 +264,7 @@ TEST(Topology, BadInputIsRefused) {
     EXPECT_THROW(s.remove_object(3), InputError) << "removing twice";
     s.update();
     EXPECT_THROW(s.remove_object(3), InputError) << "removing twice, after the update";
-    const double m[16] = {1, 0, 0, 1, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    const std::array<double, 16> m = {1, 0, 0, 1, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     EXPECT_THROW(s.move_object(3, m), InputError);
     EXPECT_THROW(s.set_emission(3, {Rgb::all(1.0)}), InputError);
     EXPECT_EQ(s.scene().objects().size(), 4u) << "a refused addition leaves no slot";
@@ -392,7 +392,7 @@ TEST(Topology, MovingAnAddedObjectBeforeTheUpdate) {
     // solves in full and applied pending moves to a per-object array the addition had not grown
     // yet (UBSan: reference binding to null). The same sequence in a lit scene takes the
     // incremental path: the object is built where it was given, then moved.
-    const double m[16] = {1, 0, 0, 30, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    const std::array<double, 16> m = {1, 0, 0, 30, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     SceneDesc dark;
     scenes::add_box(dark, "room", -1, {0, 0, 0}, {300, 300, 250}, 2, Rgb::all(0.7), {}, true);
     Solver d(dark, Settings::preset("DRAFT"));

@@ -1,10 +1,11 @@
 // A rigid placement, p -> R p + t (R a rotation, row-major): where an object stands relative to
 // where its geometry was given, in the solver's internal frame. The one type for placements:
 // moves, the live preview's carry from the solved placement to the dragged one, and Embree's
-// instance transforms. Made from a Blender world matrix by Solver::pose_of, which checks that
-// it is rigid; nothing here checks it.
+// instance transforms. Made from a Blender world matrix by from_world, which checks that it is
+// rigid; nothing else here checks it.
 #pragma once
 #include <array>
+#include <string>
 
 #include "radiosity/vec.h"
 
@@ -35,6 +36,11 @@ struct Rigid {
         c.t = t - c.dir(from.t);
         return c;
     }
+    // A Blender world matrix m (row-major 4 x 4: world p = R p0 + t) as the placement in the
+    // internal frame whose world points are origin + unit * p. Throws InputError (scene.h),
+    // its message opening with `what` (e.g. "object 'Box'"), unless m is finite, affine and
+    // rigid (a rotation, no scale, shear or mirroring) and its translation within 1e12 scene sizes.
+    static Rigid from_world(const std::array<double, 16>& m, const Vec3& origin, double unit, const std::string& what);
     // Row-major 3 x 4, [R | t] (Embree's instance transform).
     std::array<double, 12> rows() const {
         return {R[0], R[1], R[2], t.x, R[3], R[4], R[5], t.y, R[6], R[7], R[8], t.z};

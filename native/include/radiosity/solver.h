@@ -75,7 +75,7 @@ public:
     // update() runs AdjustSystem and a warm-started re-solve.
     // Rigid placement of an object relative to its geometry as given (row-major 4x4, world
     // units). Throws InputError for NaN, non-rigid or mirroring matrices.
-    void move_object(int object, const double m[16]);
+    void move_object(int object, const std::array<double, 16>& m);
     // Per polygon (or one value for the whole object).
     void set_emission(int object, const std::vector<Rgb>& values);
     void set_reflectance(int object, const std::vector<Rgb>& values);
@@ -227,7 +227,7 @@ private:
     LinkShape link_shape() const { return {links_.size(), h_.nodes.size(), stats_.element_nodes}; }
     // adjust.cpp
     // move_object's matrix as a placement in the internal frame (InputError when not rigid).
-    Rigid pose_of(int object, const double m[16]) const;
+    Rigid pose_of(int object, const std::array<double, 16>& m) const;
     // What an update changed in the geometry (moves here, additions and removals by
     // Topology::apply), for the AdjustSystem (adjust_system.h).
     using Change = AdjustSystem::Change;

@@ -6,6 +6,7 @@
 
 #include "radiosity/geometry.h"
 #include "radiosity/held_bytes.h"
+#include "radiosity/random.h"
 #include "radiosity/settings.h"
 #include "radiosity/visibility.h"
 

@@ -1,5 +1,6 @@
 #include "radiosity/final_gather.h"
 #include "final_gather_trace.h"
+#include "point_couplings.h"
 
 #include <algorithm>
 #include <array>
@@ -14,7 +15,7 @@
 #include "radiosity/gather_plan.h"
 #include "radiosity/lights.h"
 #include "radiosity/parallel.h"
-#include "radiosity/point_couplings.h"
+#include "radiosity/random.h"
 #include "radiosity/transfer.h"
 
 namespace radiosity {

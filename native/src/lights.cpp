@@ -11,6 +11,7 @@
 
 #include "radiosity/direct_light.h"
 #include "radiosity/parallel.h"
+#include "radiosity/random.h"
 #include "radiosity/replay.h"
 
 namespace radiosity {

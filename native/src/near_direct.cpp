@@ -22,6 +22,7 @@
 
 #include "final_gather_trace.h"
 #include "radiosity/lights.h"
+#include "radiosity/random.h"
 
 namespace radiosity {
 namespace fg {

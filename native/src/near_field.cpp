@@ -7,8 +7,9 @@
 #include <vector>
 
 #include "final_gather_trace.h"
+#include "point_couplings.h"
 #include "radiosity/lights.h"
-#include "radiosity/point_couplings.h"
+#include "radiosity/random.h"
 #include "radiosity/transfer.h"
 
 namespace radiosity {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "radiosity/final_gather.h"
+#include "radiosity/random.h"
 #include "radiosity/transfer.h"
 
 namespace radiosity {

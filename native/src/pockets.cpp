@@ -19,6 +19,7 @@
 #include <numeric>
 
 #include "radiosity/parallel.h"
+#include "radiosity/random.h"
 
 namespace radiosity {
 

@@ -23,6 +23,7 @@
 
 #include "final_gather_trace.h"
 #include "radiosity/parallel.h"
+#include "radiosity/random.h"
 
 namespace radiosity {
 namespace fg {

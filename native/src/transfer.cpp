@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "radiosity/random.h"
+
 namespace radiosity {
 
 double unoccluded_coupling(const Poly& rcv, const Vec3& rcv_n, const Node& src) {

@@ -2,31 +2,22 @@
 #include <gtest/gtest.h>
 
 #include "radiosity/parallel.h"
+#include "radiosity/random.h"
 #include "radiosity/transfer.h"
 #include "test_util.h"
 
 using namespace radiosity;
 using namespace radiosity::testing;
 
-namespace {
-
-Settings settings() {
-    Settings st = Settings::preset("MEDIUM");
-    st.rays_per_link = 32;
-    return st;
-}
-
-}  // namespace
-
 TEST(Dynamic, MoveEqualsFullSolveOfFinalScene) {
     const Vec3 move{35.6, 60.8, 0};  // the paper's box move (114.4,129.2) -> (150,190)
-    Solver inc(two_box_room(), settings());
+    Solver inc(two_box_room(), dynamic_settings());
     inc.solve();
     inc.move_object(2, translation(move));
     inc.update();
     EXPECT_TRUE(inc.stats().mode_incremental);
     EXPECT_GT(inc.stats().env_env_links_rejected, 0);
-    Solver full(two_box_room(move), settings());
+    Solver full(two_box_room(move), dynamic_settings());
     full.solve();
     double e = nrmse(inc.all_corner_radiance(), full.all_corner_radiance());
     std::printf("[ figure ] move: incremental vs full NRMSE %.4f, env-env tested %lld rejected %lld recomputed %lld, "
@@ -39,7 +30,7 @@ TEST(Dynamic, MoveEqualsFullSolveOfFinalScene) {
 
 TEST(Dynamic, DragOfThirtyStepsDoesNotDrift) {
     const Vec3 step{1.2, 2.0, 0};
-    Solver inc(two_box_room(), settings());
+    Solver inc(two_box_room(), dynamic_settings());
     inc.solve();
     double first = 0, last = 0;
     auto live = [](const Solver& s) {
@@ -52,7 +43,7 @@ TEST(Dynamic, DragOfThirtyStepsDoesNotDrift) {
         inc.move_object(2, translation(step * k));
         inc.update();
         if (k == 1 || k == 30) {
-            Solver full(two_box_room(step * k), settings());
+            Solver full(two_box_room(step * k), dynamic_settings());
             full.solve();
             (k == 1 ? first : last) = nrmse(inc.all_corner_radiance(), full.all_corner_radiance());
             links_inc = live(inc);
@@ -69,7 +60,7 @@ TEST(Dynamic, DragOfThirtyStepsDoesNotDrift) {
 }
 
 TEST(Dynamic, TwoObjectsAtOnce) {
-    Solver inc(two_box_room(), settings());
+    Solver inc(two_box_room(), dynamic_settings());
     inc.solve();
     inc.move_object(2, translation({35.6, 60.8, 0}));
     inc.move_object(3, translation({-100, -150, 0}));
@@ -86,7 +77,7 @@ TEST(Dynamic, TwoObjectsAtOnce) {
     scenes::add_box(f, "Box1", c1, Vec3{120, 160, 0}, Vec3{180, 220, 100}, 2, Rgb{0.7, 0.3, 0.2}, {});
     int c2 = f.add_cluster("Box2");
     scenes::add_box(f, "Box2", c2, {100, 50, 0}, {160, 100, 60}, 2, Rgb{0.2, 0.4, 0.7}, {});
-    Solver full(f, settings());
+    Solver full(f, dynamic_settings());
     full.solve();
     const double e = nrmse(inc.all_corner_radiance(), full.all_corner_radiance());
     std::printf("[ figure ] two objects moved at once: incremental vs full NRMSE %.4f\n", e);
@@ -100,7 +91,7 @@ TEST(Dynamic, PruningNeverMissesAChangedLink) {
     // (flagged, never gathered, evaluated before anything judges it).
     for (int trial = 0; trial < 3; ++trial) {
         Rng rng(100 + trial);
-        Settings st = settings();
+        Settings st = dynamic_settings();
         Solver s(two_box_room(), st);
         s.solve();
         Vec3 t{rng.next() * 120 - 60, rng.next() * 120 - 60, 0};
@@ -130,7 +121,7 @@ TEST(Dynamic, KeptLinksStayCurrentOverSeveralUpdates) {
     // box again): after each, every live link with no end on a moved box carries what a fresh
     // evaluation gives -- history links too, unless flagged stale -- and no stale link keeps
     // a ray record (the next update would replay outcomes of an older geometry).
-    Solver s(two_box_room(), settings());
+    Solver s(two_box_room(), dynamic_settings());
     s.solve();
     auto check = [&](const char* step) {
         const Hierarchy& h = s.hierarchy();
@@ -178,12 +169,12 @@ TEST(Dynamic, DimmingUnrefinesAndBrighteningRefinesBack) {
                          Rgb::all(12.0), false);
         return s;
     };
-    Solver inc(scene(), settings());
+    Solver inc(scene(), dynamic_settings());
     inc.solve();
     const int64_t bright_links = inc.stats().links;
     inc.set_emission(1, {Rgb::all(2.0)});
     inc.update();
-    Solver dim(scene(), settings());
+    Solver dim(scene(), dynamic_settings());
     dim.set_emission(1, {Rgb::all(2.0)});  // before a solve: used by it
     dim.solve();
     EXPECT_GT(inc.stats().history_reactivated, 0);
@@ -262,7 +253,7 @@ TEST(Dynamic, SamplerSummariesFollowARotation) {
     // Rotation about the vertical axis through (150, 90): R p + (I - R) c.
     const std::array<double, 16> m = {ca, -sa, 0, 150 - (ca * 150 - sa * 90), sa, ca, 0, 90 - (sa * 150 + ca * 90),
                                       0,  0,   1, 0,                             0,  0,  0, 1};
-    Solver inc(scene(false), settings());
+    Solver inc(scene(false), dynamic_settings());
     inc.solve();
     int summaries = 0;
     for (const auto& f : inc.hierarchy().facing_summary) summaries += f.valid;
@@ -270,7 +261,7 @@ TEST(Dynamic, SamplerSummariesFollowARotation) {
     inc.move_object(2, m);
     inc.update();
     EXPECT_TRUE(inc.hierarchy().surface_geom_current());
-    Solver full(scene(true), settings());
+    Solver full(scene(true), dynamic_settings());
     full.solve();
     const double e = nrmse(inc.all_corner_radiance(), full.all_corner_radiance());
     std::printf("[ figure ] rotated 294-surface crate: incremental vs full NRMSE %.4f\n", e);
@@ -284,11 +275,11 @@ TEST(Dynamic, SamplerSummariesFollowARotation) {
 // full solve settles its links whole (the panel reflects nothing, so a full solve judges its
 // links on the same radiance in every round), and the box keeps a tree a full solve would build.
 TEST(Dynamic, MoveUnderAnEmissivePanelEqualsFullSolve) {
-    Solver inc(panel_over_box({0.6, 0.3, 0.4}), settings());
+    Solver inc(panel_over_box({0.6, 0.3, 0.4}), dynamic_settings());
     inc.solve();
     inc.move_object(2, translation({-0.7, 0.4, 0}));
     inc.update();
-    Solver full(panel_over_box({-0.1, 0.7, 0.4}), settings());
+    Solver full(panel_over_box({-0.1, 0.7, 0.4}), dynamic_settings());
     full.solve();
     const double e = nrmse(inc.all_corner_radiance(), full.all_corner_radiance());
     std::printf("[ figure ] box moved under an emissive panel: incremental vs full NRMSE %.4f (elements %lld / %lld)\n", e,

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 
+#include "radiosity/random.h"
 #include "test_util.h"
 
 using namespace radiosity;

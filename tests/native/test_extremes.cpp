@@ -11,6 +11,7 @@
 #include <limits>
 #include <string>
 
+#include "radiosity/random.h"
 #include "test_util.h"
 
 using namespace radiosity;

@@ -2,6 +2,7 @@
 // itself, and the hierarchical solver's transport, which is what users get.
 #include <gtest/gtest.h>
 
+#include "radiosity/random.h"
 #include "radiosity/transfer.h"
 #include "test_util.h"
 

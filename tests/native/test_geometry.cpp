@@ -12,6 +12,7 @@
 #include <limits>
 #include <random>
 
+#include "radiosity/random.h"
 #include "test_util.h"
 
 using namespace radiosity;

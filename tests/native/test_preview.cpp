@@ -9,12 +9,6 @@ using namespace radiosity::testing;
 
 namespace {
 
-Settings settings() {
-    Settings st = Settings::preset("MEDIUM");
-    st.rays_per_link = 32;
-    return st;
-}
-
 // The corners of every object with a preview's patches applied.
 std::vector<float> patched(const Solver& s, const std::vector<CornerPatch>& patches) {
     std::vector<std::vector<float>> per;
@@ -36,7 +30,7 @@ struct Drag {
     double preview() const { return nrmse(shown, truth); }
 };
 Drag drag(const SceneDesc& scene, int object, const std::array<double, 16>& m) {
-    Solver s(scene, settings());
+    Solver s(scene, dynamic_settings());
     s.solve();
     Drag d;
     d.before = s.all_corner_radiance();
@@ -62,7 +56,7 @@ std::vector<size_t> footprint(const SceneDesc& s, double x0) {
 
 TEST(Preview, ChangesNothingOfTheSolution) {
     const std::array<double, 16> m = translation({35.6, 60.8, 0});
-    Solver a(scenes::box_room(4), settings()), b(scenes::box_room(4), settings());
+    Solver a(scenes::box_room(4), dynamic_settings()), b(scenes::box_room(4), dynamic_settings());
     a.solve();
     b.solve();
     const std::vector<float> before = a.all_corner_radiance();
@@ -86,7 +80,7 @@ TEST(Preview, ChangesNothingOfTheSolution) {
     const int panel = scenes::add_grid(tilted, "panel", tilted.add_cluster("Panel"),
                                        {Vec3{40, 200, 10}, Vec3{100, 230, 20}, Vec3{90, 250, 80}, Vec3{30, 220, 70}}, 3, 3,
                                        Rgb::all(0.6), {});
-    Solver c(tilted, settings()), e(tilted, settings());
+    Solver c(tilted, dynamic_settings()), e(tilted, dynamic_settings());
     c.solve();
     e.solve();
     const double ca = std::cos(0.4), sa = std::sin(0.4);
@@ -116,7 +110,7 @@ TEST(Preview, ChangesNothingOfTheSolution) {
 // never previewed has it, bit for bit.
 TEST(Preview, ADragGoesOnFromWhereItsLastStepLeftTheObject) {
     const SceneDesc scene = scenes::box_room(4);
-    Solver a(scene, settings()), b(scene, settings()), c(scene, settings());
+    Solver a(scene, dynamic_settings()), b(scene, dynamic_settings()), c(scene, dynamic_settings());
     for (Solver* x : {&a, &b, &c}) x->solve();
     auto pose = [](int k) {
         const double ca = std::cos(0.15 * k), sa = std::sin(0.15 * k);
@@ -169,7 +163,7 @@ TEST(Preview, ADragGoesOnFromWhereItsLastStepLeftTheObject) {
 }
 
 TEST(Preview, RejectsWhatMoveObjectRejects) {
-    Solver s(scenes::box_room(4), settings());
+    Solver s(scenes::box_room(4), dynamic_settings());
     EXPECT_THROW(s.preview({}), std::logic_error);  // not solved
     s.solve();
     std::array<double, 16> scaled = translation({1, 0, 0});
@@ -257,7 +251,7 @@ TEST(Preview, FollowsADraggedEmitter) {
 // earlier step of the drag showed; steps at one place take turns over the box's own points.
 TEST(Preview, AStepWithLittleWorkRelightsTheNearestAndKeepsTheRest) {
     const std::array<double, 16> m = translation({-1.2, 0, 0});
-    Solver s(scenes::point_light_box_on_floor({0.3, 0.2, 2.5}), settings());
+    Solver s(scenes::point_light_box_on_floor({0.3, 0.2, 2.5}), dynamic_settings());
     s.solve();
     const std::vector<float> base = s.all_corner_radiance();
     FinalGather::PreviewCounts all, part;
@@ -343,7 +337,7 @@ TEST(Preview, ItsPlacementIsTheWholeOnesUpToRounding) {
 // A step that drags the object far outside the scene (ten million of its sizes): the points
 // lie in the farthest distance ring from the boxes, and every value shown stays finite.
 TEST(Preview, ADragFarOutsideTheSceneStaysFinite) {
-    Solver s(scenes::point_light_box_on_floor({0.3, 0.2, 2.5}), settings());
+    Solver s(scenes::point_light_box_on_floor({0.3, 0.2, 2.5}), dynamic_settings());
     s.solve();
     const std::array<double, 16> m = translation({3e7, -2e7, 1e7});
     for (int64_t work : {int64_t(0), int64_t(20000)}) {

@@ -3,6 +3,7 @@
 
 #include <map>
 
+#include "radiosity/random.h"
 #include "test_util.h"
 
 using namespace radiosity;

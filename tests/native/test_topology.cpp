@@ -40,12 +40,6 @@ ObjectDesc box2(int cluster) {
     return t.objects()[0];
 }
 
-Settings settings() {
-    Settings st = Settings::preset("MEDIUM");
-    st.rays_per_link = 32;
-    return st;
-}
-
 // Corner radiance of the named objects, in that order (ids differ between an updated solver,
 // whose removed objects keep their slot, and a fresh one).
 std::vector<float> corners_by_name(const Solver& s, const std::vector<std::string>& names) {
@@ -94,7 +88,7 @@ constexpr double kTol = 0.02;
 TEST(Topology, AddedObjectIsLinkedInAndEqualsFullSolve) {
     // Box2's collection exists but is empty at the first solve (a collection whose only object
     // was hidden): the addition makes its cluster node.
-    Solver inc(room(true, false, true), settings());
+    Solver inc(room(true, false, true), dynamic_settings());
     inc.solve();
     const Work w0 = work_now(inc);
     const int id = inc.add_object(box2(1));
@@ -105,7 +99,7 @@ TEST(Topology, AddedObjectIsLinkedInAndEqualsFullSolve) {
     EXPECT_EQ(inc.stats().objects, 4);
     EXPECT_GT(inc.stats().links_created, 0);
     EXPECT_GT(inc.stats().env_env_links_rejected, 0);
-    Solver full(room(true, true), settings());
+    Solver full(room(true, true), dynamic_settings());
     full.solve();
     const double e = nrmse(corners_by_name(inc, kAll), corners_by_name(full, kAll));
     print_work("add Box2", inc, work_since(inc, w0), full, e);
@@ -120,14 +114,14 @@ TEST(Topology, AddedObjectIsLinkedInAndEqualsFullSolve) {
 
 TEST(Topology, AddedObjectInANewCollection) {
     // The collection is made through the solver after the solve (Blender: a new collection).
-    Solver inc(room(true, false), settings());
+    Solver inc(room(true, false), dynamic_settings());
     inc.solve();
     const int c = inc.add_cluster("Box2");
     EXPECT_EQ(c, 1);
     inc.add_object(box2(c));
     inc.update();
     EXPECT_EQ(inc.stats().objects_added, 1);
-    Solver full(room(true, true), settings());
+    Solver full(room(true, true), dynamic_settings());
     full.solve();
     const double e = nrmse(corners_by_name(inc, kAll), corners_by_name(full, kAll));
     std::printf("[ figure ] add Box2 in a new collection: NRMSE %.4f\n", e);
@@ -136,7 +130,7 @@ TEST(Topology, AddedObjectInANewCollection) {
 }
 
 TEST(Topology, RemovedObjectGoesAndEqualsFullSolve) {
-    Solver inc(room(true, true), settings());
+    Solver inc(room(true, true), dynamic_settings());
     inc.solve();
     const int64_t links_before = inc.stats().links;
     const Work w0 = work_now(inc);
@@ -149,7 +143,7 @@ TEST(Topology, RemovedObjectGoesAndEqualsFullSolve) {
     EXPECT_TRUE(inc.corner_radiance(2).empty()) << "a removed object's slot is empty";
     // The fresh scene has no Box1 and no collection for it: ids and cluster indices differ,
     // keys (by name) do not.
-    Solver full(room(false, true), settings());
+    Solver full(room(false, true), dynamic_settings());
     full.solve();
     const double e = nrmse(corners_by_name(inc, kAll), corners_by_name(full, kAll));
     print_work("remove Box1", inc, work_since(inc, w0), full, e);
@@ -168,9 +162,9 @@ TEST(Topology, RemovedObjectGoesAndEqualsFullSolve) {
 }
 
 TEST(Topology, AddThenRemoveReturnsToTheOriginal) {
-    Solver ref(room(true, false, true), settings());
+    Solver ref(room(true, false, true), dynamic_settings());
     ref.solve();
-    Solver inc(room(true, false, true), settings());
+    Solver inc(room(true, false, true), dynamic_settings());
     inc.solve();
     const int id = inc.add_object(box2(1));
     inc.update();
@@ -181,9 +175,9 @@ TEST(Topology, AddThenRemoveReturnsToTheOriginal) {
                 (long long)inc.stats().links, (long long)ref.stats().links);
     EXPECT_LE(e, kTol);
     // And back again, by removing an object and adding the same description (a new id).
-    Solver inc2(room(true, true), settings());
+    Solver inc2(room(true, true), dynamic_settings());
     inc2.solve();
-    Solver ref2(room(true, true), settings());
+    Solver ref2(room(true, true), dynamic_settings());
     ref2.solve();
     const ObjectDesc b1 = inc2.scene().objects()[2];
     inc2.remove_object(2);
@@ -196,7 +190,7 @@ TEST(Topology, AddThenRemoveReturnsToTheOriginal) {
 }
 
 TEST(Topology, AddAndRemoveInOneUpdate) {
-    Solver inc(room(true, false, true), settings());
+    Solver inc(room(true, false, true), dynamic_settings());
     inc.solve();
     inc.add_object(box2(1));
     inc.remove_object(2);  // Box1
@@ -205,13 +199,13 @@ TEST(Topology, AddAndRemoveInOneUpdate) {
     EXPECT_EQ(inc.stats().objects_removed, 1);
     // The samplers' compact surface table follows additions and removals.
     EXPECT_TRUE(inc.hierarchy().surface_geom_current());
-    Solver full(room(false, true, true), settings());
+    Solver full(room(false, true, true), dynamic_settings());
     full.solve();
     EXPECT_LE(nrmse(corners_by_name(inc, kAll), corners_by_name(full, kAll)), kTol);
 }
 
 TEST(Topology, UnclusteredScenes) {
-    Settings st = settings();
+    Settings st = dynamic_settings();
     st.use_clustering = false;
     st.error_threshold = 0.1;
     Solver inc(room(true, false, true), st);
@@ -342,11 +336,11 @@ TEST(Topology, PointLightSceneAddEqualsFullSolve) {
         s.add_light(point_light({150, 150, 200}, 4e4, 5));
         return s;
     };
-    Solver inc(scene(false), settings());
+    Solver inc(scene(false), dynamic_settings());
     inc.solve();
     inc.add_object(box2(1));
     inc.update();
-    Solver full(scene(true), settings());
+    Solver full(scene(true), dynamic_settings());
     full.solve();
     const double e = nrmse(corners_by_name(inc, kAll), corners_by_name(full, kAll));
     std::printf("[ figure ] add Box2 under a point light: NRMSE %.4f\n", e);
@@ -357,7 +351,7 @@ TEST(Topology, DeadLinksDoNotCountTowardTheLinkCap) {
     // Updates kill links (their slots stay); the max_links cap counts live links only. Counting
     // the dead ones stopped refinement after a few round trips: cluster links into the re-added
     // object stayed coarse and its top came out 50 % too bright (the full room at MEDIUM).
-    Settings st = settings();
+    Settings st = dynamic_settings();
     Solver probe(room(true, true), st);
     probe.solve();
     // Room for one solve and the history links the round trips keep alive (about 1.3x), not
@@ -439,13 +433,13 @@ TEST(Topology, ManyAdditionsInOneUpdate) {
         }
         return s;
     };
-    Solver inc(scene(false), settings());
+    Solver inc(scene(false), dynamic_settings());
     inc.solve();
     const SceneDesc all = scene(true);
     for (size_t o = 2; o < all.objects().size(); ++o) inc.add_object(all.objects()[o]);
     inc.update();
     EXPECT_EQ(inc.stats().objects_added, 4);
-    Solver full(all, settings());
+    Solver full(all, dynamic_settings());
     full.solve();
     const std::vector<std::string> names = {"room", "light", "Box1", "Box2", "Cube", "Lone"};
     const double e = nrmse(corners_by_name(inc, names), corners_by_name(full, names));

@@ -16,6 +16,14 @@ namespace radiosity::testing {
 // A move by t, as Solver::move_object takes it (row-major 4 x 4).
 inline std::array<double, 16> translation(Vec3 t) { return {1, 0, 0, t.x, 0, 1, 0, t.y, 0, 0, 1, t.z, 0, 0, 0, 1}; }
 
+// The settings of the tests of moves, previews, additions and removals: MEDIUM with 32 rays a
+// link (MEDIUM's refinement, cheaper links).
+inline Settings dynamic_settings() {
+    Settings st = Settings::preset("MEDIUM");
+    st.rays_per_link = 32;
+    return st;
+}
+
 // A Blender point light named "lamp" at p: intensity per channel, radius 0 = a true point.
 inline LightDesc point_light(Vec3 p, double intensity, double radius = 0) {
     LightDesc l;

@@ -38,7 +38,8 @@ from .core import stats as core_stats
 TIMER_STEP = 0.1
 _draw_handle = []   # the 3D viewport's draw handler, while registered
 # Messages of failed live re-bakes, newest last, for scripts (no operator reports them; the panel
-# shows a scene's last one until a live update succeeds). Bounded: the latest are kept.
+# shows a scene's last one until a live update succeeds), and of the first failed preview of each
+# drag. Bounded: the latest are kept.
 last_errors = deque(maxlen=64)
 
 
@@ -46,11 +47,23 @@ def _report(st, message, trace=False):
     """A live failure of the scene whose live state is `st`: printed (with the exception's
     traceback when `trace`, for failures no one expected), kept in last_errors and shown in
     the scene's panel."""
+    _log(message, trace)
+    st.failed = message
+
+
+def _log(message, trace=False):
     if trace:
         traceback.print_exc()
     print(f"Radiosity: {message}")
     last_errors.append(message)
-    st.failed = message
+
+
+def _preview_failed(st, message, trace=False):
+    """A drag step the preview could not show: printed and kept in last_errors once per drag.
+    Not shown in the panel: the update after the drag places the objects anyway and reports
+    its own failure there (st.failed is the live re-bakes' to set and clear)."""
+    if st.preview_failed(message):
+        _log(message, trace)
 
 
 def _live_states():
@@ -191,7 +204,8 @@ def preview_now():
 
 def _preview(key, st, scene):
     """One preview of `scene` where its objects stand now; never raises (a step it cannot
-    show is left to the update after the drag, and LiveState.preview_skipped says why)."""
+    show is left to the update after the drag, LiveState.preview_skipped says why, and a
+    failure is reported once per drag)."""
     entry = session.kept(key)
     why = core_preview.unavailable(entry)
     if why:
@@ -215,11 +229,10 @@ def _preview(key, st, scene):
     except (RuntimeError, ValueError) as exc:
         # A matrix the solver refuses (the update after the drag says why), a solver that
         # started a job meanwhile, colours it could not convert.
-        st.preview_skipped = f"preview failed: {exc}"
+        _preview_failed(st, f"preview failed: {exc}")
         return False
     except Exception as exc:        # a timer must not raise (Blender would drop it)
-        traceback.print_exc()
-        st.preview_skipped = f"preview failed: {exc!r}"
+        _preview_failed(st, f"preview failed: {exc!r}", trace=True)
         return False
     st.previewed = set(changed) & written
     st.preview_skipped = None

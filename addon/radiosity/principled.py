@@ -101,6 +101,21 @@ def _sheet(mesh, n):
     mesh.from_pydata(verts, [], faces)
 
 
+def _copy_inputs(node, p, skip):
+    """The values of `node`'s inputs onto `p`, the measured node, but those in `skip`. One `p`
+    cannot take is measured at its default, so the factor may not be the node's: said in
+    _errors (the bake's warnings)."""
+    for sock in node.inputs:
+        dst = p.inputs.get(sock.name)
+        if dst is None or sock.name in skip or not hasattr(sock, "default_value"):
+            continue
+        try:
+            dst.default_value = sock.default_value
+        except (TypeError, ValueError, AttributeError) as exc:
+            _errors.append(f"the diffuse part of Principled BSDF '{node.name}' was measured with "
+                           f"its input '{sock.name}' at the default ({exc})")
+
+
 def _measure(node, legacy=False):
     scene = mesh = obj = mat = world = None
     skip = _SKIP | _LEGACY_ZERO if legacy else _SKIP
@@ -115,14 +130,7 @@ def _measure(node, legacy=False):
         for attr in ("distribution", "subsurface_method"):
             if hasattr(node, attr):
                 setattr(p, attr, getattr(node, attr))
-        for sock in node.inputs:
-            dst = p.inputs.get(sock.name)
-            if dst is None or sock.name in skip or not hasattr(sock, "default_value"):
-                continue
-            try:
-                dst.default_value = sock.default_value
-            except (TypeError, ValueError, AttributeError):
-                pass
+        _copy_inputs(node, p, skip)
         p.inputs["Base Color"].default_value = (1.0, 1.0, 1.0, 1.0)
         zero = ("Metallic", "Transmission Weight", "Emission Strength")
         if legacy:

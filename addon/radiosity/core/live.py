@@ -66,6 +66,7 @@ class LiveState:
         self.previewed = set()
         self.last_preview = None
         self.preview_skipped = None  # why the last step was not previewed (None: it was)
+        self.preview_failure_told = False  # a failed step of this drag was reported
         self.frames_since_request = 0
         # "load" or "undo" until the bake shown has been judged again: world matrices are
         # right only once the depsgraph has been evaluated after either (Blender 4+ does not
@@ -127,7 +128,17 @@ class LiveState:
         return now - self.pending_since >= debounce
 
     def take(self):
-        """Consume the pending request (returns whether there was one)."""
+        """Consume the pending request (returns whether there was one); the drag it asked an
+        update for is over."""
         was = self.pending_since is not None
         self.pending_since = None
+        self.preview_failure_told = False
         return was
+
+    def preview_failed(self, why):
+        """A drag step the preview could not show: keeps why; returns whether to report it (the
+        first failure of a drag only: the steps after it mostly fail alike)."""
+        self.preview_skipped = why
+        tell = not self.preview_failure_told
+        self.preview_failure_told = True
+        return tell

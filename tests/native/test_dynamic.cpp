@@ -543,3 +543,26 @@ TEST(Dynamic, ContactsAfterAMoveAreThoseAFullSearchFinds) {
     ASSERT_TRUE(s.stats().mode_incremental);
     EXPECT_EQ(s.stats().gather_covered, floating_covered);
 }
+
+// The link counts in the stats are those of the links as they stand after each run, not
+// sums over runs: an update counts its links afresh.
+TEST(Dynamic, StatsCountTheLinksAsTheyStandAfterEachUpdate) {
+    Solver s(two_box_room(), dynamic_settings());
+    s.solve();
+    for (int k = 1; k <= 2; ++k) {
+        s.move_object(2, translation({10.0 * k, 5.0 * k, 0}));
+        s.update();
+        ASSERT_TRUE(s.stats().mode_incremental);
+        int64_t active = 0, history = 0, occluded = 0;
+        for (const Link& l : s.links()) {
+            if (l.dead) continue;
+            if (l.occluded) ++occluded;
+            else if (!l.active) ++history;
+            else ++active;
+        }
+        EXPECT_EQ(s.stats().links, active) << "update " << k;
+        EXPECT_EQ(s.stats().history_links, history) << "update " << k;
+        EXPECT_EQ(s.stats().occluded_links, occluded) << "update " << k;
+        EXPECT_GT(occluded, 0) << "the room has links set aside as occluded";
+    }
+}

@@ -9,8 +9,8 @@
 
 #include "radiosity/parallel.h"
 #include "radiosity/solver.h"
-#include "report.h"
 #include "radiosity/transfer.h"
+#include "report.h"
 
 namespace radiosity {
 
@@ -206,7 +206,7 @@ void Solver::solve_instead(Control* control, UpdateFallback why) {
 void Solver::update_begin(UpdateRun& u) {
     stats_.phases.clear();
     stats_.phase_rays.clear();
-    stats_.warnings.clear();  // this update's own (add_result_warnings at the end)
+    stats_.warnings.clear();  // this update's own (compute_stats adds the result's at the end)
     Stats& s = stats_;
     s.env_env_links_tested = s.env_env_links_rejected = s.env_env_links_recomputed = 0;
     s.history_links_recomputed = s.history_links_stale = 0;
@@ -473,7 +473,6 @@ void Solver::update_output(const UpdateRun& u) {
         // A stale link's record is of the geometry before this update's moves: a later
         // update's replay (whose boxes are its own moves') would take outcomes it changed.
         if (u.topology || l.stale) l.ray_count = -1;
-    add_result_warnings(h_, settings_, memory_.estimate(memory_view()), memory_.limit(), stats_);
     compute_stats();
     lap("stats");
     s.mode_incremental = true;

@@ -1,9 +1,9 @@
 #include "radiosity/solver.h"
-#include "report.h"
 
 #include <chrono>
 #include <cmath>
 
+#include "report.h"
 
 namespace radiosity {
 
@@ -63,7 +63,6 @@ void Solver::solve(Control* control) {
         stats_.seconds_solve = RunClock::seconds_since(t2);
     }
     if (stats_.element_nodes >= settings_.max_elements) stats_.capped = true;
-    add_result_warnings(h_, settings_, memory_.estimate(memory_view()), memory_.limit(), stats_);
     compute_stats();
     lap("stats");
     stats_.seconds_total = run.clock.seconds();
@@ -182,7 +181,9 @@ void Solver::compute_stats() {
     s.contact_surfaces = contacts.surfaces;
     s.seconds_contacts = contacts.seconds;
     s.input_surfaces = int64_t(scene_.polygon_count());
-    s.memory_bytes = int64_t(memory_.estimate(memory_view()));
+    const double held = memory_.estimate(memory_view());
+    add_result_warnings(h_, settings_, held, memory_.limit(), s);
+    s.memory_bytes = int64_t(held);
     s.primitives = 0;
     for (const Primitive& p : h_.prims) s.primitives += p.object >= 0;  // removed objects' are -1
     s.skipped_polygons = int64_t(h_.skipped_polygons);

@@ -35,8 +35,12 @@ public:
     bool holds() const { return target_ != nullptr; }
     // Embree could not take back a step's placement: the solution must not be trusted.
     bool lost() const { return lost_; }
-    // Frees the drag's memory (made again at the next drag's first step); lost() is cleared.
-    void forget() { *this = LiveDrag{}; }
+    // Puts back a step's placement (settle) and frees the drag's memory (made again at the
+    // next drag's first step); lost() is cleared.
+    void forget() {
+        settle();
+        *this = LiveDrag{};
+    }
 
     // The objects saved, in the order given, with their primitives and their boxes as solved.
     const std::vector<int>& objects() const { return objects_; }

@@ -330,6 +330,8 @@ private:
     Pockets::Sight pocket_sight() const { return {*vis_, topology_.tri_prim(), settings_}; }
     void check_cancel() const;
     void set_progress(double f) const;
+    // The stats read off the parts at a run's end (report.h), the warnings its result deserves
+    // among them.
     void compute_stats();
     // Ends a timed phase of the run under way (RunClock::lap on stats_, the rays of vis_).
     void lap(const char* phase);
